@@ -1,0 +1,92 @@
+// Scene: the physics of a run as read from a JSON scene file (numerics live in PETSc
+// options). Every field is validated by parse_scene(); see scene_parser.cpp for the keys.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+struct Material {
+  std::string name;
+  double E = 1e6;     // Young's modulus [Pa], > 0
+  double nu = 0.3;    // Poisson ratio, in (-1, 0.5)
+  double rho = 1000;  // density [kg/m^3], > 0
+};
+
+// A box of hexahedra: `size` edge lengths, `resolution` elements per edge, min corner at `origin`.
+struct BoxGenerator {
+  std::array<double, 3> size{1, 1, 1};
+  std::array<int, 3> resolution{1, 1, 1};
+  std::array<double, 3> origin{0, 0, 0};
+};
+
+struct Body {
+  std::string name;                  // used to prefix generated selections ("beam.xmin")
+  std::string mesh_file;             // Gmsh MSH 4.1 (resolved relative to the scene file), or
+  std::optional<BoxGenerator> box;   // a generated box (exactly one of the two)
+  std::array<double, 3> translation{0, 0, 0};  // applied to a mesh file's coordinates
+  double scale = 1.0;                          // applied before the translation
+  std::size_t material = 0;                    // index into Scene::materials
+  std::array<double, 3> initial_velocity{0, 0, 0};
+};
+
+// Which nodes a boundary condition acts on: a named node set of the mesh, or all nodes
+// inside an axis-aligned box (inclusive, with a tolerance of 1e-9 x the scene diagonal).
+struct Selection {
+  std::string name;                                   // named set, or empty
+  std::optional<std::array<double, 6>> box;           // xmin ymin zmin xmax ymax zmax
+  std::string describe() const;                       // for messages
+};
+
+struct DirichletCondition {
+  enum class Kind { Fixed, Velocity, Rotation };
+  Selection selection;
+  Kind kind = Kind::Fixed;
+  std::array<double, 3> velocity{0, 0, 0};   // Velocity: x(t) = X + v t
+  std::array<double, 3> axis{0, 0, 1};       // Rotation: about `axis` (normalised) through
+  std::array<double, 3> center{0, 0, 0};     //   `center` at `angular_velocity` [rad/s]
+  double angular_velocity = 0;
+  std::string key_path;                      // e.g. "boundary_conditions.dirichlet[0]"
+};
+
+struct ContactSettings {  // parsed now, used by the contact issue
+  bool enabled = false;
+  double dhat = 1e-3;
+  bool dhat_relative = true;  // dhat as a fraction of the bounding-box diagonal
+  double friction = 0.0;
+  double epsv = 1e-3;
+};
+
+struct Scene {
+  std::string source;  // file path, or "<default scene>"
+  std::vector<Material> materials;
+  std::vector<Body> bodies;
+  std::array<double, 3> gravity{0, 0, 0};
+  std::vector<DirichletCondition> dirichlet;
+  // time
+  bool is_static = false;  // "integrator": "static" minimises elastic + body energy once
+  double dt = 0.01;
+  int steps = 1;
+  // mass
+  bool lumped_mass = true;
+  // output
+  std::string output_directory = "output";
+  std::string output_name = "dipc";
+  int output_every = 1;  // write every N-th step (the last step is always written)
+  ContactSettings contact;
+};
+
+// Parses and validates a scene. On any problem throws SceneError whose message names the
+// file and the key path ("scene.json: materials[0].nu = 0.5 must be in (-1, 0.5)").
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+Scene parse_scene_file(const std::string& path);
+Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
+                       const std::string& base_directory);
+// The scene embedded in the program, used when no scene file is given.
+Scene default_scene();
+
+}  // namespace dipc
