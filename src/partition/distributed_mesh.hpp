@@ -1,0 +1,52 @@
+// DistributedMesh: one rank's part of a HexMesh after METIS partitioning.
+//
+// Numbering (partition-ordered): rank r owns a contiguous range of global node ids
+// [node_offset, node_offset + num_owned_nodes) and of global element ids
+// [element_offset, element_offset + num_elements). A node is owned by the lowest rank whose
+// elements touch it. Local node ids list the owned nodes first (local id i <-> global id
+// node_offset + i), then the ghost nodes (touched by this rank's elements, owned elsewhere),
+// sorted by global id. Unknowns are interlaced: global dof = 3 * global node + component.
+#pragma once
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mesh/hex_mesh.hpp"
+
+namespace dipc {
+
+struct DistributedMesh {
+  MPI_Comm comm = MPI_COMM_NULL;
+  std::int64_t num_global_nodes = 0;
+  std::int64_t num_global_elements = 0;
+
+  std::int64_t node_offset = 0;
+  int num_owned_nodes = 0;
+  std::vector<std::int64_t> local_to_global;  // size num_local_nodes(): owned then ghosts
+  std::vector<Vec3> coordinates;              // reference coordinates of local nodes
+  std::vector<std::int64_t> node_input_id;    // local node -> id in the input HexMesh
+
+  std::int64_t element_offset = 0;
+  std::vector<std::array<std::int32_t, 8>> elements;  // local node ids
+  std::vector<int> element_body;
+  std::vector<std::int64_t> element_input_id;  // local element -> id in the input HexMesh
+
+  // The input mesh's named node sets restricted to this rank's local nodes (local ids,
+  // sorted). Every rank has every name, possibly with an empty list.
+  std::map<std::string, std::vector<std::int32_t>> node_sets;
+
+  int num_local_nodes() const { return static_cast<int>(local_to_global.size()); }
+  int num_ghost_nodes() const { return num_local_nodes() - num_owned_nodes; }
+  int num_elements() const { return static_cast<int>(elements.size()); }
+};
+
+// Partitions `mesh` (significant on rank 0 only; other ranks pass an empty mesh) into
+// `comm`'s size parts with METIS_PartMeshDual (elements adjacent through faces), and sends
+// every rank its part. Deterministic: the same mesh and rank count give the same result.
+DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm);
+
+}  // namespace dipc
