@@ -1,0 +1,80 @@
+#include "app/problem_builder.hpp"
+
+#include <cmath>
+
+namespace dipc {
+
+namespace {
+
+std::vector<std::int32_t> select_nodes(const Selection& sel, const DistributedMesh& mesh,
+                                       double length_scale, const std::string& where,
+                                       const std::string& source) {
+  if (!sel.box) {
+    auto it = mesh.node_sets.find(sel.name);
+    if (it == mesh.node_sets.end()) {
+      std::string known;
+      for (const auto& [name, nodes] : mesh.node_sets) known += (known.empty() ? "" : ", ") + name;
+      throw SceneError(source + ": " + where + ".selection: no selection named \"" + sel.name +
+                       "\" (the mesh has: " + known + ")");
+    }
+    return it->second;
+  }
+  // Inclusive box with a tolerance, so faces lying exactly on the box boundary are caught
+  // despite round-off in generated or transformed coordinates.
+  const auto& b = *sel.box;
+  const double tol = 1e-9 * length_scale;
+  std::vector<std::int32_t> nodes;
+  for (int n = 0; n < mesh.num_local_nodes(); ++n) {
+    const Vec3& X = mesh.coordinates[n];
+    bool inside = true;
+    for (int c = 0; c < 3; ++c) inside = inside && X[c] >= b[c] - tol && X[c] <= b[3 + c] + tol;
+    if (inside) nodes.push_back(n);
+  }
+  return nodes;
+}
+
+}  // namespace
+
+ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, double length_scale) {
+  ProblemSetup p;
+  for (const Body& body : scene.bodies) {
+    const Material& m = scene.materials[body.material];
+    // Lamé parameters from (E, ν), as in DESIGN.md §1.
+    BodyMaterial bm;
+    bm.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
+    bm.mu = m.E / (2 * (1 + m.nu));
+    bm.rho = m.rho;
+    p.body_materials.push_back(bm);
+    p.body_velocity.push_back(body.initial_velocity);
+  }
+  p.gravity = scene.gravity;
+  p.is_static = scene.is_static;
+  p.dt = scene.dt;
+  p.steps = scene.steps;
+  p.lumped_mass = scene.lumped_mass;
+  p.length_scale = length_scale;
+
+  for (const DirichletCondition& bc : scene.dirichlet) {
+    DirichletSet set;
+    set.local_nodes = select_nodes(bc.selection, mesh, length_scale, bc.key_path, scene.source);
+    long long count = static_cast<long long>(set.local_nodes.size()), total = 0;
+    MPI_Allreduce(&count, &total, 1, MPI_LONG_LONG, MPI_SUM, mesh.comm);
+    if (total == 0)
+      throw SceneError(scene.source + ": " + bc.key_path + ".selection: " + bc.selection.describe() +
+                       " selects no node");
+    switch (bc.kind) {
+      case DirichletCondition::Kind::Fixed: set.motion.kind = PrescribedMotion::Kind::Fixed; break;
+      case DirichletCondition::Kind::Velocity: set.motion.kind = PrescribedMotion::Kind::Velocity; break;
+      case DirichletCondition::Kind::Rotation: set.motion.kind = PrescribedMotion::Kind::Rotation; break;
+    }
+    set.motion.velocity = bc.velocity;
+    const double norm = std::sqrt(bc.axis[0] * bc.axis[0] + bc.axis[1] * bc.axis[1] + bc.axis[2] * bc.axis[2]);
+    for (int c = 0; c < 3; ++c) set.motion.axis[c] = bc.axis[c] / norm;
+    set.motion.center = bc.center;
+    set.motion.angular_velocity = bc.angular_velocity;
+    p.dirichlet.push_back(std::move(set));
+  }
+  return p;
+}
+
+}  // namespace dipc

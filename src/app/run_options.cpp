@@ -1,0 +1,30 @@
+#include "app/run_options.hpp"
+
+namespace dipc {
+
+PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
+  PetscFunctionBeginUser;
+  char dir[PETSC_MAX_PATH_LEN] = "";
+  PetscBool set = PETSC_FALSE, no_output = PETSC_FALSE, quiet = PETSC_FALSE;
+  PetscInt steps = o->steps;
+  PetscOptionsBegin(comm, nullptr, "dipc run options", "dipc");
+  PetscCall(PetscOptionsReal("-dipc_velocity_tol",
+                             "Newton tolerance on |p|_inf/h (length/s); default: velocity_tol_rel x bounding-box diagonal",
+                             "", o->velocity_tol, &o->velocity_tol, nullptr));
+  PetscCall(PetscOptionsReal("-dipc_velocity_tol_rel", "Newton tolerance relative to the bounding-box diagonal (1/s)", "",
+                             o->velocity_tol_rel, &o->velocity_tol_rel, nullptr));
+  PetscCall(PetscOptionsInt("-dipc_steps", "Number of time steps (overrides the scene's time.steps)", "", steps, &steps, nullptr));
+  PetscCall(PetscOptionsString("-dipc_output", "Output directory (overrides the scene's output.directory)", "", dir, dir,
+                               sizeof(dir), &set));
+  PetscCall(PetscOptionsBool("-dipc_no_output", "Write no HDF5/XDMF/CSV output", "", no_output, &no_output, nullptr));
+  PetscCall(PetscOptionsBool("-dipc_quiet", "Do not print one line per time step", "", quiet, &quiet, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(o->velocity_tol_rel > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_velocity_tol_rel must be > 0");
+  o->steps = static_cast<int>(steps);
+  if (set) o->output_dir = dir;
+  o->write_output = !no_output;
+  o->quiet = quiet;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace dipc

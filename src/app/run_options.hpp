@@ -1,0 +1,24 @@
+// RunOptions: the numerics of a run that live in the PETSc options database (-dipc_*), with
+// their defaults and help strings (`dipc -help` lists them).
+#pragma once
+#include <petscsys.h>
+
+#include <string>
+
+namespace dipc {
+
+struct RunOptions {
+  // Newton stops when ‖p‖∞ / h < velocity_tol (IPC's criterion). Default: relative to the
+  // scene's bounding-box diagonal L, velocity_tol = velocity_tol_rel · L per second.
+  double velocity_tol = -1;
+  double velocity_tol_rel = 1e-5;
+  int steps = -1;            // overrides the scene's number of steps when > 0
+  std::string output_dir;    // overrides the scene's output directory when set
+  bool write_output = true;  // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
+  bool quiet = false;        // -dipc_quiet: no per-step lines
+  bool setup_only = false;   // build everything (so -help lists all options), take no step
+};
+
+PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* options);
+
+}  // namespace dipc

@@ -1,0 +1,12 @@
+// Builds the whole input mesh of a scene (rank 0 only): every body generated or read from
+// its Gmsh file, placed, and appended with its body id. Node sets of a body are prefixed
+// with its name ("part.top"); "<name>" selects all of a body's nodes.
+#pragma once
+#include "io/scene.hpp"
+#include "mesh/hex_mesh.hpp"
+
+namespace dipc {
+
+HexMesh build_scene_mesh(const Scene& scene);
+
+}  // namespace dipc

@@ -1,0 +1,246 @@
+#include "app/simulation.hpp"
+
+#include <petscversion.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "app/problem_builder.hpp"
+#include "app/scene_mesh.hpp"
+#include "io/stats_csv.hpp"
+#include "io/xdmf_writer.hpp"
+#include "mesh/mesh_checks.hpp"
+#include "nonlinear/log_stages.hpp"
+#include "nonlinear/time_integrator.hpp"
+#include "partition/distributed_mesh.hpp"
+
+namespace dipc {
+
+namespace {
+
+// Runs `build` on rank 0 and makes its failure (if any) every rank's failure, so that all ranks
+// exit together with the same message instead of waiting in a collective call.
+template <class F>
+void on_rank0_collectively(MPI_Comm comm, F&& build) {
+  int rank;
+  MPI_Comm_rank(comm, &rank);
+  std::string error;
+  if (rank == 0) {
+    try {
+      build();
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  int length = static_cast<int>(error.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  error.resize(length);
+  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  if (length > 0) throw std::runtime_error(error);
+}
+
+// Gathers an owned-node field (3 per node) on rank 0 in the input mesh's numbering.
+PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::vector<double>* out) {
+  PetscFunctionBeginUser;
+  int rank, size;
+  MPI_Comm_rank(mesh.comm, &rank);
+  MPI_Comm_size(mesh.comm, &size);
+  const PetscScalar* a;
+  PetscCall(VecGetArrayRead(field, &a));
+  std::vector<double> mine(a, a + 3 * mesh.num_owned_nodes);
+  PetscCall(VecRestoreArrayRead(field, &a));
+  std::vector<std::int64_t> ids(mesh.node_input_id.begin(), mesh.node_input_id.begin() + mesh.num_owned_nodes);
+  int n = mesh.num_owned_nodes;
+  std::vector<int> counts(size), displs(size);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, mesh.comm);
+  std::vector<std::int64_t> all_ids;
+  std::vector<double> all_values;
+  std::vector<int> counts3(size), displs3(size);
+  if (rank == 0) {
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 0; r < size; ++r) counts3[r] = 3 * counts[r], displs3[r] = 3 * displs[r];
+    all_ids.resize(mesh.num_global_nodes);
+    all_values.resize(3 * mesh.num_global_nodes);
+  }
+  MPI_Gatherv(ids.data(), n, MPI_INT64_T, all_ids.data(), counts.data(), displs.data(), MPI_INT64_T, 0, mesh.comm);
+  MPI_Gatherv(mine.data(), 3 * n, MPI_DOUBLE, all_values.data(), counts3.data(), displs3.data(), MPI_DOUBLE, 0,
+              mesh.comm);
+  if (rank == 0) {
+    out->assign(3 * mesh.num_global_nodes, 0.0);
+    for (std::size_t k = 0; k < all_ids.size(); ++k)
+      for (int c = 0; c < 3; ++c) (*out)[3 * all_ids[k] + c] = all_values[3 * k + c];
+  }
+  PetscFunctionReturn(0);
+}
+
+// Output of one run: XDMF/HDF5 fields and stats.csv.
+class RunOutput {
+ public:
+  RunOutput(const Scene& scene, const RunOptions& options, const DistributedMesh& mesh)
+      : mesh_(mesh) {
+    const std::string dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
+    std::vector<double> coords;
+    for (int n = 0; n < mesh.num_owned_nodes; ++n) coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
+    std::vector<std::int64_t> nodes;
+    for (const auto& e : mesh.elements)
+      for (std::int32_t n : e) nodes.push_back(mesh.local_to_global[n]);
+    OutputMesh om;
+    om.comm = mesh.comm;
+    om.num_global_nodes = mesh.num_global_nodes;
+    om.node_offset = mesh.node_offset;
+    om.num_owned_nodes = mesh.num_owned_nodes;
+    om.owned_coordinates = coords.data();
+    om.num_global_elements = mesh.num_global_elements;
+    om.element_offset = mesh.element_offset;
+    om.num_elements = mesh.num_elements();
+    om.element_nodes = nodes.data();
+    om.element_body = mesh.element_body.data();
+    writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om);
+    stats_ = std::make_unique<StatsCsv>(
+        dir + "/stats.csv",
+        std::vector<std::string>{"step", "t", "newton_its", "ksp_its", "alpha_min", "energy", "min_volume_ratio",
+                                 "wall_s"},
+        mesh.comm);
+  }
+
+  PetscErrorCode write_fields(TimeIntegrator& integrator) {
+    PetscFunctionBeginUser;
+    StageScope stage(log_stages().output);
+    Vec u;
+    PetscCall(VecDuplicate(integrator.positions(), &u));
+    PetscCall(VecWAXPY(u, -1.0, integrator.reference_positions(), integrator.positions()));
+    const PetscScalar *ua, *va;
+    PetscCall(VecGetArrayRead(u, &ua));
+    PetscCall(VecGetArrayRead(integrator.velocities(), &va));
+    std::vector<double> ratio;
+    PetscCall(integrator.element_volume_ratios(&ratio));
+    writer_->write_step(integrator.time(), ua, va, ratio.data());
+    PetscCall(VecRestoreArrayRead(integrator.velocities(), &va));
+    PetscCall(VecRestoreArrayRead(u, &ua));
+    PetscCall(VecDestroy(&u));
+    PetscFunctionReturn(0);
+  }
+
+  void write_stats(const StepReport& r) {
+    stats_->row({double(r.step), r.time, double(r.newton.iterations), double(r.newton.linear_iterations),
+                 r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds});
+  }
+  std::string xdmf_path() const { return writer_->xdmf_path(); }
+
+ private:
+  const DistributedMesh& mesh_;
+  std::unique_ptr<XdmfWriter> writer_;
+  std::unique_ptr<StatsCsv> stats_;
+};
+
+PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
+                            TimeIntegrator& integrator, const RunOptions& options, double velocity_tol) {
+  PetscFunctionBeginUser;
+  int size;
+  MPI_Comm_size(comm, &size);
+  int ne = mesh.num_elements(), ne_min, ne_max;
+  MPI_Allreduce(&ne, &ne_min, 1, MPI_INT, MPI_MIN, comm);
+  MPI_Allreduce(&ne, &ne_max, 1, MPI_INT, MPI_MAX, comm);
+  VecType vtype;
+  MatType mtype;
+  PetscCall(VecGetType(integrator.positions(), &vtype));
+  PetscCall(MatGetType(integrator.jacobian(), &mtype));
+  std::string forms;
+  for (const auto& f : integrator.form_names()) forms += (forms.empty() ? "" : ", ") + f;
+  long long entries = integrator.hessian_entries(), total_entries = 0;
+  MPI_Allreduce(&entries, &total_entries, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  PetscCall(PetscPrintf(comm, "dipc %s | PETSc %d.%d.%d | scene: %s\n", "0.1.0", PETSC_VERSION_MAJOR,
+                        PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR, scene.source.c_str()));
+  PetscCall(PetscPrintf(comm, "  ranks %d (backend cpu, no GPU) | elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
+                        size, (long long)mesh.num_global_elements, ne_min, ne_max, (long long)mesh.num_global_nodes,
+                        (int)integrator.num_dofs()));
+  PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
+                        forms.c_str()));
+  PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps | Newton: |p|_inf/h < %g\n",
+                        scene.is_static ? "static" : "implicit Euler", scene.dt,
+                        options.steps > 0 ? options.steps : scene.steps, velocity_tol));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, RunResult* result) {
+  PetscFunctionBeginUser;
+  const double t_start = MPI_Wtime();
+  *result = RunResult{};
+  const LogStages& stages = log_stages();
+
+  // Mesh and partition: rank 0 builds the whole mesh, METIS splits it, each rank gets its part.
+  DistributedMesh mesh;
+  double diagonal = 0;
+  double t_partition = MPI_Wtime();
+  {
+    StageScope stage(stages.partition);
+    HexMesh whole;
+    on_rank0_collectively(comm, [&] { whole = build_scene_mesh(scene); diagonal = bounding_box_diagonal(whole); });
+    MPI_Bcast(&diagonal, 1, MPI_DOUBLE, 0, comm);
+    mesh = distribute_mesh(whole, comm);
+  }
+  t_partition = MPI_Wtime() - t_partition;
+
+  double t_setup = MPI_Wtime();
+  ProblemSetup problem = build_problem(scene, mesh, diagonal);
+  const double velocity_tol = options.velocity_tol > 0 ? options.velocity_tol : options.velocity_tol_rel * diagonal;
+  TimeIntegrator integrator;
+  {
+    StageScope stage(stages.setup);
+    PetscCall(integrator.setup(mesh, problem, velocity_tol));
+  }
+  t_setup = MPI_Wtime() - t_setup;
+  PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol));
+
+  std::unique_ptr<RunOutput> output;
+  double t_output = MPI_Wtime();
+  if (options.write_output && !options.setup_only) {
+    StageScope stage(stages.output);
+    output = std::make_unique<RunOutput>(scene, options, mesh);
+    PetscCall(output->write_fields(integrator));
+    result->xdmf_path = output->xdmf_path();
+  }
+  t_output = MPI_Wtime() - t_output;
+
+  const int steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
+  const int every = std::max(1, scene.output_every);
+  for (int s = 0; s < steps; ++s) {
+    StepReport r;
+    PetscCall(integrator.step(&r));
+    if (!r.failure.empty()) {
+      result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;
+      break;
+    }
+    if (!options.quiet)
+      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s\n",
+                            r.step, r.time, (int)r.newton.iterations, (int)r.newton.linear_iterations, r.newton.min_alpha,
+                            r.energy, r.min_volume_ratio, r.wall_seconds));
+    if (output) {
+      const double t0 = MPI_Wtime();
+      output->write_stats(r);
+      if (r.step % every == 0 || s == steps - 1) PetscCall(output->write_fields(integrator));
+      t_output += MPI_Wtime() - t0;
+    }
+  }
+  result->steps_taken = integrator.steps_taken();
+  PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
+  PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
+
+  // Timing table: the slowest rank's time per phase.
+  const EvaluationTimes& ev = integrator.evaluation_times();
+  const double assembly = ev.gradient + ev.hessian;
+  const double line_search = ev.energy + ev.validity;
+  const double linear = integrator.solve_seconds() - assembly - line_search;
+  double local[7] = {t_partition, t_setup, assembly, line_search, linear, t_output, MPI_Wtime() - t_start}, worst[7];
+  MPI_Reduce(local, worst, 7, MPI_DOUBLE, MPI_MAX, 0, comm);
+  const char* names[7] = {"partition", "setup", "assembly (gradient, Hessian)", "line search (energy, validity)",
+                          "linear solve (KSP + AMG) and rest", "output", "total"};
+  PetscCall(PetscPrintf(comm, "\n%-36s %10s\n", "phase (max over ranks)", "seconds"));
+  for (int i = 0; i < 7; ++i) PetscCall(PetscPrintf(comm, "%-36s %10.3f\n", names[i], worst[i]));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace dipc

@@ -1,0 +1,177 @@
+// CPU element loops over an ElementBlock (see element_loops.hpp). Each loop gathers one
+// element's node coordinates into stack arrays, calls the host/device point function and
+// scatters; nothing is allocated inside a loop.
+#include "assembly/element_loops.hpp"
+
+#include <limits>
+
+#include "assembly/hex8_elasticity.hpp"
+#include "assembly/hex8_mass.hpp"
+
+namespace dipc {
+
+namespace {
+
+void gather(const double* field, const std::int32_t* element_nodes, double out[24]) {
+  for (int a = 0; a < 8; ++a) {
+    const double* p = field + 3 * static_cast<std::int64_t>(element_nodes[a]);
+    out[3 * a] = p[0];
+    out[3 * a + 1] = p[1];
+    out[3 * a + 2] = p[2];
+  }
+}
+
+void scatter_add(const double values[24], const std::int32_t* element_nodes, double* field) {
+  for (int a = 0; a < 8; ++a) {
+    double* p = field + 3 * static_cast<std::int64_t>(element_nodes[a]);
+    p[0] += values[3 * a];
+    p[1] += values[3 * a + 1];
+    p[2] += values[3 * a + 2];
+  }
+}
+
+// Global dof ids 3*l2g[node] + c of one element, checked against PETSc's 32-bit PetscInt.
+void element_dofs(const ElementBlock& block, int e, const std::int64_t* local_to_global, std::int32_t dofs[24]) {
+  const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+  for (int a = 0; a < 8; ++a) {
+    const std::int64_t global_node = local_to_global[en[a]];
+    const std::int64_t first = 3 * global_node;
+    if (global_node < 0 || first + 2 > std::numeric_limits<std::int32_t>::max())
+      throw DofIndexOverflow("element_loops: element " + std::to_string(e) + " local node " +
+                             std::to_string(en[a]) + " has global id " + std::to_string(global_node) +
+                             " whose dofs do not fit a 32-bit index");
+    for (int c = 0; c < 3; ++c) dofs[3 * a + c] = static_cast<std::int32_t>(first + c);
+  }
+}
+
+}  // namespace
+
+bool elastic_energy(const ElementBlock& block, const double* x, double* energy) {
+  double total = 0;
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24], ee;
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], &ee, nullptr, nullptr)) return false;
+    total += ee;
+  }
+  *energy = total;
+  return true;
+}
+
+bool elastic_gradient(const ElementBlock& block, const double* x, double* g) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24], ge[24];
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, ge, nullptr)) return false;
+    scatter_add(ge, en, g);
+  }
+  return true;
+}
+
+bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_values) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24];
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    double* He = coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e);
+    if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He)) return false;
+  }
+  return true;
+}
+
+bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x, double* energy, double* g,
+                                     double* coo_values) {
+  double total = 0;
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24], ge[24], ee;
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    double* He = coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e);
+    if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], &ee, ge, He)) return false;
+    total += ee;
+    scatter_add(ge, en, g);
+  }
+  *energy = total;
+  return true;
+}
+
+void elastic_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
+                         std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols) {
+  const std::size_t n = static_cast<std::size_t>(kElasticCooPerElement) * block.num_elements;
+  rows->resize(n);
+  cols->resize(n);
+  for (int e = 0; e < block.num_elements; ++e) {
+    std::int32_t dofs[24];
+    element_dofs(block, e, local_to_global, dofs);
+    std::int32_t* r = rows->data() + kElasticCooPerElement * static_cast<std::size_t>(e);
+    std::int32_t* c = cols->data() + kElasticCooPerElement * static_cast<std::size_t>(e);
+    for (int i = 0; i < 24; ++i)
+      for (int j = 0; j < 24; ++j) {
+        r[24 * i + j] = dofs[i];
+        c[24 * i + j] = dofs[j];
+      }
+  }
+}
+
+double min_volume_ratio(const ElementBlock& block, const double* x, double* per_element) {
+  double m = std::numeric_limits<double>::max();
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24];
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    const double r = hex8_min_volume_ratio(Xe, xe);
+    if (per_element) per_element[e] = r;
+    m = r < m ? r : m;
+  }
+  return m;
+}
+
+void lumped_mass(const ElementBlock& block, const double* rho, double* node_mass) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], me[8];
+    gather(block.reference, en, Xe);
+    hex8_lumped_mass(Xe, rho[e], me);
+    for (int a = 0; a < 8; ++a) node_mass[en[a]] += me[a];
+  }
+}
+
+void consistent_mass_values(const ElementBlock& block, const double* rho, double* coo_values) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], Me[64];
+    gather(block.reference, en, Xe);
+    hex8_consistent_mass(Xe, rho[e], Me);
+    double* v = coo_values + kMassCooPerElement * static_cast<std::int64_t>(e);
+    for (int ab = 0; ab < 64; ++ab)
+      for (int c = 0; c < 3; ++c) v[3 * ab + c] = Me[ab];
+  }
+}
+
+void consistent_mass_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
+                                 std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols) {
+  const std::size_t n = static_cast<std::size_t>(kMassCooPerElement) * block.num_elements;
+  rows->resize(n);
+  cols->resize(n);
+  for (int e = 0; e < block.num_elements; ++e) {
+    std::int32_t dofs[24];
+    element_dofs(block, e, local_to_global, dofs);
+    std::int32_t* r = rows->data() + kMassCooPerElement * static_cast<std::size_t>(e);
+    std::int32_t* c = cols->data() + kMassCooPerElement * static_cast<std::size_t>(e);
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b)
+        for (int k = 0; k < 3; ++k) {
+          r[3 * (8 * a + b) + k] = dofs[3 * a + k];
+          c[3 * (8 * a + b) + k] = dofs[3 * b + k];
+        }
+  }
+}
+
+}  // namespace dipc

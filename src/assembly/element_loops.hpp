@@ -1,0 +1,70 @@
+// CPU loops over a block of hex8 elements: elastic energy, gradient, Hessian values in COO
+// order, volume ratios and mass matrices. They call the same point functions as the CUDA
+// kernels (hex8_elasticity.hpp, hex8_mass.hpp) and know nothing of MPI or PETSc: the caller
+// passes local node ids and, for COO patterns, the local-to-global node map.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+// Structure-of-arrays view of an element block; nothing owned.
+struct ElementBlock {
+  int num_elements = 0;
+  const std::int32_t* nodes = nullptr;  // 8*num_elements local node ids, element-major
+  const double* reference = nullptr;    // 3*num_local_nodes reference coordinates
+  const double* lambda = nullptr;       // per element
+  const double* mu = nullptr;           // per element
+};
+
+// Thrown when a global dof id does not fit PETSc's 32-bit index (3*global_node + 2 > 2^31-1).
+class DofIndexOverflow : public std::overflow_error {
+ public:
+  using std::overflow_error::overflow_error;
+};
+
+// Entries per element of the elastic COO pattern (a dense 24x24 block).
+constexpr int kElasticCooPerElement = 576;
+// Entries per element of the consistent mass COO pattern (8x8 node pairs x 3 components).
+constexpr int kMassCooPerElement = 192;
+
+// x holds 3 current coordinates per local node. Functions returning bool return false as
+// soon as an element has det F <= 0 at a quadrature point; their outputs are then partial
+// and must be discarded.
+
+// Sum of the element energies.
+bool elastic_energy(const ElementBlock& block, const double* x, double* energy);
+// Adds the element gradients into g (3 per local node).
+bool elastic_gradient(const ElementBlock& block, const double* x, double* g);
+// Writes 576 PSD-projected Hessian values per element (element-major, row-major 24x24 with
+// element dof 3a + i) into coo_values, in the order of elastic_coo_pattern.
+bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_values);
+// All three in one pass (one geometry evaluation per quadrature point): energy is
+// overwritten with the sum, g added into, coo_values written as above.
+bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x, double* energy, double* g,
+                                     double* coo_values);
+
+// Resizes rows/cols to 576*num_elements and fills them with the global dof ids of the
+// entries written by elastic_hessian: entry 576e + 24(3a+i) + 3b+j is
+// (3*l2g[node_a]+i, 3*l2g[node_b]+j). Throws DofIndexOverflow if an id exceeds int32.
+void elastic_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
+                         std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols);
+
+// Minimum volume ratio (hex8_min_volume_ratio) over all elements; per element too when
+// per_element != nullptr. Returns +huge for an empty block.
+double min_volume_ratio(const ElementBlock& block, const double* x, double* per_element);
+
+// Adds the row-sum lumped masses into node_mass (one per local node); rho per element.
+void lumped_mass(const ElementBlock& block, const double* rho, double* node_mass);
+// Writes 192 values per element in the order of consistent_mass_coo_pattern: entry
+// 192e + 3(8a + b) + c holds M_ab (the scalar consistent mass, hex8_consistent_mass) for the
+// dof pair (3*l2g[node_a]+c, 3*l2g[node_b]+c), i.e. the 8x8 block expanded to M (x) I_3.
+void consistent_mass_values(const ElementBlock& block, const double* rho, double* coo_values);
+// Resizes rows/cols to 192*num_elements and fills them in the order above. Throws
+// DofIndexOverflow if an id exceeds int32.
+void consistent_mass_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
+                                 std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols);
+
+}  // namespace dipc

@@ -1,0 +1,123 @@
+// Element energy, gradient and Hessian of the neo-Hookean hex8 (trilinear, 2x2x2 Gauss) and
+// its volume ratio check. Host/device point functions on plain arrays: node reference
+// coordinates X[3a + i] and current positions x[3a + i] (Gmsh/VTK node order, see
+// mesh/hex_mesh.hpp); gradients have 24 entries (element dof 3a + i), Hessians are 24x24
+// row-major.
+#pragma once
+#include "assembly/neo_hookean.hpp"
+#include "assembly/small_matrix.hpp"
+#include "host_device.hpp"
+#include "mesh/hex8_reference.hpp"
+
+namespace dipc {
+
+namespace detail {
+
+// Psi_e = sum_q w_q |det J0_q| psi(F_q), F = (dx/dxi)(dX/dxi)^{-1} = sum_a x_a (x) G_a with the
+// reference shape gradients G_a = dN_a/dX = J0^{-T} dN_a/dxi. Because dF_ij/dx_ak = d_ik G_aj,
+//   g_ak = sum_q w|J0| sum_j P_kj G_aj,
+//   H_(ak)(bl) = sum_q w|J0| sum_jm G_aj dP_kj/dF_lm G_bm       (B^T dPdF B),
+// see e.g. Bonet & Wood, Nonlinear Continuum Mechanics for FEA, 2nd ed., sections 9.2-9.4.
+// `Project` selects the PSD-projected dP/dF (Newton) or the exact one (derivative tests).
+template <bool Project>
+DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
+                              double* energy, double* gradient, double* hessian) {
+  double e = 0;
+  if (gradient)
+    for (int k = 0; k < 24; ++k) gradient[k] = 0;
+  if (hessian)
+    for (int k = 0; k < 576; ++k) hessian[k] = 0;
+  for (int q = 0; q < hex8::kQuadraturePoints; ++q) {
+    double xi, eta, zeta, dN[24], J0[9], J0inv[9];
+    hex8::gauss_point(q, xi, eta, zeta);
+    hex8::shape_gradient(xi, eta, zeta, dN);
+    hex8::jacobian(X, dN, J0);
+    const double det_J0 = inverse3x3(J0, J0inv);
+    const double wdet = hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
+    double G[24];
+    for (int a = 0; a < 8; ++a)
+      for (int j = 0; j < 3; ++j)
+        G[3 * a + j] = dN[3 * a] * J0inv[j] + dN[3 * a + 1] * J0inv[3 + j] + dN[3 * a + 2] * J0inv[6 + j];
+    double F[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
+    if (!(det3x3(F) > 0)) return false;
+    if (energy) e += wdet * neo_hookean_energy(F, lambda, mu);
+    if (gradient) {
+      double P[9];
+      neo_hookean_stress(F, lambda, mu, P);
+      for (int a = 0; a < 8; ++a)
+        for (int k = 0; k < 3; ++k)
+          gradient[3 * a + k] +=
+              wdet * (P[3 * k] * G[3 * a] + P[3 * k + 1] * G[3 * a + 1] + P[3 * k + 2] * G[3 * a + 2]);
+    }
+    if (hessian) {
+      double C[81];
+      if (Project)
+        neo_hookean_stress_derivative_psd(F, lambda, mu, C);
+      else
+        neo_hookean_stress_derivative(F, lambda, mu, C);
+      for (int a = 0; a < 8; ++a) {
+        // T_k,(lm) = w|J0| sum_j G_aj C_(kj),(lm): contract the left index once per node a.
+        double T[27];
+        for (int k = 0; k < 3; ++k)
+          for (int lm = 0; lm < 9; ++lm)
+            T[9 * k + lm] = wdet * (G[3 * a] * C[9 * (3 * k) + lm] + G[3 * a + 1] * C[9 * (3 * k + 1) + lm] +
+                                    G[3 * a + 2] * C[9 * (3 * k + 2) + lm]);
+        for (int b = a; b < 8; ++b)
+          for (int k = 0; k < 3; ++k)
+            for (int l = 0; l < 3; ++l)
+              hessian[24 * (3 * a + k) + 3 * b + l] += T[9 * k + 3 * l] * G[3 * b] +
+                                                       T[9 * k + 3 * l + 1] * G[3 * b + 1] +
+                                                       T[9 * k + 3 * l + 2] * G[3 * b + 2];
+      }
+    }
+  }
+  if (hessian)
+    // Only blocks b >= a were accumulated; mirror the upper triangle so H is exactly symmetric.
+    for (int r = 0; r < 24; ++r)
+      for (int c = r + 1; c < 24; ++c) hessian[24 * c + r] = hessian[24 * r + c];
+  if (energy) *energy = e;
+  return true;
+}
+
+}  // namespace detail
+
+// Energy, gradient (24 or nullptr) and PSD-projected Hessian (576 or nullptr) of one
+// element; `energy` may be nullptr too. Returns false, outputs unspecified, when det F <= 0
+// at a quadrature point.
+DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
+                              double* energy, double* gradient, double* hessian) {
+  return detail::hex8_neo_hookean<true>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
+// Same with the exact (unprojected, possibly indefinite) Hessian: the true second
+// derivative, for finite-difference tests and for solvers that do their own safeguarding.
+DIPC_HD bool hex8_neo_hookean_exact_hessian(const double X[24], const double x[24], double lambda, double mu,
+                                            double* energy, double* gradient, double* hessian) {
+  return detail::hex8_neo_hookean<false>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
+// min det F over the 8 Gauss points and the 8 corners, det F = det(dx/dxi) / det(dX/dxi):
+// the local volume ratio. <= 0 means the trial state inverts the element somewhere; corners
+// catch inversions that the Gauss points miss on distorted elements.
+DIPC_HD double hex8_min_volume_ratio(const double X[24], const double x[24]) {
+  double m = 1e300;
+  for (int p = 0; p < 16; ++p) {
+    double xi, eta, zeta, dN[24], J0[9], J[9];
+    if (p < 8) {
+      xi = hex8::corner_xi(p), eta = hex8::corner_eta(p), zeta = hex8::corner_zeta(p);
+    } else {
+      hex8::gauss_point(p - 8, xi, eta, zeta);
+    }
+    hex8::shape_gradient(xi, eta, zeta, dN);
+    hex8::jacobian(X, dN, J0);
+    hex8::jacobian(x, dN, J);
+    const double ratio = det3x3(J) / det3x3(J0);
+    m = ratio < m ? ratio : m;
+  }
+  return m;
+}
+
+}  // namespace dipc

@@ -1,0 +1,367 @@
+// Scene file parser: reads the JSON format documented below into a Scene and validates every
+// value, so that the solver never starts on a scene with a typo or an impossible parameter.
+//
+// Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
+//   materials            [ {name, E, nu, rho} ]                       required, >= 1
+//   geometry             [ {name, box: {size, resolution, origin} | mesh,
+//                           translation, scale (mesh only), material, initial_velocity} ]
+//                                                                     required, >= 1
+//   boundary_conditions  {gravity: [gx,gy,gz],
+//                         dirichlet: [ {selection, type: fixed|velocity|rotation,
+//                                       velocity | axis, center, angular_velocity} ]}
+//   time                 {integrator: implicit_euler, dt, steps | t_end} or
+//                        {integrator: static}                                       required
+//   solver               {mass: lumped|consistent}
+//   output               {directory, name, every}
+//   contact              {enabled, dhat, dhat_relative, friction, epsv}
+// Omitted optional values take the defaults of scene.hpp. A body's name defaults to
+// "body<i>"; its material may be omitted when the scene has exactly one. A selection is a
+// node set name ("beam.xmin") or {"box": [[xmin,ymin,zmin],[xmax,ymax,zmax]]}.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "io/json_document.hpp"
+#include "io/scene.hpp"
+#include "io/scene_json_node.hpp"
+
+namespace dipc {
+namespace {
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+double positive(const SceneJsonNode& node) {
+  const double v = node.number();
+  if (!(v > 0)) node.fail_value("must be > 0");
+  return v;
+}
+
+std::vector<Material> parse_materials(const SceneJsonNode& node) {
+  const std::vector<SceneJsonNode> items = node.elements();
+  if (items.empty()) node.fail("must list at least one material");
+  std::vector<Material> materials;
+  std::map<std::string, std::string> first_path_of_name;
+  for (const SceneJsonNode& item : items) {
+    item.expect_object({"name", "E", "nu", "rho"});
+    Material m;
+    if (auto name = item.find("name")) {
+      m.name = name->string();
+      if (m.name.empty()) name->fail("must not be empty");
+      const auto [it, inserted] = first_path_of_name.emplace(m.name, name->path());
+      if (!inserted) name->fail_value("duplicate material name (also " + it->second + ")");
+    }
+    if (auto E = item.find("E")) m.E = positive(*E);
+    if (auto nu = item.find("nu")) {
+      m.nu = nu->number();
+      // Strict bounds: nu = 0.5 makes lambda = E nu / ((1 + nu)(1 - 2 nu)) infinite and
+      // nu = -1 makes mu = E / (2 (1 + nu)) infinite.
+      if (!(m.nu > -1.0 && m.nu < 0.5)) nu->fail_value("must be in (-1, 0.5)");
+    }
+    if (auto rho = item.find("rho")) m.rho = positive(*rho);
+    materials.push_back(m);
+  }
+  return materials;
+}
+
+std::size_t material_reference(const std::optional<SceneJsonNode>& node, const SceneJsonNode& body,
+                               const std::vector<Material>& materials) {
+  if (!node) {
+    if (materials.size() == 1) return 0;
+    body.fail("\"material\" is required when the scene has " + std::to_string(materials.size()) +
+              " materials");
+  }
+  if (node->json().is_string()) {
+    const std::string name = node->string();
+    std::string known;
+    for (std::size_t i = 0; i < materials.size(); ++i) {
+      if (materials[i].name == name) return i;
+      if (!materials[i].name.empty()) known += (known.empty() ? "" : ", ") + materials[i].name;
+    }
+    node->fail_value("unknown material (known: " + (known.empty() ? "none named" : known) + ")");
+  }
+  if (!node->json().is_number_integer()) node->fail("expected a material name or index");
+  const int index = node->integer();
+  if (index < 0 || static_cast<std::size_t>(index) >= materials.size()) {
+    node->fail_value("material index must be in [0, " + std::to_string(materials.size()) + ")");
+  }
+  return static_cast<std::size_t>(index);
+}
+
+BoxGenerator parse_box(const SceneJsonNode& node) {
+  node.expect_object({"size", "resolution", "origin"});
+  BoxGenerator box;
+  if (auto size = node.find("size")) {
+    box.size = size->vec3();
+    for (const SceneJsonNode& s : size->elements()) positive(s);
+  }
+  if (auto resolution = node.find("resolution")) {
+    const std::vector<SceneJsonNode> items = resolution->elements();
+    if (items.size() != 3) resolution->fail("expected an array of 3 integers, got " + std::to_string(items.size()));
+    for (int d = 0; d < 3; ++d) {
+      box.resolution[d] = items[d].integer();
+      if (box.resolution[d] < 1) items[d].fail_value("must be >= 1");
+    }
+  }
+  if (auto origin = node.find("origin")) box.origin = origin->vec3();
+  return box;
+}
+
+// Mesh paths are relative to the scene file, as a user writing the scene expects; stored
+// absolute so that later stages do not depend on the working directory.
+std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base_directory) {
+  const std::string file = node.string();
+  if (file.empty()) node.fail("must not be empty");
+  std::filesystem::path path(file);
+  if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
+  return std::filesystem::absolute(path).lexically_normal().string();
+}
+
+std::vector<Body> parse_geometry(const SceneJsonNode& node, const std::vector<Material>& materials,
+                                 const std::string& base_directory) {
+  const std::vector<SceneJsonNode> items = node.elements();
+  if (items.empty()) node.fail("must list at least one body");
+  std::vector<Body> bodies;
+  std::map<std::string, std::string> first_path_of_name;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const SceneJsonNode& item = items[i];
+    item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity"});
+    Body b;
+    b.name = "body" + std::to_string(i);
+    if (auto name = item.find("name")) {
+      b.name = name->string();
+      if (b.name.empty()) name->fail("must not be empty");
+      // Selections are "<body>.<set>": a dot inside a body name would make them ambiguous.
+      if (b.name.find('.') != std::string::npos) name->fail_value("must not contain '.'");
+    }
+    const auto [it, inserted] = first_path_of_name.emplace(b.name, item.path());
+    if (!inserted) item.fail("duplicate body name \"" + b.name + "\" (also " + it->second + ")");
+
+    const auto box = item.find("box");
+    const auto mesh = item.find("mesh");
+    if (box && mesh) item.fail("give either \"box\" or \"mesh\", not both");
+    if (!box && !mesh) item.fail("needs a \"box\" or a \"mesh\"");
+    if (box) {
+      b.box = parse_box(*box);
+      for (const char* key : {"translation", "scale"}) {
+        if (auto placed = item.find(key)) {
+          placed->fail("applies to a \"mesh\" body only (a box is placed by box.origin and box.size)");
+        }
+      }
+    } else {
+      b.mesh_file = resolve_mesh_path(*mesh, base_directory);
+      if (auto translation = item.find("translation")) b.translation = translation->vec3();
+      if (auto scale = item.find("scale")) b.scale = positive(*scale);
+    }
+    b.material = material_reference(item.find("material"), item, materials);
+    if (auto v = item.find("initial_velocity")) b.initial_velocity = v->vec3();
+    bodies.push_back(b);
+  }
+  return bodies;
+}
+
+Selection parse_selection(const SceneJsonNode& node) {
+  Selection s;
+  if (node.json().is_string()) {
+    s.name = node.string();
+    if (s.name.empty()) node.fail("must not be empty");
+    return s;
+  }
+  if (!node.json().is_object()) node.fail("expected a node set name or {\"box\": [[min], [max]]}");
+  node.expect_object({"box"});
+  const SceneJsonNode box = node.required("box");
+  const std::vector<SceneJsonNode> corners = box.elements();
+  if (corners.size() != 2) box.fail("expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
+  const std::array<double, 3> lo = corners[0].vec3();
+  const std::array<double, 3> hi = corners[1].vec3();
+  for (int d = 0; d < 3; ++d) {
+    if (lo[d] > hi[d]) {
+      box.fail("min corner exceeds max corner in coordinate " + std::to_string(d) + " (" +
+               format_number(lo[d]) + " > " + format_number(hi[d]) + ")");
+    }
+  }
+  s.box = std::array<double, 6>{lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
+  return s;
+}
+
+DirichletCondition parse_dirichlet(const SceneJsonNode& node) {
+  DirichletCondition bc;
+  bc.key_path = node.path();
+  std::string type = "fixed";
+  if (auto t = node.find("type")) {
+    type = t->string();
+    if (type == "fixed") {
+      bc.kind = DirichletCondition::Kind::Fixed;
+    } else if (type == "velocity") {
+      bc.kind = DirichletCondition::Kind::Velocity;
+    } else if (type == "rotation") {
+      bc.kind = DirichletCondition::Kind::Rotation;
+    } else {
+      t->fail_value("unknown type (allowed: fixed, velocity, rotation)");
+    }
+  }
+  const std::string context = "for type \"" + type + "\"";
+  switch (bc.kind) {
+    case DirichletCondition::Kind::Fixed:
+      node.expect_object({"selection", "type"}, context);
+      break;
+    case DirichletCondition::Kind::Velocity:
+      node.expect_object({"selection", "type", "velocity"}, context);
+      bc.velocity = node.required("velocity").vec3();
+      break;
+    case DirichletCondition::Kind::Rotation: {
+      node.expect_object({"selection", "type", "axis", "center", "angular_velocity"}, context);
+      if (auto axis = node.find("axis")) {
+        const std::array<double, 3> a = axis->vec3();
+        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (!(length > 0)) axis->fail_value("rotation axis must be non-zero");
+        bc.axis = {a[0] / length, a[1] / length, a[2] / length};
+      }
+      if (auto center = node.find("center")) bc.center = center->vec3();
+      bc.angular_velocity = node.required("angular_velocity").number();
+      break;
+    }
+  }
+  bc.selection = parse_selection(node.required("selection"));
+  return bc;
+}
+
+void parse_boundary_conditions(const SceneJsonNode& node, Scene& scene) {
+  node.expect_object({"gravity", "dirichlet"});
+  if (auto g = node.find("gravity")) scene.gravity = g->vec3();
+  if (auto dirichlet = node.find("dirichlet")) {
+    for (const SceneJsonNode& item : dirichlet->elements()) scene.dirichlet.push_back(parse_dirichlet(item));
+  }
+}
+
+void parse_time(const SceneJsonNode& node, Scene& scene) {
+  if (auto integrator = node.find("integrator")) {
+    const std::string name = integrator->string();
+    if (name == "static") {
+      scene.is_static = true;
+    } else if (name != "implicit_euler") {
+      integrator->fail_value("unknown integrator (allowed: implicit_euler, static)");
+    }
+  }
+  if (scene.is_static) {
+    // A static solve is one minimisation: a time step or step count would be silently unused.
+    node.expect_object({"integrator"}, "for integrator \"static\"");
+    scene.steps = 1;
+    return;
+  }
+  node.expect_object({"integrator", "dt", "steps", "t_end"});
+  scene.dt = positive(node.required("dt"));
+  const auto steps = node.find("steps");
+  const auto t_end = node.find("t_end");
+  if (steps && t_end) node.fail("give either \"steps\" or \"t_end\", not both");
+  if (!steps && !t_end) node.fail("needs \"steps\" or \"t_end\"");
+  if (steps) {
+    scene.steps = steps->integer();
+    if (scene.steps < 1) steps->fail_value("must be >= 1");
+    return;
+  }
+  const double end = positive(*t_end);
+  const double ratio = end / scene.dt;
+  if (!(ratio < 2147483647.0)) {
+    t_end->fail_value("needs more than 2147483647 steps of dt = " + format_number(scene.dt));
+  }
+  const long long n = std::llround(ratio);
+  if (n < 1) t_end->fail_value("shorter than one step of dt = " + format_number(scene.dt));
+  if (std::abs(static_cast<double>(n) * scene.dt - end) > 1e-9 * end) {
+    t_end->fail_value("not a whole number of steps of dt = " + format_number(scene.dt) + " (" +
+                      format_number(ratio) + " steps)");
+  }
+  scene.steps = static_cast<int>(n);
+}
+
+void parse_solver(const SceneJsonNode& node, Scene& scene) {
+  node.expect_object({"mass"});
+  if (auto mass = node.find("mass")) {
+    const std::string kind = mass->string();
+    if (kind == "lumped") {
+      scene.lumped_mass = true;
+    } else if (kind == "consistent") {
+      scene.lumped_mass = false;
+    } else {
+      mass->fail_value("unknown mass matrix (allowed: lumped, consistent)");
+    }
+  }
+}
+
+void parse_output(const SceneJsonNode& node, Scene& scene) {
+  node.expect_object({"directory", "name", "every"});
+  if (auto directory = node.find("directory")) {
+    scene.output_directory = directory->string();
+    if (scene.output_directory.empty()) directory->fail("must not be empty");
+  }
+  if (auto name = node.find("name")) {
+    scene.output_name = name->string();
+    // The name becomes <name>.h5 and <name>.xmf inside the output directory.
+    if (scene.output_name.empty() || scene.output_name.find('/') != std::string::npos) {
+      name->fail_value("must be a non-empty file name without '/'");
+    }
+  }
+  if (auto every = node.find("every")) {
+    scene.output_every = every->integer();
+    if (scene.output_every < 1) every->fail_value("must be >= 1");
+  }
+}
+
+void parse_contact(const SceneJsonNode& node, ContactSettings& contact) {
+  node.expect_object({"enabled", "dhat", "dhat_relative", "friction", "epsv"});
+  if (auto enabled = node.find("enabled")) contact.enabled = enabled->boolean();
+  if (auto dhat = node.find("dhat")) contact.dhat = positive(*dhat);
+  if (auto relative = node.find("dhat_relative")) contact.dhat_relative = relative->boolean();
+  if (auto friction = node.find("friction")) {
+    contact.friction = friction->number();
+    if (contact.friction < 0) friction->fail_value("must be >= 0");
+  }
+  if (auto epsv = node.find("epsv")) contact.epsv = positive(*epsv);
+}
+
+}  // namespace
+
+std::string Selection::describe() const {
+  if (box) {
+    const std::array<double, 6>& b = *box;
+    return "box [" + format_number(b[0]) + ", " + format_number(b[1]) + ", " + format_number(b[2]) +
+           "] - [" + format_number(b[3]) + ", " + format_number(b[4]) + ", " + format_number(b[5]) + "]";
+  }
+  return "node set \"" + name + "\"";
+}
+
+Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
+                       const std::string& base_directory) {
+  const nlohmann::json document = parse_json_document(json_text, source_name);
+  const SceneJsonNode root(document, "", source_name);
+  root.expect_object({"materials", "geometry", "boundary_conditions", "time", "solver", "output", "contact"});
+
+  Scene scene;
+  scene.source = source_name;
+  scene.materials = parse_materials(root.required("materials"));
+  scene.bodies = parse_geometry(root.required("geometry"), scene.materials, base_directory);
+  if (auto bc = root.find("boundary_conditions")) parse_boundary_conditions(*bc, scene);
+  parse_time(root.required("time"), scene);
+  if (auto solver = root.find("solver")) parse_solver(*solver, scene);
+  if (auto output = root.find("output")) parse_output(*output, scene);
+  if (auto contact = root.find("contact")) parse_contact(*contact, scene.contact);
+  return scene;
+}
+
+Scene parse_scene_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(path + ": cannot read scene file");
+  const std::filesystem::path base = std::filesystem::absolute(path).parent_path();
+  return parse_scene_text(text.str(), path, base.string());
+}
+
+}  // namespace dipc

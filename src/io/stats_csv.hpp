@@ -1,0 +1,39 @@
+// StatsCsv: the per-step statistics table (stats.csv): a header line with the column names,
+// then one line per row() call. Rank 0 writes; the other ranks only take part in the error
+// check, so that a failed write throws on every rank rather than leaving them waiting.
+#pragma once
+#include <mpi.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+class StatsCsv {
+ public:
+  // Collective over `comm` (or serial when MPI is not initialised). Creates the parent
+  // directory if needed, truncates `path` and writes the header. Throws std::runtime_error
+  // naming the path on every rank if rank 0 cannot, and std::invalid_argument for an empty
+  // column list or a column name holding a comma, a quote or a line break.
+  StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm = MPI_COMM_WORLD);
+
+  // Collective. Writes one line (%.10g per value) and flushes it, so the table is complete up
+  // to the last step if the run is killed. `values` must have one entry per column.
+  void row(const std::vector<double>& values);
+
+  const std::string& path() const { return path_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  void check(const std::string& local_error) const;
+
+  std::string path_;
+  std::vector<std::string> columns_;
+  MPI_Comm comm_ = MPI_COMM_NULL;  // MPI_COMM_NULL: serial
+  bool writes_ = true;             // rank 0
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_{nullptr, &std::fclose};
+};
+
+}  // namespace dipc

@@ -1,0 +1,143 @@
+// MshScanner implementation (see msh_scanner.hpp).
+#include "mesh/msh_scanner.hpp"
+
+#include <charconv>
+
+#include "mesh/mesh_error.hpp"
+
+namespace dipc {
+
+MshScanner::MshScanner(std::string text, std::string path)
+    : text_(std::move(text)), path_(std::move(path)) {}
+
+void MshScanner::fail_at(std::int64_t line, const std::string& what) const {
+  throw MeshError(path_ + ":" + std::to_string(line) + ": " + what);
+}
+
+void MshScanner::skip_whitespace() {
+  while (pos_ < text_.size()) {
+    const char c = text_[pos_];
+    if (c == '\n') {
+      ++line_;
+    } else if (c != ' ' && c != '\t' && c != '\r' && c != '\f' && c != '\v') {
+      return;
+    }
+    ++pos_;
+  }
+}
+
+bool MshScanner::has_token() {
+  skip_whitespace();
+  return pos_ < text_.size();
+}
+
+void MshScanner::fail_unexpected(std::string_view found, const char* expected) const {
+  const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+  // A '$' keyword where data should be means the section ended early (a count in its header
+  // is larger than what follows, or the file was cut).
+  if (!found.empty() && found.front() == '$')
+    fail(in + " is truncated: found '" + std::string(found) + "' where " + expected +
+         " should be");
+  std::string shown(found.substr(0, 40));
+  if (found.size() > 40) shown += "...";
+  fail(in + " is malformed: expected " + expected + ", found '" + shown + "'");
+}
+
+std::string_view MshScanner::token(const char* expected) {
+  skip_whitespace();
+  if (pos_ >= text_.size()) {
+    // Point at the last line that holds anything (the previous token's), not the empty one
+    // after the final newline.
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is truncated: the file ends where " + expected + " should be");
+  }
+  token_line_ = line_;
+  const std::size_t begin = pos_;
+  while (pos_ < text_.size()) {
+    const char c = text_[pos_];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') break;
+    ++pos_;
+  }
+  return std::string_view(text_).substr(begin, pos_ - begin);
+}
+
+std::int64_t MshScanner::integer(const char* expected) {
+  const std::string_view t = token(expected);
+  std::size_t skip = (!t.empty() && t.front() == '+') ? 1 : 0;
+  std::int64_t value = 0;
+  const auto [end, ec] = std::from_chars(t.data() + skip, t.data() + t.size(), value);
+  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip)
+    fail_unexpected(t, expected);
+  return value;
+}
+
+std::int64_t MshScanner::count(const char* expected) {
+  const std::int64_t value = integer(expected);
+  if (value < 0) {
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is malformed: " + expected + " is negative (" + std::to_string(value) + ")");
+  }
+  return value;
+}
+
+double MshScanner::real(const char* expected) {
+  const std::string_view t = token(expected);
+  // std::from_chars (unlike strtod) rejects a leading '+', which hand-written files may have.
+  std::size_t skip = (!t.empty() && t.front() == '+') ? 1 : 0;
+  double value = 0;
+  const auto [end, ec] = std::from_chars(t.data() + skip, t.data() + t.size(), value);
+  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip)
+    fail_unexpected(t, expected);
+  return value;
+}
+
+std::string MshScanner::quoted(const char* expected) {
+  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t')) ++pos_;
+  token_line_ = line_;
+  if (pos_ >= text_.size() || text_[pos_] != '"') {
+    const std::size_t end = text_.find_first_of("\r\n", pos_);
+    fail_unexpected(std::string_view(text_).substr(pos_, end == std::string::npos ? end : end - pos_),
+                    expected);
+  }
+  const std::size_t close = text_.find_first_of("\"\n", pos_ + 1);
+  if (close == std::string::npos || text_[close] != '"') {
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is malformed: " + expected + " has no closing '\"' on its line");
+  }
+  std::string value = text_.substr(pos_ + 1, close - pos_ - 1);
+  pos_ = close + 1;
+  return value;
+}
+
+void MshScanner::expect(const char* keyword, const char* hint) {
+  const std::string_view t = token(keyword);
+  if (t != keyword) {
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is malformed: expected " + keyword + ", found '" + std::string(t.substr(0, 40)) +
+         "' (" + hint + ")");
+  }
+}
+
+void MshScanner::skip_section(const std::string& name) {
+  const std::string end = "$End" + name;
+  const std::int64_t start = token_line_;
+  // Line-wise, not token-wise: unknown sections may hold quoted strings with spaces.
+  while (pos_ < text_.size()) {
+    const std::size_t eol = text_.find('\n', pos_);
+    const std::size_t stop = eol == std::string::npos ? text_.size() : eol;
+    std::string_view line = std::string_view(text_).substr(pos_, stop - pos_);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+      line.remove_suffix(1);
+    while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+    const bool found = line == end;
+    pos_ = stop;
+    if (found) {
+      token_line_ = line_;
+      return;
+    }
+    if (eol != std::string::npos) ++pos_, ++line_;
+  }
+  fail_at(start, "section $" + name + " is not terminated (no " + end + " before the end of the file)");
+}
+
+}  // namespace dipc

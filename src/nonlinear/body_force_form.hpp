@@ -1,0 +1,25 @@
+// BodyForceForm: −scale · fᵀx for a constant acceleration field g (gravity): the nodal force
+// f_i = m_i g uses the lumped (row-sum) mass, which integrates ρ g N_i exactly for constant g.
+// Linear in x, so its Hessian is empty.
+#pragma once
+#include <array>
+
+#include "nonlinear/form.hpp"
+
+namespace dipc {
+
+class BodyForceForm : public Form {
+ public:
+  BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
+                const std::array<double, 3>& acceleration, double scale);
+  std::string name() const override { return "body force"; }
+  bool value(const double* x, double* energy) override;
+  bool gradient(const double* x, double* g) override;
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool hessian(const double*, double*) override { return true; }
+
+ private:
+  std::vector<double> force_;  // scale · m_i g, owned nodes, 3 per node
+};
+
+}  // namespace dipc

@@ -1,0 +1,27 @@
+// ElementData: this rank's element block in structure-of-arrays form (connectivity,
+// reference coordinates, per-element material), owned storage behind the non-owning
+// assembly::ElementBlock view that the element loops (and later the CUDA kernels) take.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "assembly/element_loops.hpp"
+#include "nonlinear/problem.hpp"
+#include "partition/distributed_mesh.hpp"
+
+namespace dipc {
+
+struct ElementData {
+  std::vector<std::int32_t> nodes;  // 8 per element
+  std::vector<double> reference;    // 3 per local node
+  std::vector<double> lambda, mu, rho;
+  std::vector<std::int64_t> local_to_global;
+
+  ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials);
+  ElementBlock block() const;
+  // Reference coordinates of element e's nodes, X[3a + i].
+  void gather_reference(int e, double X[24]) const;
+  int num_elements() const { return static_cast<int>(lambda.size()); }
+};
+
+}  // namespace dipc

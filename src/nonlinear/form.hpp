@@ -1,0 +1,46 @@
+// Form: one term of the incremental potential E(x) (DESIGN.md §2, "The Form contract").
+//
+// Forms see this rank's *local* nodal arrays (owned nodes then ghosts, 3 values per node,
+// see partition/distributed_mesh.hpp); IncrementalPotential gathers x once per evaluation,
+// sums the forms and scatters gradients back to the owners once. Each contribution must be
+// counted exactly once over all ranks: element terms loop over this rank's elements (each
+// element lives on one rank), nodal terms over owned nodes only.
+//
+// A form carries its own scale (h² for elastic and body terms in implicit Euler), so the
+// potential is the plain sum of its forms.
+#pragma once
+#include <petscsys.h>
+
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+class Form {
+ public:
+  virtual ~Form() = default;
+  virtual std::string name() const = 0;
+
+  // This rank's contribution to E at x. Returns false if x is not admissible for this
+  // form (an inverted element), in which case E(x) = +inf.
+  virtual bool value(const double* x, double* energy) = 0;
+  // Adds ∂E/∂x into g (3 per local node). Returns false as value().
+  virtual bool gradient(const double* x, double* g) = 0;
+  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern.
+  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
+  // Writes the Hessian values in coo_pattern() order. Returns false as value().
+  virtual bool hessian(const double* x, double* values) = 0;
+
+  // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
+  // contact). 1 for forms without such a limit.
+  virtual double max_step(const double* x, const double* p) { return 1.0; }
+  // False if x must be rejected outright (an inverted element at a corner or quadrature
+  // point), whatever the energy says.
+  virtual bool is_valid(const double* x) { return true; }
+  // Hooks: start of a time step (x̂ = predicted positions, local array) and of a Newton
+  // iteration.
+  virtual void begin_step(const double* x_hat) {}
+  virtual void begin_iteration(const double* x) {}
+};
+
+}  // namespace dipc

@@ -1,0 +1,44 @@
+// InertiaForm: ½ (x − x̂)ᵀ M (x − x̂), the kinetic part of the implicit-Euler incremental
+// potential (DESIGN.md §1; Kane et al. 2000, variational implicit Euler), x̂ = x_n + h v_n.
+// Lumped M (diagonal, row-sum of the consistent mass) by default, consistent as an option.
+#pragma once
+#include "nonlinear/element_data.hpp"
+#include "nonlinear/form.hpp"
+
+namespace dipc {
+
+class LumpedInertiaForm : public Form {
+ public:
+  // node_mass: complete lumped mass of every local node (contributions of all ranks summed).
+  LumpedInertiaForm(std::vector<double> node_mass, int num_owned_nodes, std::int64_t node_offset);
+  std::string name() const override { return "inertia (lumped)"; }
+  bool value(const double* x, double* energy) override;
+  bool gradient(const double* x, double* g) override;
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool hessian(const double* x, double* values) override;
+  void begin_step(const double* x_hat) override;
+
+ private:
+  std::vector<double> mass_;
+  std::vector<double> x_hat_;  // owned nodes only
+  int num_owned_;
+  std::int64_t node_offset_;
+};
+
+class ConsistentInertiaForm : public Form {
+ public:
+  explicit ConsistentInertiaForm(const ElementData& elements);
+  std::string name() const override { return "inertia (consistent)"; }
+  bool value(const double* x, double* energy) override;
+  bool gradient(const double* x, double* g) override;
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool hessian(const double* x, double* values) override;
+  void begin_step(const double* x_hat) override;
+
+ private:
+  const ElementData& elements_;
+  std::vector<double> element_mass_;  // 64 per element: 8×8 scalar M_ab
+  std::vector<double> x_hat_;         // all local nodes
+};
+
+}  // namespace dipc

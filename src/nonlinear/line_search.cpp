@@ -1,0 +1,81 @@
+// The IPC line search (Li et al. 2020, Alg. 1) as a PETSc shell line search, and the
+// velocity convergence test.
+//
+// PETSc's newtonls hands us X (current), F = ∇E(X), Y = the Newton direction with the
+// sign convention X_new = X − λY. We take α₀ = min(1, max_step) — the forms' collision-free
+// bound — then halve α until the trial state is valid (no inverted element) and satisfies
+// Armijo on E. When the predicted decrease is below the round-off of E itself (near
+// convergence) Armijo cannot be resolved, so a valid step that does not increase E by more
+// than that round-off is accepted.
+#include <algorithm>
+#include <cmath>
+
+#include "nonlinear/newton_solver.hpp"
+
+namespace dipc {
+
+PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
+  auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
+  SNES snes;
+  Vec X, F, Y, W, G;
+  PetscFunctionBeginUser;
+  PetscCall(SNESLineSearchGetSNES(ls, &snes));
+  PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
+  PetscCall(VecNorm(Y, NORM_INFINITY, &ctx->direction_inf_norm));
+
+  PetscReal E0, slope;
+  PetscCall(ctx->potential->objective(X, &E0));
+  PetscCall(VecDot(F, Y, &slope));
+  slope = -slope;  // d/dα E(X − αY) at α = 0
+  PetscCall(VecScale(Y, -1.0));  // Y := p, the descent direction (restored below)
+  PetscReal alpha;
+  PetscCall(ctx->potential->max_step(X, Y, &alpha));
+  alpha = std::min<PetscReal>(1.0, alpha);
+
+  const double roundoff = 1e-12 * std::max(1.0, std::abs(E0));
+  bool accepted = false;
+  PetscReal E = E0;
+  for (int halvings = 0; halvings < 60 && alpha > 0; ++halvings, alpha *= 0.5) {
+    PetscCall(VecWAXPY(W, alpha, Y, X));
+    PetscBool valid;
+    PetscCall(ctx->potential->is_valid(W, &valid));
+    if (!valid) continue;
+    PetscCall(ctx->potential->objective(W, &E));
+    if (!std::isfinite(E)) continue;
+    const bool armijo = E <= E0 + ctx->armijo * alpha * slope;
+    const bool unresolvable = std::abs(alpha * slope) < roundoff && E <= E0 + roundoff;
+    if (armijo || unresolvable) {
+      accepted = true;
+      break;
+    }
+  }
+  PetscCall(VecScale(Y, -1.0));
+  if (!accepted) {
+    PetscCall(PetscInfo(snes, "IPC line search: no admissible decrease along the Newton direction\n"));
+    PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_REDUCT));
+    PetscFunctionReturn(0);
+  }
+  ctx->min_alpha = std::min<double>(ctx->min_alpha, alpha);
+  PetscCall(VecCopy(W, X));
+  PetscCall(SNESComputeFunction(snes, X, F));
+  PetscCall(VecScale(Y, alpha));  // Y := the step actually taken, for PETSc's step norms
+  PetscCall(SNESLineSearchSetLambda(ls, alpha));
+  PetscCall(SNESLineSearchComputeNorms(ls));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
+                                         PetscReal fnorm, SNESConvergedReason* reason, void* ctx_) {
+  auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
+  PetscFunctionBeginUser;
+  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  if (*reason == SNES_CONVERGED_ITERATING && it > 0 &&
+      ctx->direction_inf_norm / ctx->step_length < ctx->velocity_tol) {
+    PetscCall(PetscInfo(snes, "Converged: |p|_inf / h = %g < %g\n",
+                        (double)(ctx->direction_inf_norm / ctx->step_length), ctx->velocity_tol));
+    *reason = SNES_CONVERGED_SNORM_RELATIVE;
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace dipc

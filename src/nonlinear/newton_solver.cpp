@@ -1,0 +1,114 @@
+#include "nonlinear/newton_solver.hpp"
+
+#include <petscversion.h>
+
+#include "nonlinear/log_stages.hpp"
+
+namespace dipc {
+
+namespace {
+
+PetscErrorCode objective_callback(SNES, Vec x, PetscReal* energy, void* ctx) {
+  StageScope stage(log_stages().assembly);
+  return static_cast<IncrementalPotential*>(ctx)->objective(x, energy);
+}
+PetscErrorCode gradient_callback(SNES, Vec x, Vec g, void* ctx) {
+  StageScope stage(log_stages().assembly);
+  return static_cast<IncrementalPotential*>(ctx)->gradient(x, g);
+}
+PetscErrorCode hessian_callback(SNES, Vec x, Mat J, Mat P, void* ctx) {
+  StageScope stage(log_stages().assembly);
+  PetscFunctionBeginUser;
+  PetscCall(static_cast<IncrementalPotential*>(ctx)->hessian(x, P));
+  if (J != P) {
+    PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  }
+  PetscFunctionReturn(0);
+}
+
+// Sets `name` to `value` in the options database unless the user already set it, so every
+// default stays a PETSc option that the command line or an options file overrides.
+PetscErrorCode default_option(const char* name, const char* value) {
+  PetscBool set;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, name, &set));
+  if (!set) PetscCall(PetscOptionsSetValue(nullptr, name, value));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+NewtonSolver::~NewtonSolver() {
+  SNESDestroy(&snes_);
+  MatDestroy(&J_);
+  VecDestroy(&r_);
+}
+
+PetscErrorCode NewtonSolver::set_default_options() {
+  PetscFunctionBeginUser;
+  PetscCall(default_option("-ksp_type", "cg"));
+  PetscCall(default_option("-ksp_rtol", "1e-8"));
+  PetscCall(default_option("-pc_type", "hypre"));
+  PetscCall(default_option("-pc_hypre_type", "boomeramg"));
+  // BoomerAMG for 3D elasticity: coarsen node-wise on the 3×3 blocks and interpolate the
+  // rigid-body modes attached as near-null space (hypre ignores them without these two).
+  PetscCall(default_option("-pc_hypre_boomeramg_nodal_coarsen", "6"));
+  PetscCall(default_option("-pc_hypre_boomeramg_vec_interp_variant", "3"));
+  // hypre's recommendation for 3D problems (the 0.25 default is tuned for 2D).
+  PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
+  PetscCall(default_option("-snes_max_it", "100"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec,
+                                   double step_length, double velocity_tol) {
+  PetscFunctionBeginUser;
+  ls_.potential = potential;
+  ls_.step_length = step_length;
+  ls_.velocity_tol = velocity_tol;
+  PetscCall(set_default_options());
+  PetscCall(potential->create_matrix(&J_));
+  PetscCall(VecDuplicate(template_vec, &r_));
+  PetscCall(SNESCreate(comm, &snes_));
+  PetscCall(SNESSetType(snes_, SNESNEWTONLS));
+  PetscCall(SNESSetObjective(snes_, objective_callback, potential));
+  PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
+  PetscCall(SNESSetJacobian(snes_, J_, J_, hessian_callback, potential));
+  PetscCall(SNESSetConvergenceTest(snes_, velocity_convergence_test, &ls_, nullptr));
+  SNESLineSearch ls;
+  PetscCall(SNESGetLineSearch(snes_, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
+#if PETSC_VERSION_GE(3, 21, 0)
+  PetscCall(SNESLineSearchShellSetApply(ls, ipc_line_search, &ls_));
+#else
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, ipc_line_search, &ls_));
+#endif
+  PetscCall(SNESSetFromOptions(snes_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
+  PetscFunctionBeginUser;
+  // Rigid-body modes at the current configuration: the near-null space BoomerAMG's vector
+  // interpolation (and GAMG, if chosen) uses.
+  MatNullSpace rigid;
+  PetscCall(MatNullSpaceCreateRigidBody(x, &rigid));
+  PetscCall(MatSetNearNullSpace(J_, rigid));
+  PetscCall(MatNullSpaceDestroy(&rigid));
+
+  ls_.min_alpha = 1.0;
+  ls_.direction_inf_norm = 0.0;
+  {
+    StageScope stage(log_stages().solve);
+    PetscCall(SNESSolve(snes_, nullptr, x));
+  }
+  PetscCall(SNESGetIterationNumber(snes_, &report->iterations));
+  PetscCall(SNESGetLinearSolveIterations(snes_, &report->linear_iterations));
+  PetscCall(SNESGetConvergedReason(snes_, &report->reason));
+  report->min_alpha = ls_.min_alpha;
+  report->step_inf_norm = ls_.direction_inf_norm;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace dipc

@@ -1,0 +1,43 @@
+// ProblemSetup: the physics of one run on one rank, in the numbering of its
+// DistributedMesh. The app builds it from a scene file; tests build it directly.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace dipc {
+
+struct BodyMaterial {
+  double lambda = 0, mu = 0, rho = 0;  // Lamé parameters [Pa] and density [kg/m³]
+};
+
+// Where a Dirichlet node is at time t, given its position X at t = 0.
+struct PrescribedMotion {
+  enum class Kind { Fixed, Velocity, Rotation };
+  Kind kind = Kind::Fixed;
+  std::array<double, 3> velocity{0, 0, 0};
+  std::array<double, 3> axis{0, 0, 1};  // unit vector
+  std::array<double, 3> center{0, 0, 0};
+  double angular_velocity = 0;  // rad/s, right-handed about axis
+  std::array<double, 3> position(const std::array<double, 3>& X, double t) const;
+  std::array<double, 3> velocity_at(const std::array<double, 3>& X, double t) const;
+};
+
+struct DirichletSet {
+  std::vector<std::int32_t> local_nodes;  // local node ids on this rank (owned or ghost)
+  PrescribedMotion motion;
+};
+
+struct ProblemSetup {
+  std::vector<BodyMaterial> body_materials;          // indexed by body id
+  std::vector<std::array<double, 3>> body_velocity;  // initial velocity per body id
+  std::array<double, 3> gravity{0, 0, 0};
+  std::vector<DirichletSet> dirichlet;  // later sets win where they overlap
+  bool is_static = false;  // minimise Ψ(x) − fᵀx once instead of stepping in time
+  double dt = 0.01;
+  int steps = 1;
+  bool lumped_mass = true;
+  double length_scale = 1.0;  // bounding-box diagonal, scales default tolerances
+};
+
+}  // namespace dipc

@@ -1,0 +1,72 @@
+// TimeIntegrator: implicit Euler as incremental-potential minimisation (DESIGN.md §1), or a
+// sequence of static solves. Builds only the forms the problem needs (no inertia in a static
+// solve, no body force when g = 0), owns the distributed state and advances it step by step.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nonlinear/element_data.hpp"
+#include "nonlinear/newton_solver.hpp"
+#include "nonlinear/problem.hpp"
+
+namespace dipc {
+
+struct StepReport {
+  int step = 0;          // 1-based index of the step just taken
+  double time = 0;       // t_{n+1}
+  NewtonReport newton;
+  double energy = 0;     // E at the accepted state
+  double min_volume_ratio = 0;
+  double wall_seconds = 0;
+  std::string failure;   // empty when the step succeeded; otherwise why it did not
+};
+
+class TimeIntegrator {
+ public:
+  TimeIntegrator() = default;
+  ~TimeIntegrator();
+  TimeIntegrator(const TimeIntegrator&) = delete;
+  TimeIntegrator& operator=(const TimeIntegrator&) = delete;
+
+  // velocity_tol: Newton's ‖p‖∞/h tolerance (length/s); for static solves a length.
+  PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, double velocity_tol);
+  // Takes one time step (or one static load step). A step that cannot be taken (Newton
+  // diverged, prescribed motion inverts an element) is reported in StepReport::failure and
+  // leaves the state at the previous step.
+  PetscErrorCode step(StepReport* report);
+
+  int steps_taken() const { return steps_taken_; }
+  double time() const { return time_; }
+  const std::vector<std::string>& form_names() const { return form_names_; }
+  PetscInt num_dofs() const;
+  PetscInt hessian_entries() const;
+  Vec positions() const { return x_; }
+  Vec velocities() const { return v_; }
+  Vec reference_positions() const { return X_; }
+  // Min det F per local element at the current state (output).
+  PetscErrorCode element_volume_ratios(std::vector<double>* ratio);
+  const EvaluationTimes& evaluation_times() const { return potential_.times(); }
+  double solve_seconds() const { return solve_seconds_; }  // whole SNES solves
+  SNES snes() const { return newton_.snes(); }
+  Mat jacobian() const { return newton_.jacobian(); }
+
+ private:
+  PetscErrorCode apply_dirichlet(Vec x, double t);
+
+  const DistributedMesh* mesh_ = nullptr;
+  ProblemSetup problem_;
+  std::unique_ptr<ElementData> elements_;
+  GhostExchange exchange_;
+  IncrementalPotential potential_;
+  NewtonSolver newton_;
+  std::vector<int> dirichlet_set_;  // per owned node: index into problem_.dirichlet, or −1
+  std::vector<std::string> form_names_;
+  Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
+  Vec x_local_ = nullptr;
+  int steps_taken_ = 0;
+  double time_ = 0;
+  double solve_seconds_ = 0;
+};
+
+}  // namespace dipc

@@ -1,0 +1,51 @@
+// GhostExchange: halo exchange of nodal fields (bs values per node) between the distributed
+// PETSc Vec in partition order (bs * num_owned_nodes rows per rank) and a rank's sequential
+// local Vec over its local nodes (owned first, then ghosts; see DistributedMesh).
+#pragma once
+#include <petscvec.h>
+
+#include <string>
+
+#include "partition/distributed_mesh.hpp"
+
+namespace dipc {
+
+class GhostExchange {
+ public:
+  GhostExchange() = default;
+  ~GhostExchange();  // destroys the VecScatter
+  GhostExchange(const GhostExchange&) = delete;
+  GhostExchange& operator=(const GhostExchange&) = delete;
+
+  // Builds the scatter for `mesh` with `bs` values per node (collective on mesh.comm).
+  // Calling it again replaces the previous scatter.
+  PetscErrorCode setup(const DistributedMesh& mesh, PetscInt bs);
+
+  // Distributed Vec on mesh.comm: bs * num_owned_nodes local rows, block size bs, type from
+  // the options database (VecSetFromOptions, so -vec_type works).
+  PetscErrorCode create_global_vec(Vec* v) const;
+  // Sequential Vec of bs * num_local_nodes entries, block size bs, the sequential type of
+  // the same family as the global Vec's type at setup() (mpi -> seq, mpicuda -> seqcuda...).
+  PetscErrorCode create_local_vec(Vec* v) const;
+
+  // local <- global at every local node, owned and ghost (INSERT_VALUES, forward scatter).
+  PetscErrorCode to_local(Vec global, Vec local) const;
+  // global += local summed over every rank holding a node: ghost contributions are added
+  // into their owners (ADD_VALUES, reverse scatter). Does not zero `global` first.
+  PetscErrorCode add_to_global(Vec local, Vec global) const;
+
+  PetscInt block_size() const { return bs_; }
+
+ private:
+  PetscErrorCode check_sizes(Vec global, Vec local) const;
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  PetscInt bs_ = 0;
+  PetscInt num_owned_nodes_ = 0;
+  PetscInt num_local_nodes_ = 0;
+  PetscInt num_global_nodes_ = 0;
+  std::string local_vec_type_;
+  VecScatter scatter_ = nullptr;
+};
+
+}  // namespace dipc
