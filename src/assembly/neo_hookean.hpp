@@ -47,7 +47,7 @@ DIPC_HD void neo_hookean_stress_derivative(const double F[9], double lambda, dou
         for (int l = 0; l < 3; ++l) {
           const int s = 3 * k + l;
           if (s < r) continue;
-          double v = lambda * Finv[3 * j + i] * Finv[3 * l + k] + c * Finv[3 * j + k] * Finv[3 * l + i];
+          double v = lambda * Finv[3 * j + i] * Finv[3 * l + k] - c * Finv[3 * j + k] * Finv[3 * l + i];
           if (r == s) v += mu;
           dPdF[9 * r + s] = dPdF[9 * s + r] = v;
         }
@@ -88,10 +88,9 @@ DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3
   sigma[2] = u2[0] * B[2] + u2[1] * B[5] + u2[2] * B[8];
 }
 
-// dP/dF rebuilt from its analytic eigensystem (Smith, de Goes & Kim 2019, "Analytic
-// eigensystems for isotropic distortion energies", ACM TOG 38(1), sections 4-5), with the
-// eigenvalues clamped at 0 when `clamp` is true. With F = U S V^T and psi isotropic, every
-// eigenvector is U D V^T for a 3x3 D:
+// Analytic eigensystem of dP/dF (Smith, de Goes & Kim 2019, "Analytic eigensystems for
+// isotropic distortion energies", ACM TOG 38(1), sections 4-5). With F = U S V^T and psi
+// isotropic, every eigenvector of dP/dF is vec(U D V^T) for a 3x3 D:
 //  - scaling: D = diag(z), z an eigenvector of the 3x3 Hessian d2psi/dsigma_i dsigma_j,
 //    here A_ii = mu + (lambda (1 - ln J) + mu) / sigma_i^2, A_ij = lambda / (sigma_i sigma_j);
 //  - for each pair i < j, with c = lambda ln J - mu and psi_i = mu sigma_i + c / sigma_i:
@@ -100,61 +99,134 @@ DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3
 //    ("twist", infinitesimal rotation) D = (e_i e_j^T - e_j e_i^T)/sqrt2 with eigenvalue
 //    (psi_i + psi_j)/(sigma_i + sigma_j) = mu + c/(sigma_i sigma_j). Both closed forms avoid
 //    dividing by sigma_i - sigma_j. (At F = I the twists have eigenvalue 0: rotations.)
-// The scaling block is clamped by projecting the 3x3 A, which is the same as clamping its
-// eigenvalues. The outer products are sign-invariant, so no eigenvector sign convention
-// matters; the row-major flattening of U D V^T is the vector dotted with vec(dF).
-DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double lambda, double mu,
-                                                       bool clamp, double dPdF[81]) {
-  double U[9], s[3], V[9];
-  rotation_variant_svd(F, U, s, V);
+// Pair modes are ordered (0,1), (0,2), (1,2), flip before twist.
+struct NeoHookeanEigensystem {
+  double U[9], sigma[3], V[9];
+  double scaling_hessian[9];   // A above, row-major 3x3
+  double pair_eigenvalues[6];  // flip, twist for each pair
+};
+
+DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu, NeoHookeanEigensystem* es) {
+  rotation_variant_svd(F, es->U, es->sigma, es->V);
+  const double* s = es->sigma;
   const double log_J = log(s[0] * s[1] * s[2]);
   const double c = lambda * log_J - mu;
-  double A[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      A[3 * i + j] = i == j ? mu + (lambda * (1.0 - log_J) + mu) / (s[i] * s[i]) : lambda / (s[i] * s[j]);
-  if (clamp) project_psd<3>(A, 3);
-  // Outer-product basis vec(u_i v_j^T)_(3a+b) = U_ai V_bj; D_i = vec(u_i v_i^T).
-  double D[3][9];
-  for (int i = 0; i < 3; ++i)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) D[i][3 * a + b] = U[3 * a + i] * V[3 * b + i];
-  // Pair modes (i,j) = (0,1), (0,2), (1,2): flip and twist vectors and their eigenvalues.
-  double Q[6][9], ev[6];
-  const double inv_sqrt2 = 0.70710678118654752440;
+      es->scaling_hessian[3 * i + j] =
+          i == j ? mu + (lambda * (1.0 - log_J) + mu) / (s[i] * s[i]) : lambda / (s[i] * s[j]);
   int m = 0;
   for (int i = 0; i < 2; ++i)
     for (int j = i + 1; j < 3; ++j, m += 2) {
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          const double ij = U[3 * a + i] * V[3 * b + j], ji = U[3 * a + j] * V[3 * b + i];
-          Q[m][3 * a + b] = inv_sqrt2 * (ij + ji);
-          Q[m + 1][3 * a + b] = inv_sqrt2 * (ij - ji);
-        }
       const double r = c / (s[i] * s[j]);
-      ev[m] = mu - r;
-      ev[m + 1] = mu + r;
-      if (clamp) {
-        ev[m] = ev[m] > 0 ? ev[m] : 0.0;
-        ev[m + 1] = ev[m + 1] > 0 ? ev[m + 1] : 0.0;
-      }
-    }
-  for (int r = 0; r < 9; ++r)
-    for (int t = r; t < 9; ++t) {
-      double v = 0;
-      for (int i = 0; i < 3; ++i) {
-        const double Ai_t = A[3 * i] * D[0][t] + A[3 * i + 1] * D[1][t] + A[3 * i + 2] * D[2][t];
-        v += D[i][r] * Ai_t;
-      }
-      for (int k = 0; k < 6; ++k) v += ev[k] * Q[k][r] * Q[k][t];
-      dPdF[9 * r + t] = dPdF[9 * t + r] = v;
+      es->pair_eigenvalues[m] = mu - r;
+      es->pair_eigenvalues[m + 1] = mu + r;
     }
 }
 
-// dP/dF projected to positive semi-definite (negative eigenvalues of the analytic
-// eigensystem clamped to 0), for the Newton Hessian.
+namespace detail {
+
+// vec(u_i v_i^T) for i = 0..2 (row-major flattening: entry 3a + b is U_ai V_bi).
+DIPC_HD void scaling_basis(const NeoHookeanEigensystem& es, double D[3][9]) {
+  for (int i = 0; i < 3; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) D[i][3 * a + b] = es.U[3 * a + i] * es.V[3 * b + i];
+}
+
+// Flip (m even) or twist (m odd) eigenvector of pair mode m, flattened row-major.
+DIPC_HD void pair_mode(const NeoHookeanEigensystem& es, int m, double q[9]) {
+  const int pair = m / 2;
+  const int i = pair == 2 ? 1 : 0, j = pair == 0 ? 1 : 2;
+  const double sign = (m % 2) ? -1.0 : 1.0;
+  const double inv_sqrt2 = 0.70710678118654752440;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      q[3 * a + b] = inv_sqrt2 * (es.U[3 * a + i] * es.V[3 * b + j] + sign * es.U[3 * a + j] * es.V[3 * b + i]);
+}
+
+// H += sum_ij S_ij D_i D_j^T (upper triangle only) for the symmetric 3x3 S.
+DIPC_HD void add_scaling_block(const double D[3][9], const double S[9], double H[81]) {
+  for (int r = 0; r < 9; ++r) {
+    const double SDr[3] = {S[0] * D[0][r] + S[1] * D[1][r] + S[2] * D[2][r],
+                           S[3] * D[0][r] + S[4] * D[1][r] + S[5] * D[2][r],
+                           S[6] * D[0][r] + S[7] * D[1][r] + S[8] * D[2][r]};
+    for (int t = r; t < 9; ++t) H[9 * r + t] += SDr[0] * D[0][t] + SDr[1] * D[1][t] + SDr[2] * D[2][t];
+  }
+}
+
+// H += w q q^T (upper triangle only).
+DIPC_HD void add_rank_one(double w, const double q[9], double H[81]) {
+  for (int r = 0; r < 9; ++r) {
+    const double wq = w * q[r];
+    for (int t = r; t < 9; ++t) H[9 * r + t] += wq * q[t];
+  }
+}
+
+DIPC_HD void mirror_upper(double H[81]) {
+  for (int r = 0; r < 9; ++r)
+    for (int t = r + 1; t < 9; ++t) H[9 * t + r] = H[9 * r + t];
+}
+
+}  // namespace detail
+
+// dP/dF rebuilt from all nine modes of the eigensystem, sum_k lambda_k q_k q_k^T, with the
+// eigenvalues clamped at 0 when `clamp` is true. The reference form of the projection (and,
+// unclamped, a check of the eigensystem against the exact tangent); the Newton hot path uses
+// neo_hookean_stress_derivative_psd. Outer products are sign-invariant, so no eigenvector
+// sign convention matters.
+DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double lambda, double mu, bool clamp,
+                                                       double dPdF[81]) {
+  NeoHookeanEigensystem es;
+  neo_hookean_eigensystem(F, lambda, mu, &es);
+  double A[9];
+  for (int k = 0; k < 9; ++k) A[k] = es.scaling_hessian[k];
+  if (clamp) project_psd<3>(A, 3);  // same as clamping the scaling eigenvalues
+  double D[3][9];
+  detail::scaling_basis(es, D);
+  for (int k = 0; k < 81; ++k) dPdF[k] = 0;
+  detail::add_scaling_block(D, A, dPdF);
+  for (int m = 0; m < 6; ++m) {
+    const double ev = es.pair_eigenvalues[m];
+    if (clamp && !(ev > 0)) continue;
+    double q[9];
+    detail::pair_mode(es, m, q);
+    detail::add_rank_one(ev, q, dPdF);
+  }
+  detail::mirror_upper(dPdF);
+}
+
+// dP/dF projected to positive semi-definite for the Newton Hessian: the exact tangent minus
+// its negative part, dPdF - sum_{lambda_k < 0} lambda_k q_k q_k^T, which equals clamping the
+// negative eigenvalues to 0 but only touches the (few) negative modes. The scaling block is
+// corrected by (proj(A) - A) only when A is not positive semi-definite (checked through its
+// leading principal minors / a 3x3 Jacobi solve).
 DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-  neo_hookean_stress_derivative_eigensystem(F, lambda, mu, true, dPdF);
+  neo_hookean_stress_derivative(F, lambda, mu, dPdF);
+  NeoHookeanEigensystem es;
+  neo_hookean_eigensystem(F, lambda, mu, &es);
+  const double* A = es.scaling_hessian;
+  const double minor2 = A[0] * A[4] - A[1] * A[3];
+  const bool scaling_pd = A[0] > 0 && minor2 > 0 && det3x3(A) > 0;  // Sylvester's criterion
+  bool touched = false;
+  if (!scaling_pd) {
+    double S[9];
+    for (int k = 0; k < 9; ++k) S[k] = A[k];
+    project_psd<3>(S, 3);
+    for (int k = 0; k < 9; ++k) S[k] -= A[k];
+    double D[3][9];
+    detail::scaling_basis(es, D);
+    detail::add_scaling_block(D, S, dPdF);
+    touched = true;
+  }
+  for (int m = 0; m < 6; ++m) {
+    const double ev = es.pair_eigenvalues[m];
+    if (ev >= 0) continue;
+    double q[9];
+    detail::pair_mode(es, m, q);
+    detail::add_rank_one(-ev, q, dPdF);
+    touched = true;
+  }
+  if (touched) detail::mirror_upper(dPdF);
 }
 
 }  // namespace dipc

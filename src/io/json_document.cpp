@@ -49,7 +49,7 @@ class KeyPathTracker {
     for (const Frame& f : frames_) {
       if (f.is_array) {
         p += "[" + std::to_string(f.index) + "]";
-      } else if (!f.key.empty() || !f.keys_seen.empty()) {
+      } else if (!f.keys_seen.empty()) {  // past the first key
         p += (p.empty() ? "" : ".") + f.key;
       }
     }

@@ -2,6 +2,7 @@
 #include "io/scene_json_node.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "io/scene.hpp"
@@ -102,10 +103,8 @@ std::string SceneJsonNode::string() const {
 }
 
 std::array<double, 3> SceneJsonNode::vec3() const {
-  if (!value_->is_array() || value_->size() != 3) {
-    if (value_->is_array()) fail("expected an array of 3 numbers, got " + std::to_string(value_->size()));
-    fail_type("an array of 3 numbers");
-  }
+  if (!value_->is_array()) fail_type("an array of 3 numbers");
+  if (value_->size() != 3) fail("expected an array of 3 numbers, got " + std::to_string(value_->size()));
   const std::vector<SceneJsonNode> items = elements();
   return {items[0].number(), items[1].number(), items[2].number()};
 }

@@ -14,8 +14,8 @@
 namespace dipc {
 namespace {
 
-// Turns off HDF5's automatic error-stack printing for the writer's lifetime of a call; the
-// stack itself stays available for hdf5_error_text().
+// Turns off HDF5's automatic error-stack printing while a writer call runs (restoring the
+// caller's handler after); the stack itself stays available to hdf5_error_text().
 class QuietHdf5Errors {
  public:
   QuietHdf5Errors() {
@@ -134,7 +134,7 @@ std::string check_tiling(MPI_Comm comm, const char* what, std::int64_t global, s
 
 XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh)
     : comm_(mesh.comm),
-      directory_(directory),
+      directory_(directory.empty() ? "." : directory),
       name_(name),
       num_global_nodes_(mesh.num_global_nodes),
       node_offset_(mesh.node_offset),

@@ -33,10 +33,10 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
 
 class XdmfWriter {
  public:
-  // Collective. Creates `directory` (mkdir -p, on rank 0), <directory>/<name>.h5 with the
-  // /mesh datasets, and <directory>/<name>.xmf with no time steps yet. Throws
-  // std::runtime_error naming the path on every rank if any rank fails, or if the ranks'
-  // parts do not tile the global numbering.
+  // Collective. Creates `directory` ("" = the working directory; mkdir -p, on rank 0),
+  // <directory>/<name>.h5 with the /mesh datasets, and <directory>/<name>.xmf with no time
+  // steps yet. Throws std::runtime_error naming the path on every rank if any rank fails,
+  // or if the ranks' parts do not tile the global numbering.
   XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh);
   ~XdmfWriter();  // collective: closes the HDF5 file
   XdmfWriter(const XdmfWriter&) = delete;

@@ -42,7 +42,9 @@ HexMesh generate_box(const std::array<double, 3>& size, const std::array<int, 3>
   validate_box(size, resolution, origin, body, name);
   const std::int64_t nx = resolution[0], ny = resolution[1], nz = resolution[2];
   const std::int64_t px = nx + 1, py = ny + 1, pz = nz + 1;
-  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + px * (j + py * k); };
+  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return i + px * (j + py * k);
+  };
 
   HexMesh mesh;
   mesh.nodes.reserve(static_cast<std::size_t>(px * py * pz));

@@ -15,7 +15,6 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <unordered_map>
 #include <utility>
 
@@ -42,16 +41,26 @@ struct ElementType {
 // Gmsh element types (reference manual, "MSH file format", element types table). dipc reads
 // linear hexahedra; points, lines, triangles and quadrangles only feed physical groups.
 constexpr ElementType kElementTypes[] = {
-    {1, 2, 1, "2-node line"},         {2, 3, 2, "3-node triangle"},
-    {3, 4, 2, "4-node quadrangle"},   {4, 4, 3, "4-node tetrahedron"},
-    {5, 8, 3, "8-node hexahedron"},   {6, 6, 3, "6-node prism"},
-    {7, 5, 3, "5-node pyramid"},      {8, 3, 1, "3-node second-order line"},
-    {9, 6, 2, "6-node second-order triangle"}, {10, 9, 2, "9-node second-order quadrangle"},
-    {11, 10, 3, "10-node second-order tetrahedron"}, {12, 27, 3, "27-node second-order hexahedron"},
-    {13, 18, 3, "18-node second-order prism"}, {14, 14, 3, "14-node second-order pyramid"},
-    {15, 1, 0, "1-node point"},       {16, 8, 2, "8-node second-order quadrangle"},
-    {17, 20, 3, "20-node second-order hexahedron"}, {18, 15, 3, "15-node second-order prism"},
-    {19, 13, 3, "13-node second-order pyramid"}, {92, 64, 3, "64-node third-order hexahedron"},
+    {1, 2, 1, "2-node line"},
+    {2, 3, 2, "3-node triangle"},
+    {3, 4, 2, "4-node quadrangle"},
+    {4, 4, 3, "4-node tetrahedron"},
+    {5, 8, 3, "8-node hexahedron"},
+    {6, 6, 3, "6-node prism"},
+    {7, 5, 3, "5-node pyramid"},
+    {8, 3, 1, "3-node second-order line"},
+    {9, 6, 2, "6-node second-order triangle"},
+    {10, 9, 2, "9-node second-order quadrangle"},
+    {11, 10, 3, "10-node second-order tetrahedron"},
+    {12, 27, 3, "27-node second-order hexahedron"},
+    {13, 18, 3, "18-node second-order prism"},
+    {14, 14, 3, "14-node second-order pyramid"},
+    {15, 1, 0, "1-node point"},
+    {16, 8, 2, "8-node second-order quadrangle"},
+    {17, 20, 3, "20-node second-order hexahedron"},
+    {18, 15, 3, "15-node second-order prism"},
+    {19, 13, 3, "13-node second-order pyramid"},
+    {92, 64, 3, "64-node third-order hexahedron"},
     {93, 125, 3, "125-node fourth-order hexahedron"},
 };
 
@@ -62,6 +71,9 @@ const ElementType* find_element_type(std::int64_t type) {
 }
 
 bool feeds_node_sets(int type) { return type == 15 || type == 1 || type == 2 || type == 3; }
+bool is_higher_order_hexahedron(int type) {
+  return type == 12 || type == 17 || type == 92 || type == 93;
+}
 
 // Node tag -> 0-based index. Gmsh tags are usually dense (1..n), so a vector indexed by
 // tag - minTag is used when the header's range is not much larger than the node count;
@@ -99,8 +111,8 @@ class NodeTagIndex {
 };
 
 struct PhysicalGroup {
-  std::string name;      // empty: unnamed
-  std::int64_t line = 0; // where it was first named or referenced
+  std::string name;       // empty: unnamed
+  std::int64_t line = 0;  // where it was first named or referenced
 };
 
 class GmshReader {
@@ -160,8 +172,9 @@ HexMesh GmshReader::read(int body) {
       if (!seen_sections_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
       read_elements();
     } else if (name == "PartitionedEntities") {
-      in_.fail("partitioned meshes are not supported: save the mesh unpartitioned "
-               "(dipc partitions it itself)");
+      in_.fail(
+          "partitioned meshes are not supported: save the mesh unpartitioned "
+          "(dipc partitions it itself)");
     } else {
       in_.skip_section(name);
     }
@@ -170,8 +183,9 @@ HexMesh GmshReader::read(int body) {
   if (!seen_sections_.count("Nodes")) in_.fail("no $Nodes section");
   if (!seen_sections_.count("Elements")) in_.fail("no $Elements section");
   if (hexes_.empty())
-    in_.fail_at(elements_line_, "no hexahedra (element type 5) in $Elements; if the file has physical groups, "
-             "add the volume to one or save with Mesh.SaveAll = 1");
+    in_.fail_at(elements_line_,
+                "no hexahedra (element type 5) in $Elements; if the file has physical groups, "
+                "add the volume to one or save with Mesh.SaveAll = 1");
 
   HexMesh mesh;
   mesh.nodes = std::move(nodes_);
@@ -196,8 +210,9 @@ void GmshReader::read_mesh_format() {
   }
   const std::int64_t file_type = in_.integer("the file type (0 = ASCII)");
   if (file_type == 1)
-    in_.fail("binary MSH not supported, save as ASCII (gmsh -format msh41 without -bin, or "
-             "Mesh.Binary = 0)");
+    in_.fail(
+        "binary MSH not supported, save as ASCII (gmsh -format msh41 without -bin, or "
+        "Mesh.Binary = 0)");
   if (file_type != 0)
     in_.fail("$MeshFormat section is malformed: file type " + std::to_string(file_type) +
              " (expected 0 for ASCII)");
@@ -211,14 +226,15 @@ void GmshReader::read_physical_names() {
   for (std::int64_t i = 0; i < n; ++i) {
     const std::int64_t dim = in_.integer("a physical group dimension");
     const std::int64_t line = in_.line();
-    if (dim < 0 || dim > 3) in_.fail("$PhysicalNames section is malformed: dimension " +
-                                     std::to_string(dim) + " is not 0..3");
+    if (dim < 0 || dim > 3)
+      in_.fail("$PhysicalNames section is malformed: dimension " + std::to_string(dim) +
+               " is not 0..3");
     const std::int64_t tag = in_.integer("a physical group tag");
     std::string name = in_.quoted("a physical group name");
     auto& group = groups_[{static_cast<int>(dim), tag}];
     if (!group.name.empty())
-      in_.fail("physical group (dimension " + std::to_string(dim) + ", tag " +
-               std::to_string(tag) + ") is named twice");
+      in_.fail("physical group (dimension " + std::to_string(dim) + ", tag " + std::to_string(tag) +
+               ") is named twice");
     group.name = std::move(name);
     group.line = line;
   }
@@ -237,7 +253,8 @@ void GmshReader::read_entities() {
       const std::int64_t tag = in_.integer("an entity tag");
       const std::int64_t line = in_.line();
       // A point has its position (3 values), higher entities their bounding box (6).
-      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in_.real(dim == 0 ? "a point coordinate" : "a bounding box coordinate");
+      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k)
+        in_.real(dim == 0 ? "a point coordinate" : "a bounding box coordinate");
       const std::int64_t num_physicals = in_.count("the number of physical tags");
       auto& tags = entity_groups_[{dim, tag}];
       for (std::int64_t p = 0; p < num_physicals; ++p) {
@@ -286,7 +303,8 @@ void GmshReader::read_nodes() {
       const std::int64_t tag = in_.integer("a node tag");
       if (tag <= 0) in_.fail("node tag " + std::to_string(tag) + " is not positive");
       const auto index = static_cast<std::int64_t>(source_.node_tags.size());
-      if (!node_index_.insert(tag, index)) in_.fail("node " + std::to_string(tag) + " is defined twice");
+      if (!node_index_.insert(tag, index))
+        in_.fail("node " + std::to_string(tag) + " is defined twice");
       block_tags.push_back(tag);
       source_.node_tags.push_back(tag);
       source_.node_lines.push_back(in_.line());
@@ -325,7 +343,7 @@ void GmshReader::read_elements() {
   in_.integer("the largest element tag");
 
   std::int64_t total = 0;
-  std::int64_t tags[125];
+  std::int64_t tags[8];  // node tags of one element: only types of at most 8 nodes get here
   for (std::int64_t b = 0; b < num_blocks; ++b) {
     const std::int64_t dim = in_.integer("an element block's entity dimension");
     const std::int64_t entity = in_.integer("an element block's entity tag");
@@ -338,7 +356,7 @@ void GmshReader::read_elements() {
                                   " is not supported (dipc reads linear hexahedra, type 5, and "
                                   "points, lines, triangles, quadrangles for physical groups)");
     if (type->type != kHexahedron && !feeds_node_sets(type->type)) {
-      std::string why = type->dim == 3 && std::string(type->name).find("hexahedron") != std::string::npos
+      std::string why = is_higher_order_hexahedron(type->type)
                             ? "dipc reads linear hexahedra only (type 5, Mesh.ElementOrder = 1)"
                         : type->dim == 3
                             ? "dipc needs an all-hexahedral mesh (e.g. transfinite volumes with "
@@ -348,20 +366,23 @@ void GmshReader::read_elements() {
                                   ") is not supported: " + why);
     }
     if (dim != type->dim)
-      in_.fail_at(block_line, "$Elements section is malformed: a block of " + std::string(type->name) +
-                                  " elements on an entity of dimension " + std::to_string(dim));
+      in_.fail_at(block_line, "$Elements section is malformed: a block of " +
+                                  std::string(type->name) + " elements on an entity of dimension " +
+                                  std::to_string(dim));
     const EntityKey key{static_cast<int>(dim), entity};
     const auto groups = entity_groups_.find(key);
     if (have_entities_ && groups == entity_groups_.end())
-      in_.fail_at(block_line, "element block on entity (dimension " + std::to_string(dim) + ", tag " +
-                                  std::to_string(entity) + "), which is not in $Entities");
+      in_.fail_at(block_line, "element block on entity (dimension " + std::to_string(dim) +
+                                  ", tag " + std::to_string(entity) +
+                                  "), which is not in $Entities");
     std::vector<std::int64_t>* set_nodes =
         (groups != entity_groups_.end() && !groups->second.empty()) ? &entity_nodes_[key] : nullptr;
 
     for (std::int64_t i = 0; i < n; ++i) {
       const std::int64_t element_tag = in_.integer("an element tag");
       const std::int64_t element_line = in_.line();
-      if (element_tag <= 0) in_.fail("element tag " + std::to_string(element_tag) + " is not positive");
+      if (element_tag <= 0)
+        in_.fail("element tag " + std::to_string(element_tag) + " is not positive");
       for (int a = 0; a < type->nodes; ++a) tags[a] = in_.integer("an element node tag");
       if (type->type == kHexahedron) {
         Hex h;
@@ -380,8 +401,9 @@ void GmshReader::read_elements() {
     total += n;
   }
   if (total != num_elements)
-    in_.fail("$Elements section is malformed: the header announces " + std::to_string(num_elements) +
-             " elements but its blocks hold " + std::to_string(total));
+    in_.fail("$Elements section is malformed: the header announces " +
+             std::to_string(num_elements) + " elements but its blocks hold " +
+             std::to_string(total));
   in_.expect("$EndElements", "more element blocks than the header announces?");
 }
 
@@ -389,7 +411,8 @@ void GmshReader::build_node_sets(HexMesh& mesh) const {
   // Set name of each physical group; detect names that two groups would share.
   std::map<std::string, std::vector<GroupKey>> by_name;
   for (const auto& [key, group] : groups_) {
-    const std::string name = group.name.empty() ? "physical_" + std::to_string(key.second) : group.name;
+    const std::string name =
+        group.name.empty() ? "physical_" + std::to_string(key.second) : group.name;
     by_name[name].push_back(key);
   }
   for (const auto& [name, keys] : by_name) {
@@ -400,9 +423,9 @@ void GmshReader::build_node_sets(HexMesh& mesh) const {
       const GroupKey& other = keys[0] == key ? keys[1] : keys[0];
       in_.fail_at(group.line, "physical groups (dimension " + std::to_string(key.first) + ", tag " +
                                   std::to_string(key.second) + ") and (dimension " +
-                                  std::to_string(other.first) + ", tag " + std::to_string(other.second) +
-                                  ") would both be node set '" + name +
-                                  "': name them in $PhysicalNames");
+                                  std::to_string(other.first) + ", tag " +
+                                  std::to_string(other.second) + ") would both be node set '" +
+                                  name + "': name them in $PhysicalNames");
     }
   }
 
@@ -426,12 +449,14 @@ void GmshReader::build_node_sets(HexMesh& mesh) const {
 HexMesh read_gmsh(const std::string& path, int body) {
   // No line to point at for these two: the message names only the path.
   if (body < 0) throw MeshError(path + ": body id " + std::to_string(body) + " is negative");
-  std::ifstream file(path, std::ios::binary);
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file) throw MeshError(path + ": cannot open the file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw MeshError(path + ": cannot read the file");
-  return GmshReader(std::move(text).str(), path).read(body);
+  // One read into a string of the file's size: meshes run to hundreds of MB.
+  std::string text(static_cast<std::size_t>(file.tellg()), '\0');
+  file.seekg(0);
+  if (!file.read(text.data(), static_cast<std::streamsize>(text.size())))
+    throw MeshError(path + ": cannot read the file");
+  return GmshReader(std::move(text), path).read(body);
 }
 
 }  // namespace dipc

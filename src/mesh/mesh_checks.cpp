@@ -104,8 +104,8 @@ void check_element_jacobian(const HexMesh& mesh, std::size_t e, const Labels& la
   const std::string at = "det J = " + format_double(det) + " at " + worst_jacobian_point(X);
   if (det < -tolerance)
     labels.fail_at_element(id, "is inverted: " + at + " (check the node ordering)");
-  labels.fail_at_element(id, "is degenerate: " + at + " (longest edge " + format_double(edge) +
-                                 ")");
+  labels.fail_at_element(id,
+                         "is degenerate: " + at + " (longest edge " + format_double(edge) + ")");
 }
 
 }  // namespace

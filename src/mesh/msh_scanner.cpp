@@ -36,8 +36,7 @@ void MshScanner::fail_unexpected(std::string_view found, const char* expected) c
   // A '$' keyword where data should be means the section ended early (a count in its header
   // is larger than what follows, or the file was cut).
   if (!found.empty() && found.front() == '$')
-    fail(in + " is truncated: found '" + std::string(found) + "' where " + expected +
-         " should be");
+    fail(in + " is truncated: found '" + std::string(found) + "' where " + expected + " should be");
   std::string shown(found.substr(0, 40));
   if (found.size() > 40) shown += "...";
   fail(in + " is malformed: expected " + expected + ", found '" + shown + "'");
@@ -96,8 +95,9 @@ std::string MshScanner::quoted(const char* expected) {
   token_line_ = line_;
   if (pos_ >= text_.size() || text_[pos_] != '"') {
     const std::size_t end = text_.find_first_of("\r\n", pos_);
-    fail_unexpected(std::string_view(text_).substr(pos_, end == std::string::npos ? end : end - pos_),
-                    expected);
+    fail_unexpected(
+        std::string_view(text_).substr(pos_, end == std::string::npos ? end : end - pos_),
+        expected);
   }
   const std::size_t close = text_.find_first_of("\"\n", pos_ + 1);
   if (close == std::string::npos || text_[close] != '"') {
@@ -137,7 +137,8 @@ void MshScanner::skip_section(const std::string& name) {
     }
     if (eol != std::string::npos) ++pos_, ++line_;
   }
-  fail_at(start, "section $" + name + " is not terminated (no " + end + " before the end of the file)");
+  fail_at(start,
+          "section $" + name + " is not terminated (no " + end + " before the end of the file)");
 }
 
 }  // namespace dipc

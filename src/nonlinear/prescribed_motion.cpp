@@ -1,5 +1,5 @@
 // Positions and velocities of Dirichlet nodes: fixed, constant velocity, or rigid rotation
-// about an axis (Rodrigues' rotation formula).
+// about an axis (Rodrigues' rotation formula), or an affine deformation rate.
 #include <cmath>
 
 #include "nonlinear/problem.hpp"
@@ -20,6 +20,10 @@ std::array<double, 3> PrescribedMotion::position(const std::array<double, 3>& X,
       return X;
     case Kind::Velocity:
       return {X[0] + velocity[0] * t, X[1] + velocity[1] * t, X[2] + velocity[2] * t};
+    case Kind::Affine: {
+      const V3 v = velocity_at(X, t);
+      return {X[0] + t * v[0], X[1] + t * v[1], X[2] + t * v[2]};
+    }
     case Kind::Rotation: {
       // R r = r cosθ + (k × r) sinθ + k (k·r)(1 − cosθ), r = X − c, θ = ω t.
       const V3 r{X[0] - center[0], X[1] - center[1], X[2] - center[2]};
@@ -40,6 +44,12 @@ std::array<double, 3> PrescribedMotion::velocity_at(const std::array<double, 3>&
       return {0, 0, 0};
     case Kind::Velocity:
       return velocity;
+    case Kind::Affine: {
+      V3 v = velocity;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) v[i] += rate[3 * i + j] * X[j];
+      return v;
+    }
     case Kind::Rotation: {
       const V3 x = position(X, t);
       const V3 r{x[0] - center[0], x[1] - center[1], x[2] - center[2]};

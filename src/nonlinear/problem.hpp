@@ -13,9 +13,11 @@ struct BodyMaterial {
 
 // Where a Dirichlet node is at time t, given its position X at t = 0.
 struct PrescribedMotion {
-  enum class Kind { Fixed, Velocity, Rotation };
+  // Affine: x(t) = X + t (A X + velocity), a uniform deformation rate (stretch/shear tests).
+  enum class Kind { Fixed, Velocity, Rotation, Affine };
   Kind kind = Kind::Fixed;
   std::array<double, 3> velocity{0, 0, 0};
+  std::array<double, 9> rate{0, 0, 0, 0, 0, 0, 0, 0, 0};  // A, row-major (Affine only)
   std::array<double, 3> axis{0, 0, 1};  // unit vector
   std::array<double, 3> center{0, 0, 0};
   double angular_velocity = 0;  // rad/s, right-handed about axis

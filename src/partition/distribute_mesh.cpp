@@ -3,6 +3,9 @@
 // rank rebuilds its DistributedMesh from what it received. Rank 0 holds O(whole mesh), the
 // other ranks O(their part). Errors found on rank 0 (bad input, METIS failure) are
 // broadcast first, so every rank throws the same PartitionError instead of hanging.
+// Nodes that no element touches are left out of the numbering and of the node sets: they
+// would carry no mass or stiffness and make the Newton system singular.
+// DistributedMesh::comm is `comm` itself (not duplicated); the caller keeps it alive.
 #include <algorithm>
 #include <climits>
 #include <cstdint>
@@ -60,7 +63,8 @@ struct ScatterBlock {
 
   void close_rank(std::size_t begin_of_rank, const char* what, int rank) {
     const std::size_t count = data.size() - begin_of_rank;
-    if (count > static_cast<std::size_t>(INT_MAX) || begin_of_rank > static_cast<std::size_t>(INT_MAX)) {
+    const auto int_max = static_cast<std::size_t>(INT_MAX);
+    if (count > int_max || begin_of_rank > int_max) {
       throw PartitionError(std::string("distribute_mesh: the ") + what + " array of rank " +
                            std::to_string(rank) + " does not fit MPI's int counts (" +
                            std::to_string(data.size()) + " entries); use more ranks or a "

@@ -1,5 +1,7 @@
 // Tests of check_mesh (each rule on a one-element mesh broken on purpose) and
 // bounding_box_diagonal.
+#include "mesh/mesh_checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <limits>
 
 #include "mesh/box_generator.hpp"
-#include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_error.hpp"
 
 namespace dipc {
@@ -134,7 +135,8 @@ TEST(CheckMesh, SourceMapNamesFileTagsAndLines) {
 }
 
 TEST(BoundingBoxDiagonal, OfBoxAndEmptyMesh) {
-  EXPECT_DOUBLE_EQ(bounding_box_diagonal(generate_box({3, 4, 12}, {2, 3, 1}, {-7, 2, 5}, 0, "b")), 13.0);
+  EXPECT_DOUBLE_EQ(bounding_box_diagonal(generate_box({3, 4, 12}, {2, 3, 1}, {-7, 2, 5}, 0, "b")),
+                   13.0);
   EXPECT_EQ(bounding_box_diagonal(HexMesh{}), 0.0);
 }
 
