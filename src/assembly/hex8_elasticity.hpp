@@ -17,7 +17,8 @@ namespace detail {
 // reference shape gradients G_a = dN_a/dX = J0^{-T} dN_a/dxi. Because dF_ij/dx_ak = d_ik G_aj,
 //   g_ak = sum_q w|J0| sum_j P_kj G_aj,
 //   H_(ak)(bl) = sum_q w|J0| sum_jm G_aj dP_kj/dF_lm G_bm       (B^T dPdF B),
-// see e.g. Bonet & Wood, Nonlinear Continuum Mechanics for FEA, 2nd ed., sections 9.2-9.4.
+// the total-Lagrangian discretisation of e.g. Bonet & Wood, Nonlinear Continuum Mechanics for
+// Finite Element Analysis (chapter "Discretization and solution").
 // `Project` selects the PSD-projected dP/dF (Newton) or the exact one (derivative tests).
 template <bool Project>
 DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
@@ -25,8 +26,9 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
   double e = 0;
   if (gradient)
     for (int k = 0; k < 24; ++k) gradient[k] = 0;
+  double Hc[576];
   if (hessian)
-    for (int k = 0; k < 576; ++k) hessian[k] = 0;
+    for (int k = 0; k < 576; ++k) Hc[k] = 0;
   for (int q = 0; q < hex8::kQuadraturePoints; ++q) {
     double xi, eta, zeta, dN[24], J0[9], J0inv[9];
     hex8::gauss_point(q, xi, eta, zeta);
@@ -58,6 +60,11 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
         neo_hookean_stress_derivative_psd(F, lambda, mu, C);
       else
         neo_hookean_stress_derivative(F, lambda, mu, C);
+      // Accumulated in component-major order Hc[(8k + a)][(8l + b)] so that the innermost
+      // loop runs over 8 contiguous nodes b (vectorisable); permuted once at the end.
+      double Gt[24];
+      for (int a = 0; a < 8; ++a)
+        for (int j = 0; j < 3; ++j) Gt[8 * j + a] = G[3 * a + j];
       for (int a = 0; a < 8; ++a) {
         // T_k,(lm) = w|J0| sum_j G_aj C_(kj),(lm): contract the left index once per node a.
         double T[27];
@@ -65,19 +72,24 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
           for (int lm = 0; lm < 9; ++lm)
             T[9 * k + lm] = wdet * (G[3 * a] * C[9 * (3 * k) + lm] + G[3 * a + 1] * C[9 * (3 * k + 1) + lm] +
                                     G[3 * a + 2] * C[9 * (3 * k + 2) + lm]);
-        for (int b = a; b < 8; ++b)
-          for (int k = 0; k < 3; ++k)
-            for (int l = 0; l < 3; ++l)
-              hessian[24 * (3 * a + k) + 3 * b + l] += T[9 * k + 3 * l] * G[3 * b] +
-                                                       T[9 * k + 3 * l + 1] * G[3 * b + 1] +
-                                                       T[9 * k + 3 * l + 2] * G[3 * b + 2];
+        for (int k = 0; k < 3; ++k)
+          for (int l = 0; l < 3; ++l) {
+            double* row = Hc + 24 * (8 * k + a) + 8 * l;
+            const double t0 = T[9 * k + 3 * l], t1 = T[9 * k + 3 * l + 1], t2 = T[9 * k + 3 * l + 2];
+            for (int b = 0; b < 8; ++b) row[b] += t0 * Gt[b] + t1 * Gt[8 + b] + t2 * Gt[16 + b];
+          }
       }
     }
   }
   if (hessian)
-    // Only blocks b >= a were accumulated; mirror the upper triangle so H is exactly symmetric.
-    for (int r = 0; r < 24; ++r)
-      for (int c = r + 1; c < 24; ++c) hessian[24 * c + r] = hessian[24 * r + c];
+    // Back to element dof order 3a + k, symmetrised: (Hc + Hc^T)/2 equals Hc up to rounding
+    // (dP/dF is symmetric) and makes the output exactly symmetric.
+    for (int a = 0; a < 8; ++a)
+      for (int k = 0; k < 3; ++k)
+        for (int b = 0; b < 8; ++b)
+          for (int l = 0; l < 3; ++l)
+            hessian[24 * (3 * a + k) + 3 * b + l] =
+                0.5 * (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
   if (energy) *energy = e;
   return true;
 }

@@ -89,7 +89,7 @@ DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3
 }
 
 // Analytic eigensystem of dP/dF (Smith, de Goes & Kim 2019, "Analytic eigensystems for
-// isotropic distortion energies", ACM TOG 38(1), sections 4-5). With F = U S V^T and psi
+// isotropic distortion energies", ACM Trans. Graph. 38(1), 2019). With F = U S V^T and psi
 // isotropic, every eigenvector of dP/dF is vec(U D V^T) for a 3x3 D:
 //  - scaling: D = diag(z), z an eigenvector of the 3x3 Hessian d2psi/dsigma_i dsigma_j,
 //    here A_ii = mu + (lambda (1 - ln J) + mu) / sigma_i^2, A_ij = lambda / (sigma_i sigma_j);

@@ -51,13 +51,6 @@ DIPC_HD void multiply_transpose_a3x3(const double A[9], const double B[9], doubl
       C[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j];
 }
 
-// C = A B^T
-DIPC_HD void multiply_transpose_b3x3(const double A[9], const double B[9], double C[9]) {
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      C[3 * i + j] = A[3 * i] * B[3 * j] + A[3 * i + 1] * B[3 * j + 1] + A[3 * i + 2] * B[3 * j + 2];
-}
-
 // A : B = sum_ij A_ij B_ij
 DIPC_HD double double_contraction3x3(const double A[9], const double B[9]) {
   double s = 0;

@@ -17,8 +17,8 @@ constexpr int kSymmetricEigenMaxN = 12;
 // copy lives on the stack. Returns the number of sweeps, or -1 if 64 sweeps did not
 // converge (the result is then still the best estimate).
 //
-// Cyclic-by-row Jacobi (Golub & Van Loan, Matrix Computations, 4th ed., Alg. 8.5.3) with
-// the stable rotation of Alg. 8.5.1 (sym.schur2). A pair (p,q) is rotated while
+// Cyclic-by-row Jacobi with the stable symmetric Schur rotation (Golub & Van Loan, Matrix
+// Computations, 4th ed., section 8.5 "Jacobi methods"). A pair (p,q) is rotated while
 // |a_pq| > eps * sqrt(|a_pp a_qq|), the relative criterion of Demmel & Veselic (1992),
 // which gives small eigenvalues of positive definite matrices (such as F^T F of a
 // compressed element) to high relative accuracy; pairs below 1e-300 * ||A|| are ignored so

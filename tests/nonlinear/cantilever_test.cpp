@@ -1,8 +1,9 @@
-// Verification against beam theory: a slender cantilever (L/b = 20, ν = 0) clamped at x = 0
+// Verification against beam theory: a slender cantilever (L/b = 10, ν = 0) clamped at x = 0
 // and loaded by its own weight deflects at the tip by w = q L⁴ / (8 E I), q = ρ g b²,
-// I = b⁴/12 (Euler–Bernoulli; shear deformation adds < 0.3 % at this slenderness). Trilinear
-// hexes are too stiff in bending (shear locking), so the error must fall under refinement
-// and be small on the finest mesh.
+// I = b⁴/12 (Euler–Bernoulli; Timoshenko's shear term adds (E/G)(b/L)²/(3κ) ≈ 0.8 % at this
+// slenderness). Fully integrated trilinear hexes are too stiff in bending (shear locking), so
+// the error must fall under refinement (cubic elements, 1, 2, 4 through the thickness:
+// measured 33 %, 10 %, 2.3 %) and be within a few percent on the finest mesh.
 #include <gtest/gtest.h>
 
 #include <cmath>
