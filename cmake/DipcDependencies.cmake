@@ -1,5 +1,5 @@
 # Finds dipc's dependencies and exposes them as imported targets:
-#   MPI::MPI_CXX, dipc::petsc, dipc::metis, dipc::hdf5 (parallel only), nlohmann_json, GTest.
+#   MPI::MPI_CXX, dipc::petsc, dipc::metis, dipc::hdf5 (parallel only), nlohmann_json, GTest (tests only).
 # PETSc: PETSC_DIR/PETSC_ARCH if set, otherwise PETSc.pc on PKG_CONFIG_PATH (Debian: petsc-dev).
 
 find_package(MPI REQUIRED COMPONENTS C CXX)
@@ -54,7 +54,7 @@ if(NOT DIPC_HDF5_IS_PARALLEL)
   message(FATAL_ERROR "dipc: the HDF5 found (${_hdf5_inc}) is not built with MPI; dipc needs parallel HDF5")
 endif()
 
-# --- JSON, Eigen, GoogleTest -------------------------------------------------------
+# --- JSON, GoogleTest -------------------------------------------------------
 find_package(nlohmann_json 3.9 REQUIRED)
 if(DIPC_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -16,6 +16,7 @@ struct RunOptions {
   std::string output_dir;    // overrides the scene's output directory when set
   bool write_output = true;  // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
   bool quiet = false;        // -dipc_quiet: no per-step lines
+  bool report = true;        // run header and timing table (tests and benchmarks turn it off)
   bool setup_only = false;   // build everything (so -help lists all options), take no step
 };
 

@@ -193,7 +193,7 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
     PetscCall(integrator.setup(mesh, problem, velocity_tol));
   }
   t_setup = MPI_Wtime() - t_setup;
-  PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol));
+  if (options.report) PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol));
 
   std::unique_ptr<RunOutput> output;
   double t_output = MPI_Wtime();
@@ -210,6 +210,8 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
   for (int s = 0; s < steps; ++s) {
     StepReport r;
     PetscCall(integrator.step(&r));
+    result->newton_iterations += r.newton.iterations;
+    result->linear_iterations += r.newton.linear_iterations;
     if (!r.failure.empty()) {
       result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;
       break;
@@ -234,12 +236,20 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
   const double assembly = ev.gradient + ev.hessian;
   const double line_search = ev.energy + ev.validity;
   const double linear = integrator.solve_seconds() - assembly - line_search;
-  double local[7] = {t_partition, t_setup, assembly, line_search, linear, t_output, MPI_Wtime() - t_start}, worst[7];
-  MPI_Reduce(local, worst, 7, MPI_DOUBLE, MPI_MAX, 0, comm);
-  const char* names[7] = {"partition", "setup", "assembly (gradient, Hessian)", "line search (energy, validity)",
-                          "linear solve (KSP + AMG) and rest", "output", "total"};
-  PetscCall(PetscPrintf(comm, "\n%-36s %10s\n", "phase (max over ranks)", "seconds"));
-  for (int i = 0; i < 7; ++i) PetscCall(PetscPrintf(comm, "%-36s %10.3f\n", names[i], worst[i]));
+  double local[8] = {t_partition, t_setup, assembly, ev.coo_insert, line_search, linear, t_output, MPI_Wtime() - t_start};
+  double worst[8];
+  MPI_Allreduce(local, worst, 8, MPI_DOUBLE, MPI_MAX, comm);
+  PhaseTimes& pt = result->times;
+  pt.partition = worst[0], pt.setup = worst[1], pt.assembly = worst[2], pt.coo_insert = worst[3];
+  pt.line_search = worst[4], pt.linear_solve = worst[5], pt.output = worst[6], pt.total = worst[7];
+  result->num_elements = mesh.num_global_elements;
+  result->num_dofs = integrator.num_dofs();
+  if (options.report) {
+    const char* names[8] = {"partition", "setup", "assembly (gradient, Hessian)", "  of which COO insertion",
+                            "line search (energy, validity)", "linear solve (KSP + AMG) and rest", "output", "total"};
+    PetscCall(PetscPrintf(comm, "\n%-36s %10s\n", "phase (max over ranks)", "seconds"));
+    for (int i = 0; i < 8; ++i) PetscCall(PetscPrintf(comm, "%-36s %10.3f\n", names[i], worst[i]));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -12,6 +12,16 @@
 
 namespace dipc {
 
+// Wall time per phase of a run, the slowest rank's (seconds).
+struct PhaseTimes {
+  double partition = 0, setup = 0;
+  double assembly = 0;     // gradient and Hessian evaluation, COO insertion included
+  double coo_insert = 0;   // MatSetValuesCOO alone
+  double line_search = 0;  // energy and validity of trial states
+  double linear_solve = 0; // the rest of the Newton solves: KSP, AMG setup, vector work
+  double output = 0, total = 0;
+};
+
 struct RunResult {
   int steps_taken = 0;
   std::string failure;  // why the run stopped early; empty if it completed
@@ -19,6 +29,9 @@ struct RunResult {
   // input mesh (input numbering, independent of the partition).
   std::vector<double> positions, velocities;
   std::string xdmf_path;  // empty without output
+  PhaseTimes times;
+  long long newton_iterations = 0, linear_iterations = 0;
+  long long num_elements = 0, num_dofs = 0;
 };
 
 // Collective over comm. Input errors (mesh file, selections) throw std::runtime_error with the

@@ -23,6 +23,7 @@ namespace dipc {
 // of the same names so -log_view shows them.
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
+  double coo_insert = 0;  // MatSetValuesCOO alone (part of hessian)
 };
 
 class IncrementalPotential {

@@ -29,6 +29,7 @@ TEST(RankInvariance, DefaultSceneTenStepsMatchesOneRank) {
   options.steps = 10;
   options.write_output = false;
   options.quiet = true;
+  options.report = false;
   options.velocity_tol = 1e-9;  // m/s; displacements per step are ~1e-3 m
 
   RunResult parallel;

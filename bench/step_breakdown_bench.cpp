@@ -1,0 +1,109 @@
+// Benchmark: where the time of a whole implicit step goes, on a clamped box of N hex8
+// elements swinging under gravity (the default scene's physics, scaled up). Prints a table per
+// N and writes CSV: partition, setup, assembly (of which COO insertion), line search, AMG
+// setup, KSP solve, output, per Newton iteration where it makes sense.
+//
+//   mpirun -n R bench_step_breakdown [-elements 10000,100000] [-steps 3] [-csv out.csv] [PETSc options]
+#include <petscksp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "app/simulation.hpp"
+#include "nonlinear/log_stages.hpp"
+
+namespace {
+
+// A box about 4:1:1 with n_x·n_y·n_z ≈ N cubic elements, clamped at x = 0.
+dipc::Scene box_scene(long long elements) {
+  dipc::Scene s;
+  s.source = "<bench box>";
+  s.materials.push_back({"rubber", 1e6, 0.4, 1000});
+  dipc::Body b;
+  b.name = "box";
+  const int n = std::max(1, static_cast<int>(std::lround(std::cbrt(elements / 4.0))));
+  b.box = dipc::BoxGenerator{{4.0, 1.0, 1.0}, {4 * n, n, n}, {0, 0, 0}};
+  s.bodies.push_back(b);
+  s.gravity = {0, 0, -9.81};
+  dipc::DirichletCondition clamp;
+  clamp.selection.name = "box.xmin";
+  clamp.key_path = "bench";
+  s.dirichlet.push_back(clamp);
+  s.dt = 0.01;
+  s.steps = 3;
+  return s;
+}
+
+double event_seconds(const char* name) {
+  PetscLogEvent id;
+  PetscEventPerfInfo info;
+  if (PetscLogEventGetId(name, &id)) return 0;
+  double total = 0;
+  for (PetscLogStage st : {dipc::log_stages().solve, dipc::log_stages().assembly}) {
+    if (PetscLogEventGetPerfInfo(st, id, &info)) continue;
+    total += info.time;
+  }
+  double worst = 0;
+  MPI_Allreduce(&total, &worst, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+  return worst;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, "dipc step-breakdown benchmark\n"));
+  PetscCall(PetscLogDefaultBegin());
+  PetscInt sizes[16] = {10000, 100000};
+  PetscInt nsizes = 16, steps = 3;
+  char csv_path[PETSC_MAX_PATH_LEN] = "";
+  PetscBool has_sizes = PETSC_FALSE;
+  PetscCall(PetscOptionsGetIntArray(nullptr, nullptr, "-elements", sizes, &nsizes, &has_sizes));
+  if (!has_sizes) nsizes = 2;
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-steps", &steps, nullptr));
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-csv", csv_path, sizeof(csv_path), nullptr));
+  int ranks, rank;
+  MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+
+  FILE* csv = nullptr;
+  if (rank == 0 && csv_path[0]) {
+    csv = std::fopen(csv_path, "w");
+    if (!csv) {
+      std::fprintf(stderr, "bench_step_breakdown: cannot write %s\n", csv_path);
+      PetscCall(PetscFinalize());
+      return 1;
+    }
+    std::fprintf(csv, "ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,coo_insert_s,"
+                      "line_search_s,amg_setup_s,ksp_solve_s,total_s\n");
+  }
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks",
+                        "elements", "dofs", "newton", "ksp", "assembly", "coo_ins", "lsearch", "amg_setup",
+                        "ksp_solve", "total", "s/newton"));
+  for (PetscInt i = 0; i < nsizes; ++i) {
+    dipc::Scene scene = box_scene(sizes[i]);
+    dipc::RunOptions options;
+    options.steps = static_cast<int>(steps);
+    options.write_output = false;
+    options.quiet = true;
+    options.report = false;
+    const double pc0 = event_seconds("PCSetUp"), ksp0 = event_seconds("KSPSolve");
+    dipc::RunResult r;
+    PetscCall(dipc::run_scene(scene, PETSC_COMM_WORLD, options, &r));
+    const double pc = event_seconds("PCSetUp") - pc0, ksp = event_seconds("KSPSolve") - ksp0;
+    const auto& t = r.times;
+    const double per_newton = r.newton_iterations ? (t.assembly + t.line_search + t.linear_solve) / r.newton_iterations : 0;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6d %9lld %9lld %6lld %6lld | %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f | %9.4f%s\n",
+                          ranks, r.num_elements, r.num_dofs, r.newton_iterations, r.linear_iterations, t.assembly,
+                          t.coo_insert, t.line_search, pc, ksp, t.total, per_newton,
+                          r.failure.empty() ? "" : "  (FAILED)"));
+    if (csv)
+      std::fprintf(csv, "%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", ranks, r.num_elements,
+                   r.num_dofs, (int)steps, r.newton_iterations, r.linear_iterations, t.partition, t.setup, t.assembly,
+                   t.coo_insert, t.line_search, pc, ksp, t.total);
+  }
+  if (csv) std::fclose(csv);
+  PetscCall(PetscFinalize());
+  return 0;
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# dipc quickstart on Debian 12: installs the missing packages, builds, then either runs the
+# default scene on 2 ranks (no argument) or runs the whole test suite (--test).
+#
+#   scripts/quickstart.sh           # build and run the default scene -> output/dipc.xmf
+#   scripts/quickstart.sh --test    # build and run every test (what CI runs)
+#
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+set -euo pipefail
+
+mode=run
+case "${1:-}" in
+  "") ;;
+  --test) mode=test ;;
+  -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+  *) echo "quickstart: unknown argument '$1' (use --test or nothing)" >&2; exit 2 ;;
+esac
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${BUILD_DIR:-$root/build}
+jobs=${JOBS:-$(nproc)}
+
+# --- 1. packages ------------------------------------------------------------
+packages=(cmake g++ make pkg-config openmpi-bin libopenmpi-dev petsc-dev libhypre-dev libmetis-dev
+          libhdf5-openmpi-dev nlohmann-json3-dev libgtest-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "quickstart: installing ${missing[*]}"
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null || { echo "quickstart: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    sudo=sudo
+  fi
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# --- 2. build ---------------------------------------------------------------
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build" -j "$jobs"
+
+# Open MPI refuses to run as root and to start more ranks than cores unless told to.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+
+# --- 3. run or test -----------------------------------------------------------
+if [[ $mode == test ]]; then
+  cd "$build"
+  ctest --output-on-failure -j "$jobs"
+else
+  cd "$root"
+  mpirun -n 2 "$build/src/app/dipc" "$@"
+  echo "quickstart: output in $root/output (open output/dipc.xmf in ParaView; per-step table in output/stats.csv)"
+fi
