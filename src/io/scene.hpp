@@ -67,7 +67,7 @@ struct Scene {
   std::array<double, 3> gravity{0, 0, 0};
   std::vector<DirichletCondition> dirichlet;
   // time
-  bool is_static = false;  // "integrator": "static" minimises elastic + body energy once
+  bool is_static = false;  // "integrator": "static": load steps minimising elastic + body energy
   double dt = 0.01;
   int steps = 1;
   // mass

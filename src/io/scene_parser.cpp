@@ -10,7 +10,7 @@
 //                         dirichlet: [ {selection, type: fixed|velocity|rotation,
 //                                       velocity | axis, center, angular_velocity} ]}
 //   time                 {integrator: implicit_euler, dt, steps | t_end} or
-//                        {integrator: static}                                       required
+//                        {integrator: static, dt, steps} (load steps; default 1, 1) required
 //   solver               {mass: lumped|consistent}
 //   output               {directory, name, every}
 //   contact              {enabled, dhat, dhat_relative, friction, epsv}
@@ -250,9 +250,16 @@ void parse_time(const SceneJsonNode& node, Scene& scene) {
     }
   }
   if (scene.is_static) {
-    // A static solve is one minimisation: a time step or step count would be silently unused.
-    node.expect_object({"integrator"}, "for integrator \"static\"");
+    // A static run is a sequence of load steps: step k minimises the elastic and body energy
+    // with the prescribed motions evaluated at the pseudo-time k·dt (default: one step, dt 1).
+    node.expect_object({"integrator", "dt", "steps"}, "for integrator \"static\"");
+    scene.dt = 1.0;
     scene.steps = 1;
+    if (auto dt = node.find("dt")) scene.dt = positive(*dt);
+    if (auto steps = node.find("steps")) {
+      scene.steps = steps->integer();
+      if (scene.steps < 1) steps->fail_value("must be >= 1");
+    }
     return;
   }
   node.expect_object({"integrator", "dt", "steps", "t_end"});

@@ -150,8 +150,13 @@ std::vector<BadScene> bad_scenes() {
        {"scene.json: time.t_end = 0.004: shorter than one step of dt = 0.01"}},
       {"UnknownIntegrator", [] { return edited([](json& s) { s["time"]["integrator"] = "newmark"; }); },
        {"scene.json: time.integrator = \"newmark\": unknown integrator (allowed: implicit_euler, static)"}},
-      {"StaticWithDt", [] { return edited([](json& s) { s["time"]["integrator"] = "static"; }); },
-       {"scene.json: time.dt: unknown key (allowed for integrator \"static\": integrator)"}},
+      {"StaticWithTEnd",
+       [] {
+         return edited([](json& s) {
+           s["time"] = {{"integrator", "static"}, {"t_end", 1.0}};
+         });
+       },
+       {"scene.json: time.t_end: unknown key (allowed for integrator \"static\": integrator, dt, steps)"}},
       {"UnknownMass", [] { return edited([](json& s) { s["solver"]["mass"] = "diagonal"; }); },
        {"scene.json: solver.mass = \"diagonal\": unknown mass matrix (allowed: lumped, consistent)"}},
       {"EveryZero", [] { return edited([](json& s) { s["output"]["every"] = 0; }); }, {"scene.json: output.every = 0: must be >= 1"}},
@@ -293,12 +298,22 @@ TEST(SceneParser, MeshPathsAreResolvedAgainstTheSceneDirectory) {
             (std::filesystem::current_path() / "part.msh").string());
 }
 
-TEST(SceneParser, StaticIntegratorNeedsNoTimeStep) {
+TEST(SceneParser, StaticIntegratorDefaultsToOneLoadStep) {
   json scene = base_scene();
   scene["time"] = {{"integrator", "static"}};
   const Scene parsed = parse(scene);
   EXPECT_TRUE(parsed.is_static);
   EXPECT_EQ(parsed.steps, 1);
+  EXPECT_EQ(parsed.dt, 1.0);
+}
+
+TEST(SceneParser, StaticLoadSteps) {
+  json scene = base_scene();
+  scene["time"] = {{"integrator", "static"}, {"dt", 0.25}, {"steps", 4}};
+  const Scene parsed = parse(scene);
+  EXPECT_TRUE(parsed.is_static);
+  EXPECT_EQ(parsed.steps, 4);
+  EXPECT_EQ(parsed.dt, 0.25);
 }
 
 TEST(SceneParser, MissingFileIsNamed) {
