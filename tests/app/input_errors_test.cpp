@@ -13,9 +13,9 @@ struct Outcome {
   std::string output;
 };
 
-Outcome run_dipc(const std::string& scene) {
+Outcome run_dipc(const std::string& scene, const std::string& extra = "") {
   const std::string cmd = std::string(DIPC_BINARY) + " " + DIPC_SOURCE_DIR + "/tests/app/data/" + scene +
-                          " -dipc_no_output -dipc_quiet 2>&1";
+                          " -dipc_no_output -dipc_quiet " + extra + " 2>&1";
   Outcome o{-1, ""};
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return o;
@@ -59,8 +59,27 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(InputErrors, GoodMeshRuns) {
-  const Outcome o = run_dipc("../data/cube_good.json");
+  const Outcome o = run_dipc("cube_good.json");
   EXPECT_EQ(o.status, 0) << o.output;
+}
+
+// -options_file reaches PETSc: the shipped GAMG options replace the BoomerAMG default.
+TEST(Options, OptionsFileIsRead) {
+  const Outcome o = run_dipc("cube_good.json", std::string("-options_file ") + DIPC_SOURCE_DIR +
+                                                   "/scenes/solver/gamg.opts -snes_view");
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("type: gamg"), std::string::npos) << o.output;
+  const Outcome d = run_dipc("cube_good.json", "-snes_view");
+  EXPECT_NE(d.output.find("HYPRE BoomerAMG"), std::string::npos) << d.output;
+}
+
+// -help lists the dipc options with their defaults and stops before the first step.
+TEST(Options, HelpListsDipcOptions) {
+  const Outcome o = run_dipc("cube_good.json", "-help");
+  EXPECT_EQ(o.status, 0) << o.output;
+  for (const char* opt : {"-dipc_velocity_tol", "-dipc_steps", "-dipc_output", "-snes_type", "-ksp_type"})
+    EXPECT_NE(o.output.find(opt), std::string::npos) << opt;
+  EXPECT_EQ(o.output.find("step     1"), std::string::npos) << "-help must not run steps";
 }
 
 }  // namespace
