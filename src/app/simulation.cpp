@@ -217,9 +217,11 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
       break;
     }
     if (!options.quiet)
-      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s\n",
+      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
                             r.step, r.time, (int)r.newton.iterations, (int)r.newton.linear_iterations, r.newton.min_alpha,
-                            r.energy, r.min_volume_ratio, r.wall_seconds));
+                            r.energy, r.min_volume_ratio, r.wall_seconds,
+                            r.dirichlet_substeps ? ("  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) +
+                                                    " solves)").c_str() : ""));
     if (output) {
       const double t0 = MPI_Wtime();
       output->write_stats(r);

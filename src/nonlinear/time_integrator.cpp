@@ -152,22 +152,21 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     PetscCall(VecWAXPY(x_hat_, h, v_, x_n_));  // x̂ = x_n + h v_n
     PetscCall(potential_.begin_step(x_hat_));
   }
-  // Initial guess: the previous state with the Dirichlet nodes at their new positions.
-  PetscCall(apply_dirichlet(x_, t));
-  PetscBool valid;
-  PetscCall(potential_.is_valid(x_, &valid));
-  if (!valid) {
-    report->failure = "moving the Dirichlet nodes to their prescribed positions inverts an adjacent "
-                      "element; reduce the time step";
-    PetscCall(VecCopy(x_n_, x_));
-    PetscFunctionReturn(0);
-  }
-
   const double solve_start = MPI_Wtime();
-  PetscCall(newton_.solve(x_, &report->newton));
+  PetscCall(reach_prescribed_positions(t, report));
+  if (report->failure.empty()) {
+    NewtonReport final_solve;
+    PetscCall(newton_.solve(x_, &final_solve));
+    report->newton.iterations += final_solve.iterations;
+    report->newton.linear_iterations += final_solve.linear_iterations;
+    report->newton.min_alpha = std::min(report->newton.min_alpha, final_solve.min_alpha);
+    report->newton.step_inf_norm = final_solve.step_inf_norm;
+    report->newton.reason = final_solve.reason;
+    if (final_solve.reason < 0)
+      report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[final_solve.reason];
+  }
   solve_seconds_ += MPI_Wtime() - solve_start;
-  if (report->newton.reason < 0) {
-    report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[report->newton.reason];
+  if (!report->failure.empty()) {
     PetscCall(VecCopy(x_n_, x_));
     PetscFunctionReturn(0);
   }
@@ -186,6 +185,55 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
   ++steps_taken_;
   time_ = t;
   report->wall_seconds = MPI_Wtime() - start;
+  PetscFunctionReturn(0);
+}
+
+// The Newton solve starts from x_n with the Dirichlet nodes at their positions at t. When that
+// jump inverts an element next to them (a large prescribed motion per step), the motion is
+// applied in fractions instead: each admissible fraction is solved for (the minimiser with the
+// Dirichlet nodes part-way), which carries the interior along, and the remaining motion is
+// retried from there, halving the fraction when it still inverts (Dirichlet continuation).
+// Only the last solve, with the full motion, is the step's solution; the others only build
+// its initial guess.
+PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* report) {
+  PetscFunctionBeginUser;
+  const double t0 = time_;
+  double reached = 0.0;  // fraction of the step's Dirichlet motion already solved for
+  double trial = 1.0;
+  Vec accepted;
+  PetscCall(VecDuplicate(x_, &accepted));
+  PetscCall(VecCopy(x_, accepted));
+  for (int halvings = 0;;) {
+    PetscCall(apply_dirichlet(x_, t0 + trial * (t - t0)));
+    PetscBool valid;
+    PetscCall(potential_.is_valid(x_, &valid));
+    if (valid && trial == 1.0) break;
+    if (valid) {
+      NewtonReport partial;
+      PetscCall(newton_.solve(x_, &partial));
+      report->newton.iterations += partial.iterations;
+      report->newton.linear_iterations += partial.linear_iterations;
+      ++report->dirichlet_substeps;
+      if (partial.reason < 0) {
+        report->failure = std::string("Newton did not converge on a part of the prescribed motion: ") +
+                          SNESConvergedReasons[partial.reason];
+        break;
+      }
+      PetscCall(VecCopy(x_, accepted));
+      reached = trial;
+      trial = 1.0;
+      halvings = 0;
+      continue;
+    }
+    PetscCall(VecCopy(accepted, x_));
+    trial = 0.5 * (reached + trial);
+    if (++halvings > 30) {
+      report->failure = "the prescribed motion of this step inverts an element next to the Dirichlet nodes even "
+                        "when applied in 2^-30 fractions; reduce the time step";
+      break;
+    }
+  }
+  PetscCall(VecDestroy(&accepted));
   PetscFunctionReturn(0);
 }
 

@@ -19,6 +19,7 @@ struct StepReport {
   double energy = 0;     // E at the accepted state
   double min_volume_ratio = 0;
   double wall_seconds = 0;
+  int dirichlet_substeps = 0;  // partial solves needed to reach the prescribed positions
   std::string failure;   // empty when the step succeeded; otherwise why it did not
 };
 
@@ -53,6 +54,7 @@ class TimeIntegrator {
 
  private:
   PetscErrorCode apply_dirichlet(Vec x, double t);
+  PetscErrorCode reach_prescribed_positions(double t, StepReport* report);
 
   const DistributedMesh* mesh_ = nullptr;
   ProblemSetup problem_;
