@@ -54,6 +54,22 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
   p.lumped_mass = scene.lumped_mass;
   p.length_scale = length_scale;
 
+  if (scene.contact.enabled) {
+    p.contact = true;
+    ContactParameters& c = p.contact_parameters;
+    c.dhat = scene.contact.dhat_relative ? scene.contact.dhat * length_scale : scene.contact.dhat;
+    c.kappa_adaptive = scene.contact.kappa_adaptive;
+    c.kappa = scene.contact.kappa;
+    for (const Body& body : scene.bodies) {
+      c.self_contact.push_back(body.self_contact ? 1 : 0);
+      c.body_names.push_back(body.name);
+    }
+    for (const Plane& plane : scene.contact.planes) c.planes.push_back({plane.point, plane.normal});
+    p.friction = scene.contact.friction;
+    p.friction_epsv = scene.contact.epsv;
+    p.friction_iterations = scene.contact.friction_iterations;
+  }
+
   for (const DirichletCondition& bc : scene.dirichlet) {
     DirichletSet set;
     set.local_nodes = select_nodes(bc.selection, mesh, length_scale, bc.key_path, scene.source);

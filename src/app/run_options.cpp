@@ -18,6 +18,11 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
                                sizeof(dir), &set));
   PetscCall(PetscOptionsBool("-dipc_no_output", "Write no HDF5/XDMF/CSV output", "", no_output, &no_output, nullptr));
   PetscCall(PetscOptionsBool("-dipc_quiet", "Do not print one line per time step", "", quiet, &quiet, nullptr));
+  PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-dipc_check_invariants",
+                             "After every step verify det J > 0, no edge-triangle intersection and d_min > 0", "", check,
+                             &check, nullptr));
+  o->check_invariants = check;
   PetscOptionsEnd();
   PetscCheck(o->velocity_tol_rel > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_velocity_tol_rel must be > 0");
   o->steps = static_cast<int>(steps);

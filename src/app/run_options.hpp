@@ -17,6 +17,7 @@ struct RunOptions {
   bool write_output = true;  // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
   bool quiet = false;        // -dipc_quiet: no per-step lines
   bool report = true;        // run header and timing table (tests and benchmarks turn it off)
+  bool check_invariants = false;  // -dipc_check_invariants: verify no inversion/intersection after every step
   bool setup_only = false;   // build everything (so -help lists all options), take no step
 };
 

@@ -3,6 +3,7 @@
 #include <petscversion.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <memory>
 
@@ -77,8 +78,8 @@ PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::v
 // Output of one run: XDMF/HDF5 fields and stats.csv.
 class RunOutput {
  public:
-  RunOutput(const Scene& scene, const RunOptions& options, const DistributedMesh& mesh)
-      : mesh_(mesh) {
+  RunOutput(const Scene& scene, const RunOptions& options, const DistributedMesh& mesh, double dhat)
+      : mesh_(mesh), contact_(scene.contact.enabled), dhat_(dhat) {
     const std::string dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
     std::vector<double> coords;
     for (int n = 0; n < mesh.num_owned_nodes; ++n) coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
@@ -97,11 +98,12 @@ class RunOutput {
     om.element_nodes = nodes.data();
     om.element_body = mesh.element_body.data();
     writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om);
-    stats_ = std::make_unique<StatsCsv>(
-        dir + "/stats.csv",
-        std::vector<std::string>{"step", "t", "newton_its", "ksp_its", "alpha_min", "energy", "min_volume_ratio",
-                                 "wall_s"},
-        mesh.comm);
+    std::vector<std::string> columns{"step", "t", "newton_its", "ksp_its", "alpha_min", "energy", "min_volume_ratio",
+                                     "wall_s"};
+    if (contact_)
+      columns.insert(columns.end(), {"contact_pairs", "min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd",
+                                     "broad_phase_s", "ccd_s", "barrier_s", "exchange_s"});
+    stats_ = std::make_unique<StatsCsv>(dir + "/stats.csv", columns, mesh.comm);
   }
 
   PetscErrorCode write_fields(TimeIntegrator& integrator) {
@@ -123,13 +125,19 @@ class RunOutput {
   }
 
   void write_stats(const StepReport& r) {
-    stats_->row({double(r.step), r.time, double(r.newton.iterations), double(r.newton.linear_iterations),
-                 r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds});
+    std::vector<double> row{double(r.step), r.time, double(r.newton.iterations), double(r.newton.linear_iterations),
+                            r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds};
+    if (contact_)
+      row.insert(row.end(), {double(r.contact_pairs), r.min_distance, r.min_distance / dhat_, r.kappa, r.alpha_ccd,
+                             r.broad_phase_seconds, r.ccd_seconds, r.barrier_seconds, r.exchange_seconds});
+    stats_->row(row);
   }
   std::string xdmf_path() const { return writer_->xdmf_path(); }
 
  private:
   const DistributedMesh& mesh_;
+  bool contact_;
+  double dhat_;
   std::unique_ptr<XdmfWriter> writer_;
   std::unique_ptr<StatsCsv> stats_;
 };
@@ -190,7 +198,7 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
   TimeIntegrator integrator;
   {
     StageScope stage(stages.setup);
-    PetscCall(integrator.setup(mesh, problem, velocity_tol));
+    PetscCall(integrator.setup(mesh, problem, velocity_tol, options.check_invariants));
   }
   t_setup = MPI_Wtime() - t_setup;
   if (options.report) PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol));
@@ -199,7 +207,7 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
   double t_output = MPI_Wtime();
   if (options.write_output && !options.setup_only) {
     StageScope stage(stages.output);
-    output = std::make_unique<RunOutput>(scene, options, mesh);
+    output = std::make_unique<RunOutput>(scene, options, mesh, problem.contact_parameters.dhat);
     PetscCall(output->write_fields(integrator));
     result->xdmf_path = output->xdmf_path();
   }
@@ -216,12 +224,21 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
       result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;
       break;
     }
-    if (!options.quiet)
+    if (!options.quiet) {
+      std::string contact;
+      if (problem.contact) {
+        char buf[256];
+        std::snprintf(buf, sizeof(buf), " | contacts %ld d_min %.3g (%.3g dhat) kappa %.3g alpha_ccd %.3g contact %.3f s",
+                      r.contact_pairs, r.min_distance, r.min_distance / problem.contact_parameters.dhat, r.kappa,
+                      r.alpha_ccd, r.broad_phase_seconds + r.ccd_seconds + r.barrier_seconds + r.exchange_seconds);
+        contact = buf;
+      }
+      if (r.dirichlet_substeps)
+        contact += "  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) + " solves)";
       PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
                             r.step, r.time, (int)r.newton.iterations, (int)r.newton.linear_iterations, r.newton.min_alpha,
-                            r.energy, r.min_volume_ratio, r.wall_seconds,
-                            r.dirichlet_substeps ? ("  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) +
-                                                    " solves)").c_str() : ""));
+                            r.energy, r.min_volume_ratio, r.wall_seconds, contact.c_str()));
+    }
     if (output) {
       const double t0 = MPI_Wtime();
       output->write_stats(r);

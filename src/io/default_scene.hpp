@@ -1,10 +1,12 @@
-// The scene embedded in the program (used when no scene file is given), as JSON text so that
-// it doubles as an example of the scene format. default_scene() (scene.hpp) parses it.
+// The scenes embedded in the program (the default contact scene, used when no scene file is
+// given, and the beam scene that elastodynamics tests use), as JSON text so that they double
+// as examples of the scene format. default_scene() and beam_scene() (scene.hpp) parse them.
 #pragma once
 #include <string>
 
 namespace dipc {
 
 const std::string& default_scene_json();
+const std::string& beam_scene_json();
 
 }  // namespace dipc

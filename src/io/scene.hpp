@@ -31,6 +31,10 @@ struct Body {
   double scale = 1.0;                          // applied before the translation
   std::size_t material = 0;                    // index into Scene::materials
   std::array<double, 3> initial_velocity{0, 0, 0};
+  bool self_contact = true;  // contact between this body's own surface primitives
+  // Prescribed entirely (rollers, presses): the parser turns its "kinematic" motion into a
+  // DirichletCondition on all its nodes (selection = name), appended to Scene::dirichlet.
+  bool kinematic = false;
 };
 
 // Which nodes a boundary condition acts on: a named node set of the mesh, or all nodes
@@ -52,12 +56,26 @@ struct DirichletCondition {
   std::string key_path;                      // e.g. "boundary_conditions.dirichlet[0]"
 };
 
-struct ContactSettings {  // parsed now, used by the contact issue
+// A half-space obstacle: the solid occupies {x : (x - point)·normal < 0}, bodies stay on the
+// side the normal points to. `normal` is normalised by the parser.
+struct Plane {
+  std::array<double, 3> point{0, 0, 0};
+  std::array<double, 3> normal{0, 0, 1};
+};
+
+struct ContactSettings {
   bool enabled = false;
+  // Activation DISTANCE d̂ in length units, NOT squared (the contact point functions use its
+  // square, as IPC Toolkit does). With dhat_relative, d̂ = dhat × the diagonal of the
+  // bounding box of all bodies' rest positions (dhat then in (0, 1)).
   double dhat = 1e-3;
-  bool dhat_relative = true;  // dhat as a fraction of the bounding-box diagonal
-  double friction = 0.0;
-  double epsv = 1e-3;
+  bool dhat_relative = true;
+  bool kappa_adaptive = true;  // adaptive barrier stiffness (Li et al. 2020, IPC)
+  double kappa = 0;            // the fixed barrier stiffness κ when !kappa_adaptive (> 0)
+  double friction = 0.0;       // Coulomb coefficient μ (no friction form when 0)
+  double epsv = 1e-3;          // friction smoothing velocity ε_v [m/s]
+  int friction_iterations = 1; // lagged friction updates per time step, >= 1
+  std::vector<Plane> planes;   // analytic obstacles
 };
 
 struct Scene {
@@ -87,7 +105,11 @@ struct SceneError : std::runtime_error {
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory);
-// The scene embedded in the program, used when no scene file is given.
+// The scene embedded in the program, used when no scene file is given: a soft box dropped
+// onto a wider box that rests on a ground plane (contact with friction).
 Scene default_scene();
+// The previous default: a cantilever beam clamped at x = 0 sagging under gravity, no contact
+// (also scenes/default_beam.json); elastodynamics tests use it.
+Scene beam_scene();
 
 }  // namespace dipc

@@ -4,19 +4,28 @@
 // Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
 //   materials            [ {name, E, nu, rho} ]                       required, >= 1
 //   geometry             [ {name, box: {size, resolution, origin} | mesh,
-//                           translation, scale (mesh only), material, initial_velocity} ]
-//                                                                     required, >= 1
-//   boundary_conditions  {gravity: [gx,gy,gz],
-//                         dirichlet: [ {selection, type: fixed|velocity|rotation,
-//                                       velocity | axis, center, angular_velocity} ]}
+//                           translation, scale (mesh only), material, initial_velocity,
+//                           self_contact, kinematic: {MOTION}} ]      required, >= 1
+//   boundary_conditions  {gravity: [gx,gy,gz], dirichlet: [ {selection, MOTION} ]}
 //   time                 {integrator: implicit_euler, dt, steps | t_end} or
 //                        {integrator: static, dt, steps} (load steps; default 1, 1) required
 //   solver               {mass: lumped|consistent}
 //   output               {directory, name, every}
-//   contact              {enabled, dhat, dhat_relative, friction, epsv}
+//   contact              {enabled, dhat, dhat_relative, barrier_stiffness: "adaptive" | κ,
+//                         friction, epsv, friction_iterations,
+//                         planes: [ {point: [x,y,z], normal: [nx,ny,nz]} ]}
+// where MOTION is  type: fixed | velocity (with velocity) | rotation (with axis, center,
+// angular_velocity); type defaults to fixed.
 // Omitted optional values take the defaults of scene.hpp. A body's name defaults to
 // "body<i>"; its material may be omitted when the scene has exactly one. A selection is a
 // node set name ("beam.xmin") or {"box": [[xmin,ymin,zmin],[xmax,ymax,zmax]]}.
+// A kinematic body is prescribed entirely: its motion becomes a DirichletCondition on the node
+// set <name> (all its nodes), appended after those of boundary_conditions.dirichlet with key
+// path "geometry[i].kinematic"; initial_velocity and named selections of its nodes in
+// boundary_conditions are rejected because they would contradict that motion.
+// contact.dhat is an activation DISTANCE (length, not squared); with dhat_relative (default)
+// it is a fraction of the bounding-box diagonal of the bodies, so it must be < 1. A plane is a
+// half-space obstacle whose solid lies behind its normal (normalised here).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -123,15 +132,68 @@ std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base
   return std::filesystem::absolute(path).lexically_normal().string();
 }
 
-std::vector<Body> parse_geometry(const SceneJsonNode& node, const std::vector<Material>& materials,
-                                 const std::string& base_directory) {
+// Reads the prescribed motion of a Dirichlet condition or kinematic body: "type" and the keys
+// that type takes. `other_keys` are the keys the enclosing object may hold besides these.
+void parse_motion(const SceneJsonNode& node, const std::vector<std::string>& other_keys,
+                  DirichletCondition& bc) {
+  std::string type = "fixed";
+  if (auto t = node.find("type")) {
+    type = t->string();
+    if (type == "fixed") {
+      bc.kind = DirichletCondition::Kind::Fixed;
+    } else if (type == "velocity") {
+      bc.kind = DirichletCondition::Kind::Velocity;
+    } else if (type == "rotation") {
+      bc.kind = DirichletCondition::Kind::Rotation;
+    } else {
+      t->fail_value("unknown type (allowed: fixed, velocity, rotation)");
+    }
+  }
+  std::vector<std::string> allowed = other_keys;
+  allowed.push_back("type");
+  const std::string context = "for type \"" + type + "\"";
+  switch (bc.kind) {
+    case DirichletCondition::Kind::Fixed:
+      node.expect_object(allowed, context);
+      break;
+    case DirichletCondition::Kind::Velocity:
+      allowed.push_back("velocity");
+      node.expect_object(allowed, context);
+      bc.velocity = node.required("velocity").vec3();
+      break;
+    case DirichletCondition::Kind::Rotation: {
+      for (const char* key : {"axis", "center", "angular_velocity"}) allowed.push_back(key);
+      node.expect_object(allowed, context);
+      if (auto axis = node.find("axis")) {
+        const std::array<double, 3> a = axis->vec3();
+        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (!(length > 0)) axis->fail_value("rotation axis must be non-zero");
+        bc.axis = {a[0] / length, a[1] / length, a[2] / length};
+      }
+      if (auto center = node.find("center")) bc.center = center->vec3();
+      bc.angular_velocity = node.required("angular_velocity").number();
+      break;
+    }
+  }
+}
+
+// Bodies, plus the Dirichlet conditions that their "kinematic" motions stand for.
+struct Geometry {
+  std::vector<Body> bodies;
+  std::vector<DirichletCondition> kinematic_motions;
+};
+
+Geometry parse_geometry(const SceneJsonNode& node, const std::vector<Material>& materials,
+                        const std::string& base_directory) {
   const std::vector<SceneJsonNode> items = node.elements();
   if (items.empty()) node.fail("must list at least one body");
-  std::vector<Body> bodies;
+  Geometry geometry;
+  std::vector<Body>& bodies = geometry.bodies;
   std::map<std::string, std::string> first_path_of_name;
   for (std::size_t i = 0; i < items.size(); ++i) {
     const SceneJsonNode& item = items[i];
-    item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity"});
+    item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity",
+                        "self_contact", "kinematic"});
     Body b;
     b.name = "body" + std::to_string(i);
     if (auto name = item.find("name")) {
@@ -161,9 +223,21 @@ std::vector<Body> parse_geometry(const SceneJsonNode& node, const std::vector<Ma
     }
     b.material = material_reference(item.find("material"), item, materials);
     if (auto v = item.find("initial_velocity")) b.initial_velocity = v->vec3();
+    if (auto self_contact = item.find("self_contact")) b.self_contact = self_contact->boolean();
+    if (auto kinematic = item.find("kinematic")) {
+      b.kinematic = true;
+      if (auto v = item.find("initial_velocity")) {
+        v->fail("a kinematic body's motion is prescribed by \"kinematic\", not by an initial velocity");
+      }
+      DirichletCondition motion;
+      motion.key_path = kinematic->path();
+      parse_motion(*kinematic, {}, motion);
+      motion.selection.name = b.name;  // the node set of all the body's nodes
+      geometry.kinematic_motions.push_back(motion);
+    }
     bodies.push_back(b);
   }
-  return bodies;
+  return geometry;
 }
 
 Selection parse_selection(const SceneJsonNode& node) {
@@ -190,45 +264,23 @@ Selection parse_selection(const SceneJsonNode& node) {
   return s;
 }
 
-DirichletCondition parse_dirichlet(const SceneJsonNode& node) {
+DirichletCondition parse_dirichlet(const SceneJsonNode& node, const std::vector<Body>& bodies) {
   DirichletCondition bc;
   bc.key_path = node.path();
-  std::string type = "fixed";
-  if (auto t = node.find("type")) {
-    type = t->string();
-    if (type == "fixed") {
-      bc.kind = DirichletCondition::Kind::Fixed;
-    } else if (type == "velocity") {
-      bc.kind = DirichletCondition::Kind::Velocity;
-    } else if (type == "rotation") {
-      bc.kind = DirichletCondition::Kind::Rotation;
-    } else {
-      t->fail_value("unknown type (allowed: fixed, velocity, rotation)");
-    }
-  }
-  const std::string context = "for type \"" + type + "\"";
-  switch (bc.kind) {
-    case DirichletCondition::Kind::Fixed:
-      node.expect_object({"selection", "type"}, context);
-      break;
-    case DirichletCondition::Kind::Velocity:
-      node.expect_object({"selection", "type", "velocity"}, context);
-      bc.velocity = node.required("velocity").vec3();
-      break;
-    case DirichletCondition::Kind::Rotation: {
-      node.expect_object({"selection", "type", "axis", "center", "angular_velocity"}, context);
-      if (auto axis = node.find("axis")) {
-        const std::array<double, 3> a = axis->vec3();
-        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        if (!(length > 0)) axis->fail_value("rotation axis must be non-zero");
-        bc.axis = {a[0] / length, a[1] / length, a[2] / length};
+  parse_motion(node, {"selection"}, bc);
+  const SceneJsonNode selection = node.required("selection");
+  bc.selection = parse_selection(selection);
+  // A named set of a kinematic body ("<body>" or "<body>.<set>") would prescribe its nodes
+  // twice. Box selections depend on the mesh and are not checked here.
+  if (!bc.selection.box) {
+    const std::string body_name = bc.selection.name.substr(0, bc.selection.name.find('.'));
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      if (bodies[i].kinematic && bodies[i].name == body_name) {
+        selection.fail_value("body \"" + body_name + "\" is kinematic (geometry[" + std::to_string(i) +
+                             "].kinematic prescribes all its nodes)");
       }
-      if (auto center = node.find("center")) bc.center = center->vec3();
-      bc.angular_velocity = node.required("angular_velocity").number();
-      break;
     }
   }
-  bc.selection = parse_selection(node.required("selection"));
   return bc;
 }
 
@@ -236,7 +288,9 @@ void parse_boundary_conditions(const SceneJsonNode& node, Scene& scene) {
   node.expect_object({"gravity", "dirichlet"});
   if (auto g = node.find("gravity")) scene.gravity = g->vec3();
   if (auto dirichlet = node.find("dirichlet")) {
-    for (const SceneJsonNode& item : dirichlet->elements()) scene.dirichlet.push_back(parse_dirichlet(item));
+    for (const SceneJsonNode& item : dirichlet->elements()) {
+      scene.dirichlet.push_back(parse_dirichlet(item, scene.bodies));
+    }
   }
 }
 
@@ -320,16 +374,57 @@ void parse_output(const SceneJsonNode& node, Scene& scene) {
   }
 }
 
+void parse_barrier_stiffness(const SceneJsonNode& node, ContactSettings& contact) {
+  if (node.json().is_string()) {
+    if (node.string() != "adaptive") node.fail_value("unknown barrier stiffness (allowed: \"adaptive\" or a number > 0)");
+    contact.kappa_adaptive = true;
+    contact.kappa = 0;
+    return;
+  }
+  if (!node.json().is_number()) node.fail("expected \"adaptive\" or a number > 0");
+  contact.kappa_adaptive = false;
+  contact.kappa = positive(node);
+}
+
+std::vector<Plane> parse_planes(const SceneJsonNode& node) {
+  std::vector<Plane> planes;
+  for (const SceneJsonNode& item : node.elements()) {
+    item.expect_object({"point", "normal"});
+    Plane plane;
+    plane.point = item.required("point").vec3();
+    const SceneJsonNode normal = item.required("normal");
+    const std::array<double, 3> n = normal.vec3();
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0)) normal.fail_value("plane normal must be non-zero");
+    plane.normal = {n[0] / length, n[1] / length, n[2] / length};
+    planes.push_back(plane);
+  }
+  return planes;
+}
+
 void parse_contact(const SceneJsonNode& node, ContactSettings& contact) {
-  node.expect_object({"enabled", "dhat", "dhat_relative", "friction", "epsv"});
+  node.expect_object({"enabled", "dhat", "dhat_relative", "barrier_stiffness", "friction", "epsv",
+                      "friction_iterations", "planes"});
   if (auto enabled = node.find("enabled")) contact.enabled = enabled->boolean();
-  if (auto dhat = node.find("dhat")) contact.dhat = positive(*dhat);
   if (auto relative = node.find("dhat_relative")) contact.dhat_relative = relative->boolean();
+  if (auto dhat = node.find("dhat")) {
+    contact.dhat = positive(*dhat);
+    // d̂ at or beyond the whole scene's diagonal would make every primitive pair active.
+    if (contact.dhat_relative && !(contact.dhat < 1)) {
+      dhat->fail_value("a relative dhat is a fraction of the bounding-box diagonal, must be < 1");
+    }
+  }
+  if (auto kappa = node.find("barrier_stiffness")) parse_barrier_stiffness(*kappa, contact);
   if (auto friction = node.find("friction")) {
     contact.friction = friction->number();
     if (contact.friction < 0) friction->fail_value("must be >= 0");
   }
   if (auto epsv = node.find("epsv")) contact.epsv = positive(*epsv);
+  if (auto iterations = node.find("friction_iterations")) {
+    contact.friction_iterations = iterations->integer();
+    if (contact.friction_iterations < 1) iterations->fail_value("must be >= 1");
+  }
+  if (auto planes = node.find("planes")) contact.planes = parse_planes(*planes);
 }
 
 }  // namespace
@@ -352,8 +447,10 @@ Scene parse_scene_text(const std::string& json_text, const std::string& source_n
   Scene scene;
   scene.source = source_name;
   scene.materials = parse_materials(root.required("materials"));
-  scene.bodies = parse_geometry(root.required("geometry"), scene.materials, base_directory);
+  Geometry geometry = parse_geometry(root.required("geometry"), scene.materials, base_directory);
+  scene.bodies = std::move(geometry.bodies);
   if (auto bc = root.find("boundary_conditions")) parse_boundary_conditions(*bc, scene);
+  for (DirichletCondition& motion : geometry.kinematic_motions) scene.dirichlet.push_back(std::move(motion));
   parse_time(root.required("time"), scene);
   if (auto solver = root.find("solver")) parse_solver(*solver, scene);
   if (auto output = root.find("output")) parse_output(*output, scene);

@@ -11,6 +11,7 @@
 #pragma once
 #include <petscsys.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,27 @@ class Form {
   // Hooks: start of a time step (x̂ = predicted positions, local array) and of a Newton
   // iteration.
   virtual void begin_step(const double* x_hat) {}
-  virtual void begin_iteration(const double* x) {}
+  // Returns true if the form changed its own definition (e.g. the barrier stiffness), so that
+  // the gradient at x must be evaluated again.
+  virtual bool begin_iteration(const double* x) { return false; }
+
+  // --- Forms that reach beyond the mesh's local nodes (contact across ranks) ---------------
+  // Global ids of nodes this form needs in addition to the mesh's local nodes; the potential
+  // appends them to the local arrays in this order (nullptr: none).
+  virtual const std::vector<std::int64_t>* extra_nodes() const { return nullptr; }
+  // Collective. Called before the potential is evaluated anywhere on the segment x + αp,
+  // α ∈ [0, 1] (p = 0 at the start of a step), with arrays over the current local nodes. The
+  // form decides which remote data it needs for that segment; returns true if extra_nodes()
+  // changed, after which the potential re-gathers and calls prepare_segment again.
+  virtual bool update_extra_nodes(const double* x, const double* p) { return false; }
+  // Called once the arrays cover extra_nodes(): the form finds what it will evaluate along the
+  // segment (contact: candidate pairs).
+  virtual void prepare_segment(const double* x, const double* p) {}
+  // Called before every Hessian evaluation at x, before pattern_version() is read: a form
+  // whose pattern depends on the state (the contact active set) updates it here.
+  virtual void update_pattern(const double* x) {}
+  // Increases whenever coo_pattern() would return a different pattern.
+  virtual long pattern_version() const { return 0; }
 };
 
 }  // namespace dipc

@@ -45,36 +45,76 @@ IncrementalPotential::~IncrementalPotential() {
   VecDestroy(&x_local_);
   VecDestroy(&g_local_);
   VecDestroy(&p_local_);
+  VecDestroy(&dirichlet_global_);
 }
 
-PetscErrorCode IncrementalPotential::setup(MPI_Comm comm, const DistributedMesh& mesh,
-                                           const GhostExchange& exchange,
-                                           std::vector<std::unique_ptr<Form>> forms,
+PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
                                            std::vector<char> dirichlet_dof) {
   PetscFunctionBeginUser;
-  comm_ = comm;
-  exchange_ = &exchange;
+  comm_ = mesh.comm;
+  mesh_ = &mesh;
   forms_ = std::move(forms);
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
-  PetscCall(exchange.create_local_vec(&x_local_));
+  local_to_global_ = mesh.local_to_global;
+  PetscCall(exchange_.setup(mesh, 3));
+  // Prescribed dofs as a distributed field, so that the flags of extra nodes can be gathered.
+  PetscCall(exchange_.create_global_vec(&dirichlet_global_));
+  PetscScalar* d;
+  PetscCall(VecGetArray(dirichlet_global_, &d));
+  for (int k = 0; k < num_owned_dofs_; ++k) d[k] = dirichlet_dof_[k] ? 1.0 : 0.0;
+  PetscCall(VecRestoreArray(dirichlet_global_, &d));
+  PetscCall(exchange_.create_local_vec(&x_local_));
   PetscCall(VecDuplicate(x_local_, &g_local_));
   PetscCall(VecDuplicate(x_local_, &p_local_));
+  PetscCall(rebuild_pattern());
+  PetscFunctionReturn(0);
+}
 
-  rows_.clear(), cols_.clear(), form_offset_.clear();
+PetscErrorCode IncrementalPotential::rebuild_exchange() {
+  PetscFunctionBeginUser;
+  local_to_global_ = mesh_->local_to_global;
+  for (auto& form : forms_)
+    if (const auto* extra = form->extra_nodes()) local_to_global_.insert(local_to_global_.end(), extra->begin(), extra->end());
+  PetscCall(exchange_.setup(comm_, mesh_->num_owned_nodes, local_to_global_, mesh_->num_global_nodes, 3));
+  PetscCall(VecDestroy(&x_local_));
+  PetscCall(VecDestroy(&g_local_));
+  PetscCall(VecDestroy(&p_local_));
+  PetscCall(exchange_.create_local_vec(&x_local_));
+  PetscCall(VecDuplicate(x_local_, &g_local_));
+  PetscCall(VecDuplicate(x_local_, &p_local_));
+  PetscCall(exchange_.to_local(dirichlet_global_, g_local_));
+  const PetscScalar* d;
+  PetscCall(VecGetArrayRead(g_local_, &d));
+  dirichlet_dof_.assign(3 * local_to_global_.size(), 0);
+  for (std::size_t k = 0; k < dirichlet_dof_.size(); ++k) dirichlet_dof_[k] = d[k] > 0.5;
+  PetscCall(VecRestoreArrayRead(g_local_, &d));
+  PetscFunctionReturn(0);
+}
+
+bool IncrementalPotential::pattern_changed() const {
+  for (std::size_t f = 0; f < forms_.size(); ++f)
+    if (forms_[f]->pattern_version() != pattern_versions_[f]) return true;
+  return false;
+}
+
+PetscErrorCode IncrementalPotential::rebuild_pattern() {
+  PetscFunctionBeginUser;
+  rows_.clear(), cols_.clear(), form_offset_.clear(), pattern_versions_.clear();
   for (auto& form : forms_) {
     std::vector<PetscInt> r, c;
     form->coo_pattern(&r, &c);
     form_offset_.push_back(rows_.size());
+    pattern_versions_.push_back(form->pattern_version());
     rows_.insert(rows_.end(), r.begin(), r.end());
     cols_.insert(cols_.end(), c.begin(), c.end());
   }
   form_offset_.push_back(rows_.size());
 
   std::unordered_set<PetscInt> prescribed;
-  for (int n = 0; n < mesh.num_local_nodes(); ++n)
+  for (std::size_t n = 0; n < local_to_global_.size(); ++n)
     for (int c = 0; c < 3; ++c)
-      if (dirichlet_dof_[3 * n + c]) prescribed.insert(static_cast<PetscInt>(3 * mesh.local_to_global[n] + c));
+      if (dirichlet_dof_[3 * n + c]) prescribed.insert(static_cast<PetscInt>(3 * local_to_global_[n] + c));
   eliminated_.clear();
   if (!prescribed.empty())
     for (std::size_t k = 0; k < rows_.size(); ++k)
@@ -82,11 +122,19 @@ PetscErrorCode IncrementalPotential::setup(MPI_Comm comm, const DistributedMesh&
   dirichlet_diagonal_begin_ = rows_.size();
   for (int k = 0; k < num_owned_dofs_; ++k)
     if (dirichlet_dof_[k]) {
-      const PetscInt dof = static_cast<PetscInt>(3 * mesh.node_offset + k);
+      const PetscInt dof = static_cast<PetscInt>(3 * mesh_->node_offset + k);
       rows_.push_back(dof);
       cols_.push_back(dof);
     }
   values_.assign(rows_.size(), 0.0);
+  if (J_) {
+    // MatSetPreallocationCOO may reorder the index arrays it is given: pass copies.
+    const double start = MPI_Wtime();
+    std::vector<PetscInt> r = rows_, c = cols_;
+    PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(r.size()), r.data(), c.data()));
+    times_.preallocation += MPI_Wtime() - start;
+    ++times_.preallocations;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -97,42 +145,48 @@ PetscErrorCode IncrementalPotential::create_matrix(Mat* J) {
   PetscCall(MatSetBlockSize(*J, 3));
   PetscCall(MatSetType(*J, MATAIJ));
   PetscCall(MatSetFromOptions(*J));
-  // MatSetPreallocationCOO may reorder the index arrays it is given: pass copies.
-  std::vector<PetscInt> r = rows_, c = cols_;
-  PetscCall(MatSetPreallocationCOO(*J, static_cast<PetscCount>(r.size()), r.data(), c.data()));
+  J_ = *J;
+  PetscCall(rebuild_pattern());
   PetscCall(MatSetOption(*J, MAT_SPD, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode IncrementalPotential::gather(Vec x) {
   PetscFunctionBeginUser;
-  PetscCall(exchange_->to_local(x, x_local_));
+  PetscCall(exchange_.to_local(x, x_local_));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode IncrementalPotential::objective(Vec x, PetscReal* energy) {
   PetscFunctionBeginUser;
   ScopedEvent timer(events().energy, &times_.energy);
-  PetscCall(gather(x));
-  const PetscScalar* xl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  double local = 0;
-  int admissible = 1;
-  for (auto& form : forms_) {
-    double e = 0;
-    if (!form->value(xl, &e)) admissible = 0;
-    local += e;
-  }
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
-  double in[2] = {local, admissible ? 0.0 : 1.0}, out[2];
-  PetscCallMPI(MPI_Allreduce(in, out, 2, MPI_DOUBLE, MPI_SUM, comm_));
-  *energy = out[1] > 0 ? PETSC_INFINITY : out[0];
+  std::vector<double> values;
+  PetscCall(form_values(x, &values));
+  double sum = 0;
+  for (double v : values) sum += v;
+  *energy = sum;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode IncrementalPotential::gradient(Vec x, Vec g) {
+PetscErrorCode IncrementalPotential::form_values(Vec x, std::vector<double>* values) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().gradient, &times_.gradient);
+  PetscCall(gather(x));
+  const PetscScalar* xl;
+  PetscCall(VecGetArrayRead(x_local_, &xl));
+  const std::size_t nf = forms_.size();
+  std::vector<double> local(nf + 1, 0.0), total(nf + 1);
+  for (std::size_t f = 0; f < nf; ++f)
+    if (!forms_[f]->value(xl, &local[f])) local[nf] = 1.0;
+  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  PetscCallMPI(MPI_Allreduce(local.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
+  values->assign(total.begin(), total.begin() + nf);
+  if (total[nf] > 0)
+    for (double& v : *values) v = PETSC_INFINITY;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include) {
+  PetscFunctionBeginUser;
   PetscCall(gather(x));
   PetscCall(VecZeroEntries(g_local_));
   const PetscScalar* xl;
@@ -140,12 +194,13 @@ PetscErrorCode IncrementalPotential::gradient(Vec x, Vec g) {
   PetscCall(VecGetArrayRead(x_local_, &xl));
   PetscCall(VecGetArray(g_local_, &gl));
   bool ok = true;
-  for (auto& form : forms_) ok = form->gradient(xl, gl) && ok;
+  for (auto& form : forms_)
+    if (!include || include(*form)) ok = form->gradient(xl, gl) && ok;
   PetscCall(VecRestoreArray(g_local_, &gl));
   PetscCall(VecRestoreArrayRead(x_local_, &xl));
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "gradient requested at an inverted state");
   PetscCall(VecZeroEntries(g));
-  PetscCall(exchange_->add_to_global(g_local_, g));
+  PetscCall(exchange_.add_to_global(g_local_, g));
   PetscScalar* ga;
   PetscCall(VecGetArray(g, &ga));
   for (int k = 0; k < num_owned_dofs_; ++k)
@@ -154,12 +209,24 @@ PetscErrorCode IncrementalPotential::gradient(Vec x, Vec g) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode IncrementalPotential::gradient(Vec x, Vec g) {
+  PetscFunctionBeginUser;
+  ScopedEvent timer(events().gradient, &times_.gradient);
+  PetscCall(partial_gradient(x, g, {}));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   PetscFunctionBeginUser;
   ScopedEvent timer(events().hessian, &times_.hessian);
+  PetscCheck(J == J_, comm_, PETSC_ERR_ARG_WRONG, "hessian() needs the matrix made by create_matrix()");
   PetscCall(gather(x));
   const PetscScalar* xl;
   PetscCall(VecGetArrayRead(x_local_, &xl));
+  for (auto& form : forms_) form->update_pattern(xl);
+  int changed = pattern_changed() ? 1 : 0, any = 0;
+  PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
+  if (any) PetscCall(rebuild_pattern());
   bool ok = true;
   for (std::size_t f = 0; f < forms_.size(); ++f)
     ok = forms_[f]->hessian(xl, values_.data() + form_offset_[f]) && ok;
@@ -188,10 +255,53 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
+  PetscFunctionBeginUser;
+  const double start = MPI_Wtime();
+  // Forms may ask for more nodes once they see the segment; then everything is gathered again
+  // over the extended node list. Every rank takes part in the rebuild if any rank needs it.
+  PetscCall(gather(x));
+  PetscCall(exchange_.to_local(p, p_local_));
+  int changed = 0;
+  {
+    const PetscScalar *xl, *pl;
+    PetscCall(VecGetArrayRead(x_local_, &xl));
+    PetscCall(VecGetArrayRead(p_local_, &pl));
+    for (auto& form : forms_) changed = form->update_extra_nodes(xl, pl) || changed;
+    PetscCall(VecRestoreArrayRead(p_local_, &pl));
+    PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  }
+  int any = 0;
+  PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
+  if (any) {
+    PetscCall(rebuild_exchange());
+    PetscCall(gather(x));
+    PetscCall(exchange_.to_local(p, p_local_));
+  }
+  const PetscScalar *xl, *pl;
+  PetscCall(VecGetArrayRead(x_local_, &xl));
+  PetscCall(VecGetArrayRead(p_local_, &pl));
+  for (auto& form : forms_) form->prepare_segment(xl, pl);
+  PetscCall(VecRestoreArrayRead(p_local_, &pl));
+  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  times_.neighbourhood += MPI_Wtime() - start;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::prepare_point(Vec x) {
+  PetscFunctionBeginUser;
+  Vec zero;
+  PetscCall(VecDuplicate(x, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(prepare_segment(x, zero));
+  PetscCall(VecDestroy(&zero));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode IncrementalPotential::max_step(Vec x, Vec p, PetscReal* alpha) {
   PetscFunctionBeginUser;
-  PetscCall(gather(x));
-  PetscCall(exchange_->to_local(p, p_local_));
+  PetscCall(prepare_segment(x, p));
+  const double start = MPI_Wtime();
   const PetscScalar *xl, *pl;
   PetscCall(VecGetArrayRead(x_local_, &xl));
   PetscCall(VecGetArrayRead(p_local_, &pl));
@@ -200,6 +310,19 @@ PetscErrorCode IncrementalPotential::max_step(Vec x, Vec p, PetscReal* alpha) {
   PetscCall(VecRestoreArrayRead(p_local_, &pl));
   PetscCall(VecRestoreArrayRead(x_local_, &xl));
   PetscCallMPI(MPI_Allreduce(&a, alpha, 1, MPI_DOUBLE, MPI_MIN, comm_));
+  times_.max_step += MPI_Wtime() - start;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::with_local(Vec x, const std::function<void(const double*, std::size_t)>& f) {
+  PetscFunctionBeginUser;
+  PetscCall(gather(x));
+  const PetscScalar* xl;
+  PetscInt n;
+  PetscCall(VecGetLocalSize(x_local_, &n));
+  PetscCall(VecGetArrayRead(x_local_, &xl));
+  f(xl, static_cast<std::size_t>(n));
+  PetscCall(VecRestoreArrayRead(x_local_, &xl));
   PetscFunctionReturn(0);
 }
 
@@ -210,6 +333,19 @@ PetscErrorCode IncrementalPotential::begin_step(Vec x_hat) {
   PetscCall(VecGetArrayRead(x_local_, &xl));
   for (auto& form : forms_) form->begin_step(xl);
   PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::begin_iteration(Vec x, PetscBool* changed) {
+  PetscFunctionBeginUser;
+  PetscCall(gather(x));
+  const PetscScalar* xl;
+  PetscCall(VecGetArrayRead(x_local_, &xl));
+  int local = 0, any = 0;
+  for (auto& form : forms_) local = form->begin_iteration(xl) || local;
+  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_));
+  *changed = any ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 

@@ -2,8 +2,11 @@
 //
 // Per evaluation it gathers x to this rank's local nodes once (GhostExchange), lets every
 // form work on local arrays, reduces the energy over ranks once and scatters gradient
-// contributions of ghost nodes back to their owners once. The Hessian is assembled with
-// MatSetValuesCOO on the concatenated COO patterns of all forms, preallocated once.
+// contributions of ghost nodes back to their owners once. The local nodes are the mesh's
+// (owned, then element ghosts) followed by the extra nodes forms ask for (contact surfaces of
+// other ranks); the exchange is rebuilt when those change. The Hessian is assembled with
+// MatSetValuesCOO on the concatenated COO patterns of all forms, preallocated again only when a
+// form's pattern changes (the contact active set), never per iteration otherwise.
 //
 // Dirichlet dofs are eliminated symmetrically: their gradient entries are zero, their Hessian
 // rows and columns are zero with a unit diagonal, so Newton never moves them and CG sees an
@@ -11,6 +14,7 @@
 #pragma once
 #include <petscmat.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -23,7 +27,11 @@ namespace dipc {
 // of the same names so -log_view shows them.
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
-  double coo_insert = 0;  // MatSetValuesCOO alone (part of hessian)
+  double coo_insert = 0;      // MatSetValuesCOO alone (part of hessian)
+  double preallocation = 0;   // MatSetPreallocationCOO after a pattern change (part of hessian)
+  long preallocations = 0;    // how many times the pattern was set
+  double neighbourhood = 0;   // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
+  double max_step = 0;        // forms' max_step (CCD)
 };
 
 class IncrementalPotential {
@@ -33,40 +41,64 @@ class IncrementalPotential {
   IncrementalPotential(const IncrementalPotential&) = delete;
   IncrementalPotential& operator=(const IncrementalPotential&) = delete;
 
-  // dirichlet_dof: 3 flags per local node (owned and ghost) marking prescribed dofs.
-  PetscErrorCode setup(MPI_Comm comm, const DistributedMesh& mesh, const GhostExchange& exchange,
-                       std::vector<std::unique_ptr<Form>> forms, std::vector<char> dirichlet_dof);
+  // dirichlet_dof: 3 flags per mesh-local node (owned and ghost) marking prescribed dofs.
+  PetscErrorCode setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
+                       std::vector<char> dirichlet_dof);
   // A matrix with the combined COO pattern preallocated (type from -mat_type, default aij).
+  // The potential keeps a reference to re-preallocate it when a pattern changes.
   PetscErrorCode create_matrix(Mat* J);
+  PetscErrorCode create_global_vec(Vec* v) const { return exchange_.create_global_vec(v); }
 
   // E(x) over all ranks; +inf when x is not admissible (inverted element).
   PetscErrorCode objective(Vec x, PetscReal* energy);
+  // E split into the contributions of each form (summed over ranks), at x.
+  PetscErrorCode form_values(Vec x, std::vector<double>* values);
   PetscErrorCode gradient(Vec x, Vec g);
+  // Gradient of the forms for which include(form) is true (Dirichlet rows zeroed).
+  PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include);
   PetscErrorCode hessian(Vec x, Mat J);
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
-  // min over forms and ranks of the admissible step fraction along p.
+  // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then
+  // returns min over forms and ranks of the admissible step fraction along p.
   PetscErrorCode max_step(Vec x, Vec p, PetscReal* alpha);
+  // Prepares the forms for evaluations at x alone (start of a step).
+  PetscErrorCode prepare_point(Vec x);
   // Passes the predicted positions x̂ (distributed) to every form.
   PetscErrorCode begin_step(Vec x_hat);
+  // Calls every form's begin_iteration at x; *changed is true on every rank if any form
+  // changed its definition there.
+  PetscErrorCode begin_iteration(Vec x, PetscBool* changed);
+
+  // Gathers x over the local nodes (mesh and extra) and calls f with the local array.
+  // f(local array, its length).
+  PetscErrorCode with_local(Vec x, const std::function<void(const double*, std::size_t)>& f);
 
   const std::vector<std::unique_ptr<Form>>& forms() const { return forms_; }
-  const std::vector<char>& dirichlet_dof() const { return dirichlet_dof_; }
   PetscInt num_hessian_entries() const { return static_cast<PetscInt>(values_.size()); }
   const EvaluationTimes& times() const { return times_; }
 
  private:
-  PetscErrorCode gather(Vec x);  // x -> x_local_
+  PetscErrorCode gather(Vec x);                    // x -> x_local_
+  PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
+  PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
+  PetscErrorCode rebuild_pattern();                // combined COO pattern and Dirichlet elimination
+  bool pattern_changed() const;
 
   MPI_Comm comm_ = MPI_COMM_NULL;
-  const GhostExchange* exchange_ = nullptr;
+  const DistributedMesh* mesh_ = nullptr;
+  GhostExchange exchange_;
+  std::vector<std::int64_t> local_to_global_;  // mesh local nodes, then the forms' extra nodes
   std::vector<std::unique_ptr<Form>> forms_;
-  std::vector<char> dirichlet_dof_;
+  std::vector<long> pattern_versions_;
+  std::vector<char> dirichlet_dof_;            // over local_to_global_ (3 per node)
+  Vec dirichlet_global_ = nullptr;             // 1 at prescribed dofs, to flag extra nodes
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
-  std::vector<PetscInt> rows_, cols_;   // combined pattern (forms, then Dirichlet diagonal)
-  std::vector<std::size_t> form_offset_;  // start of each form's block in values_
-  std::vector<std::size_t> eliminated_;   // entries in a Dirichlet row or column
+  Mat J_ = nullptr;                            // not owned
+  std::vector<PetscInt> rows_, cols_;          // combined pattern (forms, then Dirichlet diagonal)
+  std::vector<std::size_t> form_offset_;       // start of each form's block in values_
+  std::vector<std::size_t> eliminated_;        // entries in a Dirichlet row or column
   std::size_t dirichlet_diagonal_begin_ = 0;
   std::vector<PetscScalar> values_;
   EvaluationTimes times_;

@@ -31,6 +31,8 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   PetscReal alpha;
   PetscCall(ctx->potential->max_step(X, Y, &alpha));
   alpha = std::min<PetscReal>(1.0, alpha);
+  const PetscReal alpha_ccd = alpha;
+  ctx->min_alpha_ccd = std::min<double>(ctx->min_alpha_ccd, alpha);
 
   const double roundoff = 1e-12 * std::max(1.0, std::abs(E0));
   bool accepted = false;
@@ -56,6 +58,8 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
     PetscFunctionReturn(0);
   }
   ctx->min_alpha = std::min<double>(ctx->min_alpha, alpha);
+  PetscCall(PetscInfo(snes, "IPC line search: alpha %g (collision-free bound %g), E %.12g -> %.12g, |p|_inf %g\n",
+                      (double)alpha, (double)alpha_ccd, (double)E0, (double)E, (double)ctx->direction_inf_norm));
   PetscCall(VecCopy(W, X));
   PetscCall(SNESComputeFunction(snes, X, F));
   PetscCall(VecScale(Y, alpha));  // Y := the step actually taken, for PETSc's step norms

@@ -27,6 +27,22 @@ PetscErrorCode hessian_callback(SNES, Vec x, Mat J, Mat P, void* ctx) {
   PetscFunctionReturn(0);
 }
 
+// At the start of every Newton iteration: forms may adapt (the barrier stiffness κ grows when
+// the minimum distance keeps shrinking); then the gradient at x is recomputed with them.
+PetscErrorCode update_callback(SNES snes, PetscInt) {
+  PetscFunctionBeginUser;
+  void* ctx;
+  PetscCall(SNESGetApplicationContext(snes, &ctx));
+  auto* potential = static_cast<IncrementalPotential*>(ctx);
+  Vec x, f;
+  PetscCall(SNESGetSolution(snes, &x));
+  PetscCall(SNESGetFunction(snes, &f, nullptr, nullptr));
+  PetscBool changed;
+  PetscCall(potential->begin_iteration(x, &changed));
+  if (changed) PetscCall(SNESComputeFunction(snes, x, f));
+  PetscFunctionReturn(0);
+}
+
 // Sets `name` to `value` in the options database unless the user already set it, so every
 // default stays a PETSc option that the command line or an options file overrides.
 PetscErrorCode default_option(const char* name, const char* value) {
@@ -84,6 +100,8 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
   PetscCall(SNESSetJacobian(snes_, J_, J_, hessian_callback, potential));
   PetscCall(SNESSetConvergenceTest(snes_, velocity_convergence_test, &ls_, nullptr));
+  PetscCall(SNESSetApplicationContext(snes_, potential));
+  PetscCall(SNESSetUpdate(snes_, update_callback));
   SNESLineSearch ls;
   PetscCall(SNESGetLineSearch(snes_, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
@@ -106,6 +124,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   PetscCall(MatNullSpaceDestroy(&rigid));
 
   ls_.min_alpha = 1.0;
+  ls_.min_alpha_ccd = 1.0;
   ls_.direction_inf_norm = 0.0;
   {
     StageScope stage(log_stages().solve);
@@ -115,6 +134,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   PetscCall(SNESGetLinearSolveIterations(snes_, &report->linear_iterations));
   PetscCall(SNESGetConvergedReason(snes_, &report->reason));
   report->min_alpha = ls_.min_alpha;
+  report->min_alpha_ccd = ls_.min_alpha_ccd;
   report->step_inf_norm = ls_.direction_inf_norm;
   PetscFunctionReturn(0);
 }

@@ -17,6 +17,7 @@ struct NewtonReport {
   PetscInt iterations = 0;
   PetscInt linear_iterations = 0;
   double min_alpha = 1.0;       // smallest accepted line-search step of the solve
+  double min_alpha_ccd = 1.0;   // smallest collision-free bound (CCD) on a Newton step
   double step_inf_norm = 0.0;   // ‖p‖∞ of the last Newton direction
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
 };
@@ -42,6 +43,7 @@ class NewtonSolver {
     IncrementalPotential* potential = nullptr;
     double armijo = 1e-4;          // sufficient-decrease constant c in E(x+αp) ≤ E + cα∇E·p
     double min_alpha = 1.0;
+    double min_alpha_ccd = 1.0;
     double direction_inf_norm = 0;
     double step_length = 1.0;
     double velocity_tol = 0;

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "nonlinear/contact_parameters.hpp"
+
 namespace dipc {
 
 struct BodyMaterial {
@@ -40,6 +42,12 @@ struct ProblemSetup {
   int steps = 1;
   bool lumped_mass = true;
   double length_scale = 1.0;  // bounding-box diagonal, scales default tolerances
+  // Contact: built only when enabled (IPC barrier; friction only when friction > 0).
+  bool contact = false;
+  ContactParameters contact_parameters;
+  double friction = 0;           // Coulomb coefficient μ
+  double friction_epsv = 1e-3;   // ε_v [m/s]: below this relative sliding speed friction is smoothed
+  int friction_iterations = 1;   // lagging iterations per step
 };
 
 }  // namespace dipc

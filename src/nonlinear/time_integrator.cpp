@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "assembly/hex8_mass.hpp"
 #include "nonlinear/body_force_form.hpp"
 #include "nonlinear/elastic_form.hpp"
+#include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
 
 namespace dipc {
@@ -56,8 +58,9 @@ TimeIntegrator::~TimeIntegrator() {
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
-                                     double velocity_tol) {
+                                     double velocity_tol, bool check_invariants) {
   PetscFunctionBeginUser;
+  check_invariants_ = check_invariants;
   mesh_ = &mesh;
   problem_ = problem;
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
@@ -66,7 +69,8 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
   const bool inertia = !problem.is_static;
   std::vector<double> node_mass;
-  if (gravity || (inertia && problem.lumped_mass)) PetscCall(assemble_node_masses(mesh, *elements_, &node_mass));
+  if (gravity || (inertia && problem.lumped_mass) || problem.contact)
+    PetscCall(assemble_node_masses(mesh, *elements_, &node_mass));
 
   // Only the terms this problem needs (DESIGN.md: "model only what a scene requires").
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
@@ -77,6 +81,21 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_));
   forms.push_back(std::make_unique<ElasticForm>(*elements_, h2));
   if (gravity) forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
+  if (problem.contact) {
+    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters);
+    // κ bounds from the average nodal mass (IPC supplement).
+    double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
+    for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];
+    MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm);
+    contact->set_kappa_bounds(total[0] / std::max(1.0, total[1]), problem.length_scale);
+    contact_ = contact.get();
+    forms.push_back(std::move(contact));
+    if (problem.friction > 0 && !problem.is_static) {
+      auto friction = std::make_unique<FrictionForm>(*contact_, problem.friction, problem.friction_epsv * problem.dt);
+      friction_ = friction.get();
+      forms.push_back(std::move(friction));
+    }
+  }
   form_names_.clear();
   for (auto& f : forms) form_names_.push_back(f->name());
 
@@ -112,8 +131,48 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecRestoreArray(v_, &v));
   PetscCall(VecCopy(X_, x_));
 
-  PetscCall(potential_.setup(mesh.comm, mesh, exchange_, std::move(forms), std::move(prescribed)));
+  PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed)));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, velocity_tol));
+  if (contact_) {
+    std::string problem_at_start;
+    PetscCall(contact_state_problem(x_, &problem_at_start));
+    if (!problem_at_start.empty())
+      throw std::runtime_error("the initial state is not intersection-free: " + problem_at_start);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem) {
+  PetscFunctionBeginUser;
+  problem->clear();
+  PetscCall(potential_.prepare_point(x));
+  long crossings = 0;
+  double d_min = 0;
+  std::string first;
+  PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) {
+    crossings = contact_->count_intersections(xl, &first);
+    d_min = contact_->min_distance(xl);
+  }));
+  long total = 0;
+  double global_min = 0;
+  MPI_Allreduce(&crossings, &total, 1, MPI_LONG, MPI_SUM, mesh_->comm);
+  MPI_Allreduce(&d_min, &global_min, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  if (total == 0 && global_min > 0) PetscFunctionReturn(0);
+  // The message of the lowest rank that saw a crossing.
+  int rank, size;
+  MPI_Comm_rank(mesh_->comm, &rank);
+  MPI_Comm_size(mesh_->comm, &size);
+  int mine = crossings > 0 ? rank : size, lowest = size;
+  MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, mesh_->comm);
+  if (lowest < size) {
+    int length = rank == lowest ? static_cast<int>(first.size()) : 0;
+    MPI_Bcast(&length, 1, MPI_INT, lowest, mesh_->comm);
+    first.resize(length);
+    MPI_Bcast(first.data(), length, MPI_CHAR, lowest, mesh_->comm);
+    *problem = std::to_string(total) + " edge-triangle crossing(s), e.g. " + first;
+  } else {
+    *problem = "two surfaces touch (minimum distance " + std::to_string(global_min) + ")";
+  }
   PetscFunctionReturn(0);
 }
 
@@ -153,17 +212,28 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     PetscCall(potential_.begin_step(x_hat_));
   }
   const double solve_start = MPI_Wtime();
+  if (contact_) {
+    contact_->reset_stats();
+    PetscCall(initialize_barrier_stiffness());
+  }
+  if (friction_) PetscCall(update_friction_lag(x_n_));
   PetscCall(reach_prescribed_positions(t, report));
-  if (report->failure.empty()) {
-    NewtonReport final_solve;
-    PetscCall(newton_.solve(x_, &final_solve));
-    report->newton.iterations += final_solve.iterations;
-    report->newton.linear_iterations += final_solve.linear_iterations;
-    report->newton.min_alpha = std::min(report->newton.min_alpha, final_solve.min_alpha);
-    report->newton.step_inf_norm = final_solve.step_inf_norm;
-    report->newton.reason = final_solve.reason;
-    if (final_solve.reason < 0)
-      report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[final_solve.reason];
+  // Lagged friction (IPC §5): solve, re-freeze the friction pairs at the solution, solve again.
+  const int lag_iterations = friction_ ? std::max(1, problem_.friction_iterations) : 1;
+  for (int lag = 0; lag < lag_iterations && report->failure.empty(); ++lag) {
+    if (lag > 0) {
+      PetscCall(update_friction_lag(x_));
+      PetscCall(potential_.prepare_point(x_));
+    }
+    NewtonReport solve;
+    PetscCall(newton_.solve(x_, &solve));
+    report->newton.iterations += solve.iterations;
+    report->newton.linear_iterations += solve.linear_iterations;
+    report->newton.min_alpha = std::min(report->newton.min_alpha, solve.min_alpha);
+    report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, solve.min_alpha_ccd);
+    report->newton.step_inf_norm = solve.step_inf_norm;
+    report->newton.reason = solve.reason;
+    if (solve.reason < 0) report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[solve.reason];
   }
   solve_seconds_ += MPI_Wtime() - solve_start;
   if (!report->failure.empty()) {
@@ -182,6 +252,16 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
   PetscCall(element_volume_ratios(&ratio));
   double local_min = ratio.empty() ? 1e300 : *std::min_element(ratio.begin(), ratio.end());
   PetscCallMPI(MPI_Allreduce(&local_min, &report->min_volume_ratio, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
+  if (contact_) PetscCall(collect_contact_stats(report));
+  if (check_invariants_) {
+    std::string violated;
+    if (report->min_volume_ratio <= 0) violated = "an element is inverted (min det F = " + std::to_string(report->min_volume_ratio) + ")";
+    if (contact_ && violated.empty()) PetscCall(contact_state_problem(x_, &violated));
+    if (!violated.empty()) {
+      report->failure = "invariant violated: " + violated;
+      PetscFunctionReturn(0);
+    }
+  }
   ++steps_taken_;
   time_ = t;
   report->wall_seconds = MPI_Wtime() - start;
@@ -203,16 +283,24 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
   Vec accepted;
   PetscCall(VecDuplicate(x_, &accepted));
   PetscCall(VecCopy(x_, accepted));
+  Vec jump;
+  PetscCall(VecDuplicate(x_, &jump));
   for (int halvings = 0;;) {
     PetscCall(apply_dirichlet(x_, t0 + trial * (t - t0)));
-    PetscBool valid;
-    PetscCall(potential_.is_valid(x_, &valid));
+    // The jump of the Dirichlet nodes must not invert an element nor pass through a contact
+    // (CCD along accepted -> x; this also prepares the contact candidates around x).
+    PetscCall(VecWAXPY(jump, -1.0, accepted, x_));
+    PetscReal alpha;
+    PetscCall(potential_.max_step(accepted, jump, &alpha));
+    PetscBool valid = PETSC_FALSE;
+    if (alpha >= 1.0) PetscCall(potential_.is_valid(x_, &valid));
     if (valid && trial == 1.0) break;
     if (valid) {
       NewtonReport partial;
       PetscCall(newton_.solve(x_, &partial));
       report->newton.iterations += partial.iterations;
       report->newton.linear_iterations += partial.linear_iterations;
+      report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, partial.min_alpha_ccd);
       ++report->dirichlet_substeps;
       if (partial.reason < 0) {
         report->failure = std::string("Newton did not converge on a part of the prescribed motion: ") +
@@ -228,12 +316,73 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
     PetscCall(VecCopy(accepted, x_));
     trial = 0.5 * (reached + trial);
     if (++halvings > 30) {
-      report->failure = "the prescribed motion of this step inverts an element next to the Dirichlet nodes even "
-                        "when applied in 2^-30 fractions; reduce the time step";
+      report->failure = "the prescribed motion of this step inverts an element next to the Dirichlet nodes, or "
+                        "drives them into a contact, even when applied in 2^-30 fractions; reduce the time step";
       break;
     }
   }
   PetscCall(VecDestroy(&accepted));
+  PetscCall(VecDestroy(&jump));
+  PetscFunctionReturn(0);
+}
+
+// IPC's initial barrier stiffness (Li et al. 2020, supplement): the κ that balances the
+// barrier gradient against the rest of the incremental potential's gradient at x_n,
+// κ = −∇B₁·∇E / ‖∇B₁‖² (∇B₁ the barrier gradient for κ = 1), clamped to [κ_min, κ_max].
+// dipc never lowers κ during a run, so a contact that built up stiffness keeps it.
+PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
+  PetscFunctionBeginUser;
+  if (!contact_->kappa_adaptive()) PetscFunctionReturn(0);
+  PetscCall(potential_.prepare_point(x_));
+  Vec ge, gb;
+  PetscCall(VecDuplicate(x_, &ge));
+  PetscCall(VecDuplicate(x_, &gb));
+  const Form* contact = contact_;
+  PetscCall(potential_.partial_gradient(x_, ge, [contact](const Form& f) { return &f != contact; }));
+  const double kappa = contact_->kappa();
+  contact_->set_kappa(1.0);
+  PetscCall(potential_.partial_gradient(x_, gb, [contact](const Form& f) { return &f == contact; }));
+  PetscReal dot, nn;
+  PetscCall(VecDot(gb, ge, &dot));
+  PetscCall(VecDot(gb, gb, &nn));
+  double balanced = nn > 0 ? -dot / nn : contact_->kappa_min();
+  balanced = std::min(contact_->kappa_max(), std::max(contact_->kappa_min(), balanced));
+  contact_->set_kappa(std::max(kappa, balanced));
+  PetscCall(VecDestroy(&ge));
+  PetscCall(VecDestroy(&gb));
+  PetscFunctionReturn(0);
+}
+
+// Freezes the friction pairs at x_lag (with x_n the start of the step), then lets the
+// potential gather their nodes.
+PetscErrorCode TimeIntegrator::update_friction_lag(Vec x_lag) {
+  PetscFunctionBeginUser;
+  PetscCall(potential_.prepare_point(x_lag));
+  std::vector<double> start;
+  PetscCall(potential_.with_local(x_n_, [&](const double* xl, std::size_t n) { start.assign(xl, xl + n); }));
+  PetscCall(potential_.with_local(x_lag, [&](const double* xl, std::size_t) { friction_->update_lag(xl, start.data()); }));
+  PetscCall(potential_.prepare_point(x_lag));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::collect_contact_stats(StepReport* report) {
+  PetscFunctionBeginUser;
+  PetscCall(potential_.prepare_point(x_));
+  double local_d = 0;
+  long local_pairs = 0;
+  PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) {
+    local_d = contact_->min_distance(xl);
+    local_pairs = static_cast<long>(contact_->active_pairs(xl).size());
+  }));
+  const ContactStats& st = contact_->stats();
+  double times[4] = {st.broad_phase_seconds, st.ccd_seconds, st.barrier_seconds, st.exchange_seconds}, worst[4];
+  MPI_Allreduce(times, worst, 4, MPI_DOUBLE, MPI_MAX, mesh_->comm);
+  MPI_Allreduce(&local_pairs, &report->contact_pairs, 1, MPI_LONG, MPI_SUM, mesh_->comm);
+  MPI_Allreduce(&local_d, &report->min_distance, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  report->kappa = contact_->kappa();
+  report->alpha_ccd = report->newton.min_alpha_ccd;
+  report->broad_phase_seconds = worst[0], report->ccd_seconds = worst[1];
+  report->barrier_seconds = worst[2], report->exchange_seconds = worst[3];
   PetscFunctionReturn(0);
 }
 

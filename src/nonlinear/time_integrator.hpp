@@ -6,11 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "nonlinear/contact_form.hpp"
 #include "nonlinear/element_data.hpp"
 #include "nonlinear/newton_solver.hpp"
 #include "nonlinear/problem.hpp"
 
 namespace dipc {
+
+class FrictionForm;
 
 struct StepReport {
   int step = 0;          // 1-based index of the step just taken
@@ -20,6 +23,12 @@ struct StepReport {
   double min_volume_ratio = 0;
   double wall_seconds = 0;
   int dirichlet_substeps = 0;  // partial solves needed to reach the prescribed positions
+  // Contact (when the problem has it): global values at the end of the step.
+  long contact_pairs = 0;        // active pairs (d < d̂)
+  double min_distance = 0;       // unsquared, over candidate pairs (∞ without any)
+  double kappa = 0;              // barrier stiffness
+  double alpha_ccd = 1;          // smallest CCD bound on a Newton step during the step
+  double broad_phase_seconds = 0, ccd_seconds = 0, barrier_seconds = 0, exchange_seconds = 0;  // max over ranks
   std::string failure;   // empty when the step succeeded; otherwise why it did not
 };
 
@@ -31,7 +40,12 @@ class TimeIntegrator {
   TimeIntegrator& operator=(const TimeIntegrator&) = delete;
 
   // velocity_tol: Newton's ‖p‖∞/h tolerance (length/s); for static solves a length.
-  PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, double velocity_tol);
+  // check_invariants: after every step verify det J > 0 everywhere and, with contact, no
+  // intersection and a positive minimum distance (a violated invariant fails the step).
+  // With contact, an initial state whose surfaces intersect or touch is an error (thrown as
+  // std::runtime_error with the bodies and nodes).
+  PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, double velocity_tol,
+                       bool check_invariants = false);
   // Takes one time step (or one static load step). A step that cannot be taken (Newton
   // diverged, prescribed motion inverts an element) is reported in StepReport::failure and
   // leaves the state at the previous step.
@@ -48,6 +62,7 @@ class TimeIntegrator {
   // Min det F per local element at the current state (output).
   PetscErrorCode element_volume_ratios(std::vector<double>* ratio);
   const EvaluationTimes& evaluation_times() const { return potential_.times(); }
+  const ContactForm* contact() const { return contact_; }
   double solve_seconds() const { return solve_seconds_; }  // whole SNES solves
   SNES snes() const { return newton_.snes(); }
   Mat jacobian() const { return newton_.jacobian(); }
@@ -55,6 +70,12 @@ class TimeIntegrator {
  private:
   PetscErrorCode apply_dirichlet(Vec x, double t);
   PetscErrorCode reach_prescribed_positions(double t, StepReport* report);
+  PetscErrorCode initialize_barrier_stiffness();
+  PetscErrorCode update_friction_lag(Vec x_lag);
+  PetscErrorCode collect_contact_stats(StepReport* report);
+  // Collective: empty when x has no edge–triangle crossing and every distance is positive,
+  // otherwise what is wrong (bodies and nodes).
+  PetscErrorCode contact_state_problem(Vec x, std::string* problem);
 
   const DistributedMesh* mesh_ = nullptr;
   ProblemSetup problem_;
@@ -62,10 +83,13 @@ class TimeIntegrator {
   GhostExchange exchange_;
   IncrementalPotential potential_;
   NewtonSolver newton_;
+  ContactForm* contact_ = nullptr;    // owned by potential_, null without contact
+  FrictionForm* friction_ = nullptr;  // owned by potential_, null without friction
   std::vector<int> dirichlet_set_;  // per owned node: index into problem_.dirichlet, or −1
   std::vector<std::string> form_names_;
   Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
   Vec x_local_ = nullptr;
+  bool check_invariants_ = false;
   int steps_taken_ = 0;
   double time_ = 0;
   double solve_seconds_ = 0;

@@ -5,6 +5,10 @@
 // broadcast first, so every rank throws the same PartitionError instead of hanging.
 // Nodes that no element touches are left out of the numbering and of the node sets: they
 // would carry no mass or stiffness and make the Newton system singular.
+// Rank 0 also extracts the boundary surface of the whole mesh (a face is on the boundary only
+// if no other element, on any rank, has it) and decides which rank owns each contact
+// primitive (partition/surface_owners.hpp); each rank gets its boundary-face masks and its
+// owned edges and vertices with their global ids.
 // DistributedMesh::comm is `comm` itself (not duplicated); the caller keeps it alive.
 #include <algorithm>
 #include <climits>
@@ -13,10 +17,12 @@
 #include <utility>
 #include <vector>
 
+#include "mesh/surface_mesh.hpp"
 #include "partition/distributed_mesh.hpp"
 #include "partition/metis_partition.hpp"
 #include "partition/partition_error.hpp"
 #include "partition/partition_numbering.hpp"
+#include "partition/surface_owners.hpp"
 
 namespace dipc {
 namespace {
@@ -31,6 +37,9 @@ enum MetaField {
   kNodeOffset,
   kElementOffset,
   kNumSetMemberships,
+  kNumOwnedTriangles,
+  kNumOwnedEdges,
+  kNumOwnedVertices,
   kMetaSize
 };
 
@@ -40,6 +49,8 @@ template <>
 MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
 template <>
 MPI_Datatype mpi_type<std::int32_t>() { return MPI_INT32_T; }
+template <>
+MPI_Datatype mpi_type<std::uint8_t>() { return MPI_UINT8_T; }
 template <>
 MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
 
@@ -80,6 +91,9 @@ struct ScatterBlock {
 struct Payload {
   std::int64_t num_global_nodes = 0;
   std::int64_t num_global_elements = 0;
+  std::int64_t num_global_triangles = 0;
+  std::int64_t num_global_edges = 0;
+  std::int64_t num_global_vertices = 0;
   std::vector<std::string> set_names;
   std::vector<std::int64_t> meta;
   ScatterBlock<std::int64_t> element_nodes;  // 8 input node ids per element
@@ -89,7 +103,128 @@ struct Payload {
   ScatterBlock<double> node_coordinates;  // 3 per node
   ScatterBlock<std::int64_t> node_input_id;
   ScatterBlock<std::int32_t> set_membership;  // (set index, local node id) pairs
+  ScatterBlock<std::uint8_t> boundary_face_mask;  // one per element
+  ScatterBlock<std::int64_t> triangle_gid;
+  ScatterBlock<std::int32_t> edge_nodes;  // 2 local node ids per owned edge
+  ScatterBlock<std::int64_t> edge_gid;
+  ScatterBlock<std::int32_t> edge_body;
+  ScatterBlock<std::int32_t> vertex_node;  // local node id per owned vertex
+  ScatterBlock<std::int64_t> vertex_gid;
+  ScatterBlock<std::int32_t> vertex_body;
 };
+
+// Primitive indices grouped by owner part (a counting sort): part p's are
+// items[begin[p] .. begin[p + 1]), in increasing index, i.e. increasing global id.
+struct IndicesByPart {
+  std::vector<std::int64_t> begin;
+  std::vector<std::int64_t> items;
+};
+
+IndicesByPart group_by_part(const std::vector<int>& owner, int num_parts) {
+  IndicesByPart groups;
+  groups.begin.assign(static_cast<std::size_t>(num_parts) + 1, 0);
+  for (int part : owner) ++groups.begin[static_cast<std::size_t>(part) + 1];
+  for (int p = 0; p < num_parts; ++p) groups.begin[p + 1] += groups.begin[p];
+  groups.items.resize(owner.size());
+  std::vector<std::int64_t> next(groups.begin.begin(), groups.begin.end() - 1);
+  for (std::size_t i = 0; i < owner.size(); ++i) {
+    groups.items[static_cast<std::size_t>(next[owner[i]]++)] = static_cast<std::int64_t>(i);
+  }
+  return groups;
+}
+
+// The whole-mesh surface with its owners, indexed for packing one rank at a time.
+struct SurfaceForPacking {
+  SurfaceMesh surface;
+  std::vector<std::uint8_t> face_mask;   // per input element
+  std::vector<std::int64_t> first_quad;  // per input element + 1: its quads' range
+  IndicesByPart edges_by_part;
+  IndicesByPart vertices_by_part;
+
+  SurfaceForPacking(const HexMesh& mesh, const std::vector<int>& element_part, int num_parts)
+      : surface(build_surface_mesh(mesh)) {
+    const SurfaceOwners owners = assign_surface_owners(surface, element_part);
+    edges_by_part = group_by_part(owners.edge, num_parts);
+    vertices_by_part = group_by_part(owners.vertex, num_parts);
+    face_mask.assign(mesh.num_elements(), 0);
+    first_quad.assign(mesh.num_elements() + 1, 0);
+    for (const BoundaryFace& quad : surface.quads) {
+      const auto e = static_cast<std::size_t>(quad.element);
+      face_mask[e] = static_cast<std::uint8_t>(face_mask[e] | (1u << quad.face));
+      ++first_quad[e + 1];
+    }
+    for (std::size_t e = 0; e < mesh.num_elements(); ++e) first_quad[e + 1] += first_quad[e];
+  }
+};
+
+// Appends rank `rank`'s boundary-face masks, triangle ids and owned edges and vertices.
+// `local_of_input` maps input node ids to the rank's local ids (-1 elsewhere).
+void pack_surface(const SurfaceForPacking& s, const PartitionNumbering& numbering,
+                  const std::vector<std::int32_t>& local_of_input, int rank, Payload& payload,
+                  std::int64_t* meta) {
+  const std::size_t mask_begin = payload.boundary_face_mask.data.size();
+  const std::size_t triangle_begin = payload.triangle_gid.data.size();
+  for (std::int64_t i = numbering.element_offset[rank]; i < numbering.element_offset[rank + 1];
+       ++i) {
+    const auto e = static_cast<std::size_t>(numbering.elements_by_part[i]);
+    payload.boundary_face_mask.data.push_back(s.face_mask[e]);
+    // Quads of an element are sorted by face, which is the order build_contact_surface
+    // walks the mask bits in.
+    for (std::int64_t q = s.first_quad[e]; q < s.first_quad[e + 1]; ++q) {
+      payload.triangle_gid.data.push_back(2 * q);
+      payload.triangle_gid.data.push_back(2 * q + 1);
+    }
+  }
+  payload.boundary_face_mask.close_rank(mask_begin, "boundary face mask", rank);
+  payload.triangle_gid.close_rank(triangle_begin, "triangle id", rank);
+
+  // The owner holds a triangle with the primitive, so its nodes are local there; a -1 would
+  // mean the ownership rule was broken.
+  auto local_id = [&](std::int64_t input, const char* what, std::int64_t gid) {
+    const std::int32_t local = local_of_input[static_cast<std::size_t>(input)];
+    if (local < 0) {
+      throw PartitionError(std::string("distribute_mesh: surface ") + what + " " +
+                           std::to_string(gid) + " is owned by rank " + std::to_string(rank) +
+                           " but its node " + std::to_string(input) + " is not local there");
+    }
+    return local;
+  };
+  const std::size_t edge_nodes_begin = payload.edge_nodes.data.size();
+  const std::size_t edge_gid_begin = payload.edge_gid.data.size();
+  const std::size_t edge_body_begin = payload.edge_body.data.size();
+  const IndicesByPart& edges = s.edges_by_part;
+  for (std::int64_t k = edges.begin[rank]; k < edges.begin[rank + 1]; ++k) {
+    const std::int64_t gid = edges.items[k];
+    const auto& edge = s.surface.edges[static_cast<std::size_t>(gid)];
+    payload.edge_nodes.data.push_back(local_id(edge[0], "edge", gid));
+    payload.edge_nodes.data.push_back(local_id(edge[1], "edge", gid));
+    payload.edge_gid.data.push_back(gid);
+    payload.edge_body.data.push_back(s.surface.edge_body[static_cast<std::size_t>(gid)]);
+  }
+  payload.edge_nodes.close_rank(edge_nodes_begin, "edge node", rank);
+  payload.edge_gid.close_rank(edge_gid_begin, "edge id", rank);
+  payload.edge_body.close_rank(edge_body_begin, "edge body", rank);
+
+  const std::size_t vertex_node_begin = payload.vertex_node.data.size();
+  const std::size_t vertex_gid_begin = payload.vertex_gid.data.size();
+  const std::size_t vertex_body_begin = payload.vertex_body.data.size();
+  const IndicesByPart& vertices = s.vertices_by_part;
+  for (std::int64_t k = vertices.begin[rank]; k < vertices.begin[rank + 1]; ++k) {
+    const std::int64_t gid = vertices.items[k];
+    const std::int64_t node = s.surface.vertices[static_cast<std::size_t>(gid)];
+    payload.vertex_node.data.push_back(local_id(node, "vertex", gid));
+    payload.vertex_gid.data.push_back(gid);
+    payload.vertex_body.data.push_back(s.surface.vertex_body[static_cast<std::size_t>(gid)]);
+  }
+  payload.vertex_node.close_rank(vertex_node_begin, "vertex node", rank);
+  payload.vertex_gid.close_rank(vertex_gid_begin, "vertex id", rank);
+  payload.vertex_body.close_rank(vertex_body_begin, "vertex body", rank);
+
+  meta[kNumOwnedTriangles] =
+      static_cast<std::int64_t>(payload.triangle_gid.data.size() - triangle_begin);
+  meta[kNumOwnedEdges] = edges.begin[rank + 1] - edges.begin[rank];
+  meta[kNumOwnedVertices] = vertices.begin[rank + 1] - vertices.begin[rank];
+}
 
 void check_mesh_tags(const HexMesh& mesh) {
   if (mesh.body.size() != mesh.num_elements()) {
@@ -112,9 +247,14 @@ Payload build_payload(const HexMesh& mesh, int num_ranks) {
   const std::vector<int> element_part = partition_elements(mesh, num_ranks);
   const PartitionNumbering numbering = number_partition(mesh, element_part, num_ranks);
 
+  const SurfaceForPacking whole_surface(mesh, element_part, num_ranks);
+
   Payload payload;
   payload.num_global_nodes = numbering.num_global_nodes();
   payload.num_global_elements = numbering.num_global_elements();
+  payload.num_global_triangles = static_cast<std::int64_t>(whole_surface.surface.triangles.size());
+  payload.num_global_edges = static_cast<std::int64_t>(whole_surface.surface.edges.size());
+  payload.num_global_vertices = static_cast<std::int64_t>(whole_surface.surface.vertices.size());
 
   // Node -> sets it belongs to (CSR), so packing a rank's memberships costs O(its nodes).
   const std::size_t nn = mesh.num_nodes();
@@ -138,6 +278,7 @@ Payload build_payload(const HexMesh& mesh, int num_ranks) {
   }
 
   payload.meta.resize(static_cast<std::size_t>(kMetaSize) * num_ranks);
+  std::vector<std::int32_t> local_of_input(nn, -1);
   for (int rank = 0; rank < num_ranks; ++rank) {
     const std::vector<std::int64_t> local_nodes = local_nodes_of_part(mesh, numbering, rank);
     if (local_nodes.size() > static_cast<std::size_t>(INT32_MAX)) {
@@ -183,6 +324,13 @@ Payload build_payload(const HexMesh& mesh, int num_ranks) {
     payload.set_membership.close_rank(membership_begin, "node set membership", rank);
 
     std::int64_t* meta = &payload.meta[static_cast<std::size_t>(kMetaSize) * rank];
+    for (std::size_t local = 0; local < local_nodes.size(); ++local) {
+      local_of_input[static_cast<std::size_t>(local_nodes[local])] =
+          static_cast<std::int32_t>(local);
+    }
+    pack_surface(whole_surface, numbering, local_of_input, rank, payload, meta);
+    for (std::int64_t node : local_nodes) local_of_input[static_cast<std::size_t>(node)] = -1;
+
     meta[kNumOwnedNodes] = numbering.node_offset[rank + 1] - numbering.node_offset[rank];
     meta[kNumLocalNodes] = static_cast<std::int64_t>(local_nodes.size());
     meta[kNumElements] = element_end - element_begin;
@@ -293,10 +441,16 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm) {
 
   DistributedMesh part;
   part.comm = comm;
-  std::int64_t totals[2] = {payload.num_global_nodes, payload.num_global_elements};
-  check_mpi(MPI_Bcast(totals, 2, MPI_INT64_T, kRoot, comm), "MPI_Bcast");
+  std::int64_t totals[5] = {payload.num_global_nodes, payload.num_global_elements,
+                            payload.num_global_triangles, payload.num_global_edges,
+                            payload.num_global_vertices};
+  check_mpi(MPI_Bcast(totals, 5, MPI_INT64_T, kRoot, comm), "MPI_Bcast");
   part.num_global_nodes = totals[0];
   part.num_global_elements = totals[1];
+  OwnedSurface& surface = part.owned_surface;
+  surface.num_global_triangles = totals[2];
+  surface.num_global_edges = totals[3];
+  surface.num_global_vertices = totals[4];
   const std::vector<std::string> set_names = broadcast_names(payload.set_names, rank, comm);
 
   std::int64_t meta[kMetaSize];
@@ -320,9 +474,26 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm) {
   part.node_input_id = scatter(payload.node_input_id, num_local, rank, comm);
   const std::vector<std::int32_t> membership =
       scatter(payload.set_membership, 2 * meta[kNumSetMemberships], rank, comm);
+  part.boundary_face_mask = scatter(payload.boundary_face_mask, num_elements, rank, comm);
+  surface.triangle_gid = scatter(payload.triangle_gid, meta[kNumOwnedTriangles], rank, comm);
+  const std::vector<std::int32_t> edge_nodes =
+      scatter(payload.edge_nodes, 2 * meta[kNumOwnedEdges], rank, comm);
+  surface.edge_gid = scatter(payload.edge_gid, meta[kNumOwnedEdges], rank, comm);
+  const std::vector<std::int32_t> edge_body =
+      scatter(payload.edge_body, meta[kNumOwnedEdges], rank, comm);
+  surface.vertices = scatter(payload.vertex_node, meta[kNumOwnedVertices], rank, comm);
+  surface.vertex_gid = scatter(payload.vertex_gid, meta[kNumOwnedVertices], rank, comm);
+  const std::vector<std::int32_t> vertex_body =
+      scatter(payload.vertex_body, meta[kNumOwnedVertices], rank, comm);
   payload = Payload();  // rank 0: release the whole-mesh send buffers before rebuilding
 
   part.element_body.assign(element_body.begin(), element_body.end());
+  surface.edges.resize(edge_body.size());
+  for (std::size_t k = 0; k < surface.edges.size(); ++k) {
+    surface.edges[k] = {edge_nodes[2 * k], edge_nodes[2 * k + 1]};
+  }
+  surface.edge_body.assign(edge_body.begin(), edge_body.end());
+  surface.vertex_body.assign(vertex_body.begin(), vertex_body.end());
   part.coordinates.resize(static_cast<std::size_t>(num_local));
   for (std::size_t i = 0; i < part.coordinates.size(); ++i) {
     part.coordinates[i] = {coordinates[3 * i], coordinates[3 * i + 1], coordinates[3 * i + 2]};

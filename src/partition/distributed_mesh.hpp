@@ -19,6 +19,28 @@
 
 namespace dipc {
 
+// One rank's share of the contact surface of the whole mesh, decided on rank 0 where the
+// whole surface is known (rules in partition/surface_owners.hpp) and sent with the elements;
+// build_contact_surface (partition/contact_surface.hpp) turns it into triangles, edges and
+// vertices. Global ids are positions in the canonical surface of mesh/surface_mesh.hpp:
+// dense in [0, num_global_*), unique over ranks and the same for every number of ranks.
+struct OwnedSurface {
+  std::int64_t num_global_triangles = 0;
+  std::int64_t num_global_edges = 0;
+  std::int64_t num_global_vertices = 0;
+  // Global id of every owned triangle, in build order: local elements in order, their
+  // boundary faces by increasing face number, triangle 0 then 1 of each quad.
+  std::vector<std::int64_t> triangle_gid;
+  // Owned edges, by increasing global id: local node ids, the smaller input node id first.
+  std::vector<std::array<std::int32_t, 2>> edges;
+  std::vector<std::int64_t> edge_gid;
+  std::vector<int> edge_body;
+  // Owned vertices, by increasing global id: local node ids.
+  std::vector<std::int32_t> vertices;
+  std::vector<std::int64_t> vertex_gid;
+  std::vector<int> vertex_body;
+};
+
 struct DistributedMesh {
   MPI_Comm comm = MPI_COMM_NULL;
   std::int64_t num_global_nodes = 0;
@@ -35,6 +57,12 @@ struct DistributedMesh {
   std::vector<int> element_body;
   std::vector<std::int64_t> element_input_id;  // local element -> id in the input HexMesh
 
+  // Per local element, bit f (face numbering of mesh/boundary_faces.hpp) is set when face f
+  // of the element lies on the boundary of the WHOLE input mesh (no other element has it).
+  // Computed on rank 0 before the split, so faces on the cut between ranks are never set.
+  std::vector<std::uint8_t> boundary_face_mask;
+  OwnedSurface owned_surface;
+
   // The input mesh's named node sets restricted to this rank's local nodes (local ids,
   // sorted). Every rank has every name, possibly with an empty list.
   std::map<std::string, std::vector<std::int32_t>> node_sets;
@@ -46,7 +74,10 @@ struct DistributedMesh {
 
 // Partitions `mesh` (significant on rank 0 only; other ranks pass an empty mesh) into
 // `comm`'s size parts with METIS_PartMeshDual (elements adjacent through faces), and sends
-// every rank its part. Deterministic: the same mesh and rank count give the same result.
+// every rank its part, with its boundary-face masks and owned contact surface (extracted on
+// rank 0 from the whole mesh). Deterministic: the same mesh and rank count give the same
+// result. Throws PartitionError on every rank when rank 0 fails (also for a face shared by
+// more than two elements, which has no boundary to extract).
 DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm);
 
 }  // namespace dipc

@@ -4,6 +4,7 @@
 // every rank's local contributions into the owners.
 #include "partition/ghost_exchange.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace dipc {
@@ -13,26 +14,117 @@ GhostExchange::~GhostExchange() {
   (void)VecScatterDestroy(&scatter_);
 }
 
+namespace {
+
+// What is wrong with one rank's node list. Every rank validates its list and the results are
+// combined before any Vec is created, so an invalid list on one rank makes every rank
+// return an error instead of leaving the others waiting in a collective call.
+enum class NodeListProblem { kNone, kOwnedCount, kTooLong, kOutOfRange, kNotContiguous };
+
+struct NodeListCheck {
+  NodeListProblem problem = NodeListProblem::kNone;
+  std::int64_t index = 0;     // the offending local node
+  std::int64_t global = 0;    // its global id
+  std::int64_t expected = 0;  // the owned id it should have (kNotContiguous)
+};
+
+NodeListCheck check_node_list(int num_owned_nodes, const std::vector<std::int64_t>& local_to_global,
+                              std::int64_t num_global_nodes, std::int64_t owned_offset,
+                              PetscInt bs) {
+  NodeListCheck check;
+  const auto num_local = static_cast<std::int64_t>(local_to_global.size());
+  if (num_owned_nodes < 0 || num_owned_nodes > num_local) {
+    check.problem = NodeListProblem::kOwnedCount;
+    return check;
+  }
+  if (num_local > PETSC_MAX_INT / bs) {
+    check.problem = NodeListProblem::kTooLong;
+    return check;
+  }
+  for (std::int64_t i = 0; i < num_local; ++i) {
+    const std::int64_t global = local_to_global[static_cast<std::size_t>(i)];
+    if (global < 0 || global >= num_global_nodes) {
+      check = {NodeListProblem::kOutOfRange, i, global, 0};
+      return check;
+    }
+    if (i < num_owned_nodes && global != owned_offset + i) {
+      check = {NodeListProblem::kNotContiguous, i, global, owned_offset + i};
+      return check;
+    }
+  }
+  return check;
+}
+
+}  // namespace
+
 PetscErrorCode GhostExchange::setup(const DistributedMesh& mesh, PetscInt bs) {
   PetscFunctionBeginUser;
   PetscCheck(mesh.comm != MPI_COMM_NULL, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
              "GhostExchange::setup: mesh.comm is MPI_COMM_NULL (the mesh was not distributed)");
-  PetscCheck(bs >= 1, mesh.comm, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCall(setup(mesh.comm, mesh.num_owned_nodes, mesh.local_to_global, mesh.num_global_nodes,
+                  bs));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
+                                    const std::vector<std::int64_t>& local_to_global,
+                                    std::int64_t num_global_nodes, PetscInt bs) {
+  PetscFunctionBeginUser;
+  PetscCheck(comm != MPI_COMM_NULL, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "GhostExchange::setup: comm is MPI_COMM_NULL");
+  PetscCheck(bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: block size %" PetscInt_FMT " must be at least 1", bs);
-  PetscCheck(mesh.num_global_nodes <= PETSC_MAX_INT / bs, mesh.comm, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(num_global_nodes >= 0 && num_global_nodes <= PETSC_MAX_INT / bs, comm,
+             PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: %" PetscInt64_FMT " nodes x %" PetscInt_FMT
-             " values exceed PetscInt; configure PETSc with --with-64-bit-indices",
-             static_cast<PetscInt64>(mesh.num_global_nodes), bs);
-  PetscCheck(mesh.num_owned_nodes <= mesh.num_local_nodes(), PETSC_COMM_SELF,
-             PETSC_ERR_ARG_CORRUPT,
-             "GhostExchange::setup: %d owned nodes but only %d local nodes", mesh.num_owned_nodes,
-             mesh.num_local_nodes());
+             " values do not fit PetscInt; configure PETSc with --with-64-bit-indices",
+             static_cast<PetscInt64>(num_global_nodes), bs);
+
+  int rank = 0;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  std::int64_t owned = num_owned_nodes;
+  std::int64_t owned_offset = 0;
+  PetscCallMPI(MPI_Exscan(&owned, &owned_offset, 1, MPI_INT64_T, MPI_SUM, comm));
+  if (rank == 0) owned_offset = 0;  // MPI_Exscan leaves rank 0's result undefined
+  const NodeListCheck check =
+      check_node_list(num_owned_nodes, local_to_global, num_global_nodes, owned_offset, bs);
+  std::int64_t totals[2] = {check.problem == NodeListProblem::kNone ? 0 : 1, owned};
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_INT64_T, MPI_SUM, comm));
+  PetscCheck(check.problem != NodeListProblem::kOwnedCount, PETSC_COMM_SELF,
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "GhostExchange::setup: %d owned nodes but %zu local nodes", num_owned_nodes,
+             local_to_global.size());
+  PetscCheck(check.problem != NodeListProblem::kTooLong, PETSC_COMM_SELF,
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "GhostExchange::setup: %zu local nodes x %" PetscInt_FMT " values do not fit PetscInt",
+             local_to_global.size(), bs);
+  PetscCheck(check.problem != NodeListProblem::kOutOfRange, PETSC_COMM_SELF,
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "GhostExchange::setup: local node %" PetscInt64_FMT " has global id %" PetscInt64_FMT
+             ", outside [0, %" PetscInt64_FMT ")",
+             static_cast<PetscInt64>(check.index), static_cast<PetscInt64>(check.global),
+             static_cast<PetscInt64>(num_global_nodes));
+  PetscCheck(check.problem != NodeListProblem::kNotContiguous, PETSC_COMM_SELF,
+             PETSC_ERR_ARG_WRONG,
+             "GhostExchange::setup: owned local node %" PetscInt64_FMT
+             " has global id %" PetscInt64_FMT ", expected %" PetscInt64_FMT
+             " (owned nodes must be the rank's contiguous range, after the lower ranks' ones)",
+             static_cast<PetscInt64>(check.index), static_cast<PetscInt64>(check.global),
+             static_cast<PetscInt64>(check.expected));
+  PetscCheck(totals[0] == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "GhostExchange::setup: the node lists of %" PetscInt64_FMT " rank(s) are invalid",
+             static_cast<PetscInt64>(totals[0]));
+  PetscCheck(totals[1] == num_global_nodes, comm, PETSC_ERR_ARG_SIZ,
+             "GhostExchange::setup: the ranks own %" PetscInt64_FMT
+             " nodes in all, not %" PetscInt64_FMT,
+             static_cast<PetscInt64>(totals[1]), static_cast<PetscInt64>(num_global_nodes));
+
   PetscCall(VecScatterDestroy(&scatter_));
-  comm_ = mesh.comm;
+  comm_ = comm;
   bs_ = bs;
-  num_owned_nodes_ = mesh.num_owned_nodes;
-  num_local_nodes_ = mesh.num_local_nodes();
-  num_global_nodes_ = static_cast<PetscInt>(mesh.num_global_nodes);
+  num_owned_nodes_ = num_owned_nodes;
+  num_local_nodes_ = static_cast<PetscInt>(local_to_global.size());
+  num_global_nodes_ = static_cast<PetscInt>(num_global_nodes);
 
   Vec global = nullptr;
   Vec local = nullptr;
@@ -52,7 +144,7 @@ PetscErrorCode GhostExchange::setup(const DistributedMesh& mesh, PetscInt bs) {
   local_vec_type_ = is_mpi ? "seq" + std::string(global_type + 3) : std::string(global_type);
   PetscCall(create_local_vec(&local));
 
-  std::vector<PetscInt> global_blocks(mesh.local_to_global.begin(), mesh.local_to_global.end());
+  std::vector<PetscInt> global_blocks(local_to_global.begin(), local_to_global.end());
   IS from = nullptr;
   PetscCall(ISCreateBlock(PETSC_COMM_SELF, bs, num_local_nodes_, global_blocks.data(),
                           PETSC_COPY_VALUES, &from));

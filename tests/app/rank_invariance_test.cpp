@@ -1,4 +1,4 @@
-// Rank invariance: the default scene (a clamped beam swinging under gravity) run on all ranks
+// Rank invariance: the beam scene (a clamped beam swinging under gravity) run on all ranks
 // of the test's communicator and on rank 0 alone must give the same trajectory: relative
 // difference of the displacements ≤ 1e-8 after 10 steps, with tight solver tolerances.
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@ std::vector<double> displacement(const std::vector<double>& x, const std::vector
   return u;
 }
 
-TEST(RankInvariance, DefaultSceneTenStepsMatchesOneRank) {
+TEST(RankInvariance, BeamSceneTenStepsMatchesOneRank) {
   MPI_Comm world = PETSC_COMM_WORLD;
   int rank;
   MPI_Comm_rank(world, &rank);
@@ -24,7 +24,7 @@ TEST(RankInvariance, DefaultSceneTenStepsMatchesOneRank) {
   PetscOptionsSetValue(nullptr, "-ksp_atol", "1e-50");
   PetscOptionsSetValue(nullptr, "-ksp_max_it", "5000");
 
-  Scene scene = default_scene();
+  Scene scene = beam_scene();
   RunOptions options;
   options.steps = 10;
   options.write_output = false;

@@ -46,6 +46,9 @@ struct BadScene {
   std::vector<std::string> expected;    // substrings of the error message
 };
 
+// gtest prints a failing parameter with this instead of its bytes.
+void PrintTo(const BadScene& bad, std::ostream* os) { *os << bad.name; }
+
 std::string edited(const std::function<void(json&)>& edit) {
   json scene = base_scene();
   edit(scene);
@@ -167,6 +170,84 @@ std::vector<BadScene> bad_scenes() {
        {"scene.json: contact.friction = -0.1: must be >= 0"}},
       {"EnabledNotBool", [] { return edited([](json& s) { s["contact"]["enabled"] = 1; }); },
        {"scene.json: contact.enabled: expected true or false, got number 1"}},
+      {"ContactUnknownKey", [] { return edited([](json& s) { s["contact"]["mu"] = 0.3; }); },
+       {"scene.json: contact.mu: unknown key (allowed: enabled, dhat, dhat_relative, barrier_stiffness, "
+        "friction, epsv, friction_iterations, planes)"}},
+      {"DhatNegative", [] { return edited([](json& s) { s["contact"]["dhat"] = -1e-3; }); },
+       {"scene.json: contact.dhat = -0.001: must be > 0"}},
+      {"DhatRelativeWholeDiagonal", [] { return edited([](json& s) { s["contact"]["dhat"] = 1; }); },
+       {"scene.json: contact.dhat = 1: a relative dhat is a fraction of the bounding-box diagonal, must be < 1"}},
+      {"BarrierStiffnessAuto", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = "auto"; }); },
+       {"scene.json: contact.barrier_stiffness = \"auto\": unknown barrier stiffness (allowed: \"adaptive\" or a number > 0)"}},
+      {"BarrierStiffnessZero", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = 0; }); },
+       {"scene.json: contact.barrier_stiffness = 0: must be > 0"}},
+      {"BarrierStiffnessNegative", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = -1e4; }); },
+       {"scene.json: contact.barrier_stiffness = -10000.0: must be > 0"}},
+      {"BarrierStiffnessBool", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = true; }); },
+       {"scene.json: contact.barrier_stiffness: expected \"adaptive\" or a number > 0"}},
+      {"EpsvZero", [] { return edited([](json& s) { s["contact"]["epsv"] = 0; }); }, {"scene.json: contact.epsv = 0: must be > 0"}},
+      {"EpsvNegative", [] { return edited([](json& s) { s["contact"]["epsv"] = -1e-3; }); },
+       {"scene.json: contact.epsv = -0.001: must be > 0"}},
+      {"FrictionIterationsZero", [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 0; }); },
+       {"scene.json: contact.friction_iterations = 0: must be >= 1"}},
+      {"FrictionIterationsNotInteger", [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 1.5; }); },
+       {"scene.json: contact.friction_iterations: expected an integer, got number 1.5"}},
+      {"PlanesNotArray", [] { return edited([](json& s) { s["contact"]["planes"] = {{"normal", {0, 0, 1}}}; }); },
+       {"scene.json: contact.planes: expected an array, got object"}},
+      {"PlaneZeroNormal", [] { return edited([](json& s) {
+         s["contact"]["planes"] = json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 0}}}});
+       }); },
+       {"scene.json: contact.planes[0].normal = [0,0,0]: plane normal must be non-zero"}},
+      {"PlaneWithoutNormal", [] { return edited([](json& s) {
+         s["contact"]["planes"] = json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 1}}}, {{"point", {0, 0, 1}}}});
+       }); },
+       {"scene.json: contact.planes[1].normal: required key is missing"}},
+      {"PlaneUnknownKey", [] { return edited([](json& s) {
+         s["contact"]["planes"] = json::array({{{"origin", {0, 0, 0}}, {"normal", {0, 0, 1}}}});
+       }); },
+       {"scene.json: contact.planes[0].origin: unknown key (allowed: point, normal)"}},
+      {"SelfContactNotBool", [] { return edited([](json& s) { s["geometry"][0]["self_contact"] = "yes"; }); },
+       {"scene.json: geometry[0].self_contact: expected true or false, got string \"yes\""}},
+      {"KinematicUnknownType", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = {{"type", "spin"}};
+       }); },
+       {"scene.json: geometry[0].kinematic.type = \"spin\": unknown type (allowed: fixed, velocity, rotation)"}},
+      {"KinematicNotObject", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = true;
+       }); },
+       {"scene.json: geometry[0].kinematic: expected an object, got boolean true"}},
+      {"KinematicVelocityMissing", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = {{"type", "velocity"}};
+       }); },
+       {"scene.json: geometry[0].kinematic.velocity: required key is missing"}},
+      {"KinematicWithSelection", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = {{"selection", "beam.xmin"}};
+       }); },
+       {"scene.json: geometry[0].kinematic.selection: unknown key (allowed for type \"fixed\": type)"}},
+      {"KinematicZeroAxis", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = {{"type", "rotation"}, {"axis", {0, 0, 0}}, {"angular_velocity", 1}};
+       }); },
+       {"scene.json: geometry[0].kinematic.axis = [0,0,0]: rotation axis must be non-zero"}},
+      {"KinematicWithInitialVelocity", [] { return edited([](json& s) {
+         s["boundary_conditions"].erase("dirichlet");
+         s["geometry"][0]["kinematic"] = json::object();
+         s["geometry"][0]["initial_velocity"] = {1, 0, 0};
+       }); },
+       {"scene.json: geometry[0].initial_velocity: a kinematic body's motion is prescribed by \"kinematic\", "
+        "not by an initial velocity"}},
+      {"DirichletOnKinematicBody", [] { return edited([](json& s) { s["geometry"][0]["kinematic"] = json::object(); }); },
+       {"scene.json: boundary_conditions.dirichlet[0].selection = \"beam.xmin\": body \"beam\" is kinematic "
+        "(geometry[0].kinematic prescribes all its nodes)"}},
+      {"DirichletOnWholeKinematicBody", [] { return edited([](json& s) {
+         s["geometry"][0]["kinematic"] = json::object();
+         s["boundary_conditions"]["dirichlet"] = json::array({{{"selection", "beam"}}});
+       }); },
+       {"scene.json: boundary_conditions.dirichlet[0].selection = \"beam\": body \"beam\" is kinematic"}},
   };
 }
 
@@ -225,6 +306,13 @@ TEST(SceneParser, MinimalSceneTakesTheDefaults) {
   EXPECT_EQ(scene.contact.dhat, 1e-3);
   EXPECT_TRUE(scene.contact.dhat_relative);
   EXPECT_EQ(scene.contact.friction, 0.0);
+  EXPECT_EQ(scene.contact.epsv, 1e-3);
+  EXPECT_TRUE(scene.contact.kappa_adaptive);
+  EXPECT_EQ(scene.contact.kappa, 0.0);
+  EXPECT_EQ(scene.contact.friction_iterations, 1);
+  EXPECT_TRUE(scene.contact.planes.empty());
+  EXPECT_TRUE(scene.bodies[0].self_contact);
+  EXPECT_FALSE(scene.bodies[0].kinematic);
   EXPECT_EQ(scene.source, "minimal.json");
 }
 
@@ -276,6 +364,94 @@ TEST(SceneParser, FullSceneFileParsesToItsValues) {
   EXPECT_FALSE(scene.contact.dhat_relative);
   EXPECT_EQ(scene.contact.friction, 0.2);
   EXPECT_EQ(scene.contact.epsv, 1e-4);
+}
+
+TEST(SceneParser, ContactSceneFileParsesToItsValues) {
+  const Scene scene = parse_scene_file(std::string(DIPC_IO_TEST_DATA) + "/contact_scene.json");
+  const ContactSettings& c = scene.contact;
+  EXPECT_TRUE(c.enabled);
+  EXPECT_EQ(c.dhat, 2e-4);
+  EXPECT_FALSE(c.dhat_relative);
+  EXPECT_FALSE(c.kappa_adaptive);
+  EXPECT_EQ(c.kappa, 1e7);
+  EXPECT_EQ(c.friction, 0.5);
+  EXPECT_EQ(c.epsv, 1e-4);
+  EXPECT_EQ(c.friction_iterations, 3);
+  ASSERT_EQ(c.planes.size(), 2u);
+  EXPECT_EQ(c.planes[0].point, (std::array<double, 3>{0, 0, -0.2}));
+  EXPECT_EQ(c.planes[0].normal, (std::array<double, 3>{0, 0, 1}));  // normalised from [0, 0, 2]
+  EXPECT_EQ(c.planes[1].point, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_DOUBLE_EQ(c.planes[1].normal[0], -0.6);  // [-3, 0, 4] / 5
+  EXPECT_EQ(c.planes[1].normal[1], 0.0);
+  EXPECT_DOUBLE_EQ(c.planes[1].normal[2], 0.8);
+
+  ASSERT_EQ(scene.bodies.size(), 5u);
+  const Body& block = scene.bodies[0];
+  EXPECT_FALSE(block.self_contact);
+  EXPECT_FALSE(block.kinematic);
+  EXPECT_EQ(block.initial_velocity, (std::array<double, 3>{1, 0, 0}));
+  for (std::size_t i = 1; i < 5; ++i) {
+    EXPECT_TRUE(scene.bodies[i].kinematic) << scene.bodies[i].name;
+    EXPECT_TRUE(scene.bodies[i].self_contact) << scene.bodies[i].name;
+    EXPECT_EQ(scene.bodies[i].initial_velocity, (std::array<double, 3>{0, 0, 0}));
+  }
+
+  // The scene's own condition first, then one per kinematic body, in geometry order.
+  ASSERT_EQ(scene.dirichlet.size(), 5u);
+  EXPECT_EQ(scene.dirichlet[0].key_path, "boundary_conditions.dirichlet[0]");
+  EXPECT_TRUE(scene.dirichlet[0].selection.box.has_value());
+  const char* names[] = {"upper", "lower", "press", "stop"};
+  for (std::size_t k = 0; k < 4; ++k) {
+    const DirichletCondition& motion = scene.dirichlet[k + 1];
+    EXPECT_EQ(motion.key_path, "geometry[" + std::to_string(k + 1) + "].kinematic");
+    EXPECT_EQ(motion.selection.name, names[k]);  // the node set of all the body's nodes
+    EXPECT_FALSE(motion.selection.box.has_value());
+  }
+  const DirichletCondition& upper = scene.dirichlet[1];
+  EXPECT_EQ(upper.kind, DirichletCondition::Kind::Rotation);
+  EXPECT_EQ(upper.axis, (std::array<double, 3>{0, 1, 0}));  // normalised from [0, 2, 0]
+  EXPECT_EQ(upper.center, (std::array<double, 3>{0, 0, 0.16}));
+  EXPECT_EQ(upper.angular_velocity, -6.0);
+  const DirichletCondition& lower = scene.dirichlet[2];
+  EXPECT_EQ(lower.kind, DirichletCondition::Kind::Rotation);
+  EXPECT_EQ(lower.center, (std::array<double, 3>{0, 0, -0.06}));
+  EXPECT_EQ(lower.angular_velocity, 6.0);
+  const DirichletCondition& press = scene.dirichlet[3];
+  EXPECT_EQ(press.kind, DirichletCondition::Kind::Velocity);
+  EXPECT_EQ(press.velocity, (std::array<double, 3>{0, 0, -0.5}));
+  EXPECT_EQ(scene.dirichlet[4].kind, DirichletCondition::Kind::Fixed);  // "kinematic": {}
+}
+
+TEST(SceneParser, BarrierStiffnessAdaptiveIsExplicitToo) {
+  json scene = base_scene();
+  scene["contact"] = {{"barrier_stiffness", 5.0}};
+  EXPECT_FALSE(parse(scene).contact.kappa_adaptive);
+  EXPECT_EQ(parse(scene).contact.kappa, 5.0);
+  scene["contact"] = {{"barrier_stiffness", "adaptive"}};
+  EXPECT_TRUE(parse(scene).contact.kappa_adaptive);
+  EXPECT_EQ(parse(scene).contact.kappa, 0.0);
+}
+
+TEST(SceneParser, AbsoluteDhatMayExceedOne) {
+  // Only a relative dhat is bounded by the diagonal; an absolute one is a length.
+  json scene = base_scene();
+  scene["contact"] = {{"dhat", 2.5}, {"dhat_relative", false}};
+  EXPECT_EQ(parse(scene).contact.dhat, 2.5);
+  scene["contact"] = {{"dhat", 0.5}};
+  EXPECT_EQ(parse(scene).contact.dhat, 0.5);
+  EXPECT_TRUE(parse(scene).contact.dhat_relative);
+}
+
+TEST(SceneParser, BoxSelectionMayTouchAKinematicBody) {
+  // Only named sets of a kinematic body are rejected; a box selection depends on the mesh,
+  // and a body whose name merely starts like the kinematic one's is another body.
+  json scene = base_scene();
+  scene["geometry"].push_back({{"name", "beam2"}, {"box", {{"origin", {0, 0, 1}}}}, {"kinematic", json::object()}});
+  scene["boundary_conditions"]["dirichlet"][0]["selection"] = "beam.xmin";
+  const Scene parsed = parse(scene);
+  ASSERT_EQ(parsed.dirichlet.size(), 4u);
+  EXPECT_EQ(parsed.dirichlet[3].selection.name, "beam2");
+  EXPECT_EQ(parsed.dirichlet[3].key_path, "geometry[1].kinematic");
 }
 
 TEST(SceneParser, TEndGivesTheNearestWholeStepCount) {
@@ -334,9 +510,53 @@ TEST(SceneParser, SelectionDescribesItself) {
   EXPECT_EQ(box.describe(), "box [0, -1, -1] - [0.001, 1, 1]");
 }
 
-TEST(DefaultScene, IsTheDocumentedCantilever) {
+TEST(DefaultScene, IsTheDocumentedContactDrop) {
   const Scene scene = default_scene();
   EXPECT_EQ(scene.source, "<default scene>");
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].E, 1e5);
+  EXPECT_EQ(scene.materials[0].nu, 0.4);
+  EXPECT_EQ(scene.materials[0].rho, 1000);
+  ASSERT_EQ(scene.bodies.size(), 2u);
+  const Body& base = scene.bodies[0];
+  const Body& cube = scene.bodies[1];
+  ASSERT_TRUE(base.box.has_value());
+  ASSERT_TRUE(cube.box.has_value());
+  EXPECT_EQ(base.box->size, (std::array<double, 3>{0.4, 0.4, 0.1}));
+  EXPECT_EQ(base.box->resolution, (std::array<int, 3>{8, 8, 2}));
+  EXPECT_EQ(cube.box->size, (std::array<double, 3>{0.2, 0.2, 0.2}));
+  EXPECT_EQ(cube.box->resolution, (std::array<int, 3>{6, 6, 6}));
+  EXPECT_FALSE(base.kinematic);
+  EXPECT_FALSE(cube.kinematic);
+  // The base rests just above the ground plane z = 0 (a positive gap, as IPC requires) and
+  // the cube starts 0.05 m above the base, centred over it.
+  const double base_bottom = base.box->origin[2];
+  const double base_top = base_bottom + base.box->size[2];
+  EXPECT_GT(base_bottom, 0.0);
+  EXPECT_LE(base_bottom, 2e-3);
+  EXPECT_NEAR(cube.box->origin[2] - base_top, 0.05, 1e-12);
+  for (int d = 0; d < 2; ++d) {
+    EXPECT_NEAR(cube.box->origin[d] + cube.box->size[d] / 2, base.box->origin[d] + base.box->size[d] / 2, 1e-12);
+  }
+  EXPECT_TRUE(scene.dirichlet.empty());
+  EXPECT_EQ(scene.gravity, (std::array<double, 3>{0, 0, -9.81}));
+  EXPECT_EQ(scene.dt, 0.01);
+  EXPECT_EQ(scene.steps, 40);
+  EXPECT_TRUE(scene.contact.enabled);
+  EXPECT_EQ(scene.contact.dhat, 1e-3);
+  EXPECT_TRUE(scene.contact.dhat_relative);
+  EXPECT_TRUE(scene.contact.kappa_adaptive);
+  EXPECT_EQ(scene.contact.friction, 0.2);
+  ASSERT_EQ(scene.contact.planes.size(), 1u);
+  EXPECT_EQ(scene.contact.planes[0].point, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_EQ(scene.contact.planes[0].normal, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(scene.output_directory, "output");
+  EXPECT_EQ(scene.output_name, "dipc");
+}
+
+TEST(BeamScene, IsTheDocumentedCantilever) {
+  const Scene scene = beam_scene();
+  EXPECT_EQ(scene.source, "<beam scene>");
   ASSERT_EQ(scene.materials.size(), 1u);
   EXPECT_EQ(scene.materials[0].E, 1e6);
   EXPECT_EQ(scene.materials[0].nu, 0.4);
@@ -352,17 +572,27 @@ TEST(DefaultScene, IsTheDocumentedCantilever) {
   EXPECT_EQ(scene.gravity, (std::array<double, 3>{0, 0, -9.81}));
   EXPECT_EQ(scene.dt, 0.01);
   EXPECT_EQ(scene.steps, 50);
+  EXPECT_FALSE(scene.contact.enabled);
   EXPECT_EQ(scene.output_directory, "output");
   EXPECT_EQ(scene.output_name, "dipc");
 }
 
-// The example file shipped for users must stay the scene the program embeds.
-TEST(DefaultScene, MatchesTheExampleFile) {
-  std::ifstream in(std::string(DIPC_IO_TEST_DATA) + "/default_scene.json");
-  ASSERT_TRUE(in) << "missing tests/io/data/default_scene.json";
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("missing " + path);
   std::ostringstream text;
   text << in.rdbuf();
-  EXPECT_EQ(json::parse(text.str()), json::parse(default_scene_json()));
+  return json::parse(text.str());
+}
+
+// The example files shipped for users must stay the scenes the program embeds.
+TEST(DefaultScene, MatchesTheExampleFile) {
+  EXPECT_EQ(read_json(std::string(DIPC_IO_TEST_DATA) + "/default_scene.json"), json::parse(default_scene_json()));
+}
+
+TEST(BeamScene, MatchesTheExampleFiles) {
+  EXPECT_EQ(read_json(std::string(DIPC_IO_TEST_DATA) + "/beam_scene.json"), json::parse(beam_scene_json()));
+  EXPECT_EQ(read_json(std::string(DIPC_SCENES_DIR) + "/default_beam.json"), json::parse(beam_scene_json()));
 }
 
 }  // namespace

@@ -70,7 +70,7 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   std::vector<char> prescribed(3 * mesh.num_local_nodes(), 0);
   for (std::int32_t n : mesh.node_sets.at("box.xmin")) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
   IncrementalPotential potential;
-  ASSERT_EQ(potential.setup(comm, mesh, exchange, std::move(forms), prescribed), 0);
+  ASSERT_EQ(potential.setup(mesh, std::move(forms), prescribed), 0);
   Mat H;
   ASSERT_EQ(potential.create_matrix(&H), 0);
 

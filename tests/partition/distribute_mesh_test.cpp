@@ -101,6 +101,12 @@ TEST(DistributeMesh, InvalidMeshThrowsOnEveryRank) {
   bad_body.body.pop_back();
   expect_error_on_every_rank(bad_body, "71 body ids for 72 elements");
 
+  // Rank 0 extracts the boundary surface: a face of three elements stops it on every rank.
+  HexMesh non_manifold = test::structured_box(6, 4, 3);
+  non_manifold.hexes.push_back(non_manifold.hexes[1]);
+  non_manifold.body.push_back(0);
+  expect_error_on_every_rank(non_manifold, "3 elements share one face");
+
   // The communicator still works after an error.
   const HexMesh mesh = test::structured_box(2, 2, 2);
   test::expect_consistent_with(mesh, test::distribute_from_root(mesh, PETSC_COMM_WORLD));

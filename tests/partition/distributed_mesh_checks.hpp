@@ -182,6 +182,19 @@ inline void expect_identical(const DistributedMesh& a, const DistributedMesh& b)
   EXPECT_EQ(a.element_body, b.element_body);
   EXPECT_EQ(a.element_input_id, b.element_input_id);
   EXPECT_EQ(a.node_sets, b.node_sets);
+  EXPECT_EQ(a.boundary_face_mask, b.boundary_face_mask);
+  const OwnedSurface& sa = a.owned_surface;
+  const OwnedSurface& sb = b.owned_surface;
+  EXPECT_EQ(sa.num_global_triangles, sb.num_global_triangles);
+  EXPECT_EQ(sa.num_global_edges, sb.num_global_edges);
+  EXPECT_EQ(sa.num_global_vertices, sb.num_global_vertices);
+  EXPECT_EQ(sa.triangle_gid, sb.triangle_gid);
+  EXPECT_EQ(sa.edges, sb.edges);
+  EXPECT_EQ(sa.edge_gid, sb.edge_gid);
+  EXPECT_EQ(sa.edge_body, sb.edge_body);
+  EXPECT_EQ(sa.vertices, sb.vertices);
+  EXPECT_EQ(sa.vertex_gid, sb.vertex_gid);
+  EXPECT_EQ(sa.vertex_body, sb.vertex_body);
 }
 
 }  // namespace dipc::test

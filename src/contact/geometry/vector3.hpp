@@ -1,0 +1,38 @@
+// Tiny 3-vector and 3x3 helpers for the contact point functions: plain double arrays
+// (matrices row-major, A[3*i + j] = A_ij) so the same code runs on the host and in CUDA
+// kernels. Kept inside contact/ because contact must not depend on assembly/ (DESIGN.md §2).
+#pragma once
+#include "host_device.hpp"
+
+namespace dipc::contact {
+
+DIPC_HD double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+DIPC_HD double squared_norm3(const double a[3]) { return dot3(a, a); }
+
+// c = a - b
+DIPC_HD void subtract3(const double a[3], const double b[3], double c[3]) {
+  for (int i = 0; i < 3; ++i) c[i] = a[i] - b[i];
+}
+
+// c = a x b (c must not alias a or b)
+DIPC_HD void cross3(const double a[3], const double b[3], double c[3]) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+// [a]_x, the matrix with [a]_x v = a x v.
+DIPC_HD void cross_matrix3(const double a[3], double A[9]) {
+  A[0] = 0.0;
+  A[1] = -a[2];
+  A[2] = a[1];
+  A[3] = a[2];
+  A[4] = 0.0;
+  A[5] = -a[0];
+  A[6] = -a[1];
+  A[7] = a[0];
+  A[8] = 0.0;
+}
+
+}  // namespace dipc::contact

@@ -1,0 +1,642 @@
+#include "nonlinear/contact_form.hpp"
+
+#include <petscvec.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "assembly/symmetric_eigen.hpp"
+#include "contact/broad_phase/find_candidates.hpp"
+#include "contact/ccd/time_of_impact.hpp"
+#include "contact/geometry/barrier.hpp"
+#include "contact/geometry/edge_edge_distance.hpp"
+#include "contact/geometry/edge_edge_mollifier.hpp"
+#include "contact/geometry/point_triangle_distance.hpp"
+#include "nonlinear/segment_triangle.hpp"
+#include "partition/ghost_exchange.hpp"
+
+namespace dipc {
+
+namespace {
+
+using Box = std::array<double, 6>;  // min xyz, max xyz
+
+Box empty_box() {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {inf, inf, inf, -inf, -inf, -inf};
+}
+void grow(Box& b, const double* x) {
+  for (int c = 0; c < 3; ++c) b[c] = std::min(b[c], x[c]), b[3 + c] = std::max(b[3 + c], x[c]);
+}
+void inflate(Box& b, double r) {
+  for (int c = 0; c < 3; ++c) b[c] -= r, b[3 + c] += r;
+}
+bool overlap(const Box& a, const Box& b) {
+  for (int c = 0; c < 3; ++c)
+    if (a[c] > b[3 + c] || b[c] > a[3 + c]) return false;
+  return true;
+}
+
+double triangle_area(const double* a, const double* b, const double* c) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+using PairTerms = ContactForm::PairTerms;
+
+}  // namespace
+
+ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters)
+    : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  surface_ = build_contact_surface(mesh);
+  for (int n = 0; n < mesh.num_local_nodes(); ++n) global_to_local_[mesh.local_to_global[n]] = n;
+
+  // Rest vertex areas: each owned triangle gives ⅓ of its area to its three nodes; the sums of
+  // all ranks meet at the owners and are copied back to every rank holding the node.
+  GhostExchange scalar;
+  scalar.setup(mesh, 1);
+  Vec local, global;
+  scalar.create_local_vec(&local);
+  scalar.create_global_vec(&global);
+  VecZeroEntries(local);
+  VecZeroEntries(global);
+  PetscScalar* a;
+  VecGetArray(local, &a);
+  for (const auto& f : surface_.faces) {
+    const double area = triangle_area(mesh.coordinates[f[0]].data(), mesh.coordinates[f[1]].data(),
+                                      mesh.coordinates[f[2]].data());
+    for (std::int32_t n : f) a[n] += area / 3.0;
+  }
+  VecRestoreArray(local, &a);
+  scalar.add_to_global(local, global);
+  scalar.to_local(global, local);
+  const PetscScalar* ac;
+  VecGetArrayRead(local, &ac);
+  for (std::int32_t v : surface_.vertices) node_area_[v] = ac[v];
+  for (const auto& e : surface_.edges) node_area_[e[0]] = ac[e[0]], node_area_[e[1]] = ac[e[1]];
+  VecRestoreArrayRead(local, &ac);
+  VecDestroy(&local);
+  VecDestroy(&global);
+  collect_owned();
+}
+
+void ContactForm::collect_owned() {
+  edges_.clear(), faces_.clear();
+  for (std::size_t i = 0; i < surface_.edges.size(); ++i) {
+    const auto& e = surface_.edges[i];
+    Primitive p{surface_.edge_gid[i], surface_.edge_body[i], true, {e[0], e[1], -1}, 0.0};
+    const auto& a = mesh_.coordinates[e[0]];
+    const auto& b = mesh_.coordinates[e[1]];
+    for (int c = 0; c < 3; ++c) p.rest_length2 += (a[c] - b[c]) * (a[c] - b[c]);
+    edges_.push_back(p);
+  }
+  for (std::size_t i = 0; i < surface_.faces.size(); ++i) {
+    const auto& f = surface_.faces[i];
+    faces_.push_back(Primitive{surface_.face_gid[i], surface_.face_body[i], true, {f[0], f[1], f[2]}, 0.0});
+  }
+  owned_edges_ = edges_.size();
+  owned_faces_ = faces_.size();
+}
+
+std::int32_t ContactForm::ext_local(std::int64_t global_node) {
+  auto it = global_to_local_.find(global_node);
+  if (it != global_to_local_.end()) return it->second;
+  const auto id = static_cast<std::int32_t>(mesh_.num_local_nodes() + extra_nodes_.size());
+  extra_nodes_.push_back(global_node);
+  global_to_local_[global_node] = id;
+  return id;
+}
+
+std::int64_t ContactForm::global_node(std::int32_t ext) const {
+  return ext < mesh_.num_local_nodes() ? mesh_.local_to_global[ext] : extra_nodes_[ext - mesh_.num_local_nodes()];
+}
+
+void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
+  // IPC supplement (adaptive barrier stiffness): κ_min makes the barrier's stiffness at a
+  // tiny distance d₀ = (1e-8 L)² comparable to the inertia of an average node,
+  // κ_min = 1e11 · m̄ / (4 d₀ b''(d₀)), and κ_max = 100 κ_min.
+  const double dhat2 = parameters_.dhat * parameters_.dhat;
+  double d0 = 1e-8 * bbox_diagonal;
+  d0 *= d0;
+  if (d0 >= dhat2) d0 = 0.5 * dhat2;
+  kappa_min_ = 1e11 * average_mass / (4.0 * d0 * contact::barrier_second_derivative(d0, dhat2));
+  kappa_max_ = 100.0 * kappa_min_;
+  min_distance_eps2_ = (1e-9 * bbox_diagonal) * (1e-9 * bbox_diagonal);
+  if (parameters_.kappa_adaptive && parameters_.kappa < kappa_min_) parameters_.kappa = kappa_min_;
+}
+
+bool ContactForm::update_extra_nodes(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  const double r = parameters_.dhat;
+  auto swept_box = [&](const Primitive& prim, int nodes) {
+    Box b = empty_box();
+    for (int k = 0; k < nodes; ++k) {
+      const double* xi = x + 3 * prim.node[k];
+      const double xe[3] = {xi[0] + p[3 * prim.node[k]], xi[1] + p[3 * prim.node[k] + 1], xi[2] + p[3 * prim.node[k] + 2]};
+      grow(b, xi);
+      grow(b, xe);
+    }
+    inflate(b, r);
+    return b;
+  };
+  std::vector<Box> edge_box(owned_edges_), face_box(owned_faces_);
+  Box mine = empty_box();
+  for (std::size_t i = 0; i < owned_edges_; ++i) {
+    edge_box[i] = swept_box(edges_[i], 2);
+    grow(mine, edge_box[i].data()), grow(mine, edge_box[i].data() + 3);
+  }
+  for (std::size_t i = 0; i < owned_faces_; ++i) {
+    face_box[i] = swept_box(faces_[i], 3);
+    grow(mine, face_box[i].data()), grow(mine, face_box[i].data() + 3);
+  }
+  std::vector<Box> boxes(size_);
+  MPI_Allgather(mine.data(), 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm_);
+
+  // Send each rank the owned edges and triangles whose boxes reach its surface box. Message
+  // per primitive: [kind (0 edge, 1 face), gid, body, 3 global node ids] + [rest length²].
+  std::vector<std::vector<std::int64_t>> out_i(size_);
+  std::vector<std::vector<double>> out_d(size_);
+  for (int s = 0; s < size_; ++s) {
+    if (s == rank_ || boxes[s][0] > boxes[s][3]) continue;
+    for (std::size_t i = 0; i < owned_edges_; ++i)
+      if (overlap(edge_box[i], boxes[s])) {
+        const auto& e = edges_[i];
+        out_i[s].insert(out_i[s].end(), {0, e.gid, e.body, global_node(e.node[0]), global_node(e.node[1]), -1});
+        out_d[s].push_back(e.rest_length2);
+      }
+    for (std::size_t i = 0; i < owned_faces_; ++i)
+      if (overlap(face_box[i], boxes[s])) {
+        const auto& f = faces_[i];
+        out_i[s].insert(out_i[s].end(),
+                        {1, f.gid, f.body, global_node(f.node[0]), global_node(f.node[1]), global_node(f.node[2])});
+        out_d[s].push_back(0.0);
+      }
+  }
+  std::vector<int> send_count(size_), recv_count(size_), send_displ(size_), recv_displ(size_);
+  for (int s = 0; s < size_; ++s) send_count[s] = static_cast<int>(out_d[s].size());
+  MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, comm_);
+  std::vector<std::int64_t> send_i, recv_i;
+  std::vector<double> send_d, recv_d;
+  int total = 0;
+  for (int s = 0; s < size_; ++s) {
+    send_displ[s] = static_cast<int>(send_d.size());
+    send_i.insert(send_i.end(), out_i[s].begin(), out_i[s].end());
+    send_d.insert(send_d.end(), out_d[s].begin(), out_d[s].end());
+    recv_displ[s] = total;
+    total += recv_count[s];
+  }
+  recv_d.resize(total);
+  recv_i.resize(6 * static_cast<std::size_t>(total));
+  std::vector<int> send_count6(size_), send_displ6(size_), recv_count6(size_), recv_displ6(size_);
+  for (int s = 0; s < size_; ++s)
+    send_count6[s] = 6 * send_count[s], send_displ6[s] = 6 * send_displ[s], recv_count6[s] = 6 * recv_count[s],
+    recv_displ6[s] = 6 * recv_displ[s];
+  MPI_Alltoallv(send_i.data(), send_count6.data(), send_displ6.data(), MPI_INT64_T, recv_i.data(), recv_count6.data(),
+                recv_displ6.data(), MPI_INT64_T, comm_);
+  MPI_Alltoallv(send_d.data(), send_count.data(), send_displ.data(), MPI_DOUBLE, recv_d.data(), recv_count.data(),
+                recv_displ.data(), MPI_DOUBLE, comm_);
+
+  // Rebuild the ghost primitives, sorted by (kind, gid) so the result does not depend on the
+  // order of arrival, and the extra nodes in order of first use.
+  std::vector<int> order(total);
+  for (int k = 0; k < total; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return std::make_pair(recv_i[6 * a], recv_i[6 * a + 1]) < std::make_pair(recv_i[6 * b], recv_i[6 * b + 1]);
+  });
+  const std::vector<std::int64_t> previous = extra_nodes_;
+  for (std::int64_t g : extra_nodes_) global_to_local_.erase(g);
+  extra_nodes_.clear();
+  edges_.resize(owned_edges_);
+  faces_.resize(owned_faces_);
+  for (int k : order) {
+    const std::int64_t* m = &recv_i[6 * static_cast<std::size_t>(k)];
+    Primitive prim{m[1], static_cast<int>(m[2]), false, {ext_local(m[3]), ext_local(m[4]), -1}, recv_d[k]};
+    if (m[0] == 0) {
+      edges_.push_back(prim);
+    } else {
+      prim.node[2] = ext_local(m[5]);
+      faces_.push_back(prim);
+    }
+  }
+  for (std::int64_t g : pinned_) ext_local(g);
+  stats_.ghost_primitives = total;
+  stats_.exchange_seconds += MPI_Wtime() - start;
+  return extra_nodes_ != previous;
+}
+
+void ContactForm::prepare_segment(const double* x, const double* p) { find_candidates(x, p); }
+
+void ContactForm::find_candidates(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  // Compact vertex numbering over every node the surface primitives touch.
+  std::unordered_map<std::int32_t, std::int32_t> compact;
+  std::vector<std::int32_t> node_of;
+  std::vector<std::int32_t> group;
+  std::vector<char> owned_vertex;
+  auto add = [&](std::int32_t n, int body, bool is_owned_vertex) {
+    auto [it, inserted] = compact.emplace(n, static_cast<std::int32_t>(node_of.size()));
+    if (inserted) {
+      node_of.push_back(n);
+      group.push_back(body);
+      owned_vertex.push_back(0);
+    }
+    if (is_owned_vertex) owned_vertex[it->second] = 1;
+    return it->second;
+  };
+  for (std::size_t i = 0; i < surface_.vertices.size(); ++i) add(surface_.vertices[i], surface_.vertex_body[i], true);
+  std::vector<std::int32_t> edge_ids, face_ids;
+  for (const auto& e : edges_) edge_ids.insert(edge_ids.end(), {add(e.node[0], e.body, false), add(e.node[1], e.body, false)});
+  for (const auto& f : faces_)
+    face_ids.insert(face_ids.end(), {add(f.node[0], f.body, false), add(f.node[1], f.body, false), add(f.node[2], f.body, false)});
+  const std::size_t nv = node_of.size();
+  std::vector<double> x0(3 * nv), x1(3 * nv);
+  bool moving = false;
+  for (std::size_t v = 0; v < nv; ++v)
+    for (int c = 0; c < 3; ++c) {
+      x0[3 * v + c] = x[3 * node_of[v] + c];
+      x1[3 * v + c] = x0[3 * v + c] + p[3 * node_of[v] + c];
+      moving = moving || p[3 * node_of[v] + c] != 0.0;
+    }
+  contact::SurfaceView view;
+  view.num_vertices = static_cast<int>(nv);
+  view.x0 = x0.data();
+  view.x1 = moving ? x1.data() : nullptr;
+  view.num_edges = static_cast<int>(edges_.size());
+  view.edges = edge_ids.data();
+  view.num_faces = static_cast<int>(faces_.size());
+  view.faces = face_ids.data();
+  view.vertex_group = group.data();
+  contact::CandidateFilter filter;
+  const auto& self = parameters_.self_contact;
+  filter.allow_groups = [&self](int a, int b) {
+    return a != b || (a >= 0 && a < static_cast<int>(self.size()) && self[a]);
+  };
+  filter.keep_vertex_face = [&](std::int32_t v, std::int32_t) { return owned_vertex[v] != 0; };
+  // An edge–edge pair belongs to the owner of the edge with the smaller global id.
+  filter.keep_edge_edge = [&](std::int32_t a, std::int32_t b) {
+    const Primitive& first = edges_[a].gid < edges_[b].gid ? edges_[a] : edges_[b];
+    return first.owned;
+  };
+  contact::Candidates candidates;
+  contact::find_candidates(view, 0.5 * parameters_.dhat, &candidates, filter);
+  vertex_face_.clear();
+  for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({node_of[vf[0]], vf[1]});
+  edge_edge_ = candidates.edge_edge;
+
+  // Half-space obstacles: owned vertices whose segment comes within d̂ of a plane.
+  vertex_plane_.clear();
+  for (std::int32_t v : surface_.vertices)
+    for (std::size_t k = 0; k < parameters_.planes.size(); ++k) {
+      const auto& pl = parameters_.planes[k];
+      double s0 = 0, s1 = 0;
+      for (int c = 0; c < 3; ++c) {
+        s0 += (x[3 * v + c] - pl.point[c]) * pl.normal[c];
+        s1 += (x[3 * v + c] + p[3 * v + c] - pl.point[c]) * pl.normal[c];
+      }
+      if (std::min(s0, s1) <= parameters_.dhat) vertex_plane_.push_back({v, static_cast<std::int32_t>(k)});
+    }
+  stats_.broad_phase_seconds += MPI_Wtime() - start;
+}
+
+// Calls f(kind, index) for every candidate pair this rank evaluates; false if any call was.
+template <class F>
+bool ContactForm::for_each_pair(F&& f) const {
+  bool ok = true;
+  for (std::size_t i = 0; i < vertex_face_.size(); ++i) ok = f(0, i) && ok;
+  for (std::size_t i = 0; i < edge_edge_.size(); ++i) ok = f(1, i) && ok;
+  for (std::size_t i = 0; i < vertex_plane_.size(); ++i) ok = f(2, i) && ok;
+  return ok;
+}
+
+namespace {
+
+// Positions of a pair's nodes, stacked.
+void gather_positions(const double* x, const std::int32_t* nodes, int count, double* out) {
+  for (int k = 0; k < count; ++k)
+    for (int c = 0; c < 3; ++c) out[3 * k + c] = x[3 * nodes[k] + c];
+}
+
+}  // namespace
+
+namespace {
+// The barrier terms of one candidate pair at x. Returns false when the pair is not admissible
+// (distance ≤ 0); *active is false when d ≥ d̂ (then the terms are zero).
+bool pair_terms(int kind, const double* X, double dhat2, double kappa, double weight, double eps_x,
+                       const ContactParameters::Plane* plane, bool want_g, bool want_H, bool project, bool* active,
+                       PairTerms* t) {
+  *active = false;
+  const int ndof = kind == 2 ? 3 : 12;
+  double d = 0, gd[12] = {}, Hd[144] = {};
+  if (kind == 0) {
+    const auto type = contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9);
+    d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9, type);
+    if (d >= dhat2) return true;
+    if (d <= 0) return false;
+    if (want_g || want_H) contact::point_triangle_distance_gradient(X, X + 3, X + 6, X + 9, type, gd);
+    if (want_H) contact::point_triangle_distance_hessian(X, X + 3, X + 6, X + 9, type, Hd);
+  } else if (kind == 1) {
+    const auto type = contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9);
+    d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, type);
+    if (d >= dhat2) return true;
+    if (d <= 0) return false;
+    if (want_g || want_H) contact::edge_edge_distance_gradient(X, X + 3, X + 6, X + 9, type, gd);
+    if (want_H) contact::edge_edge_distance_hessian(X, X + 3, X + 6, X + 9, type, Hd);
+  } else {
+    double s = 0;
+    for (int c = 0; c < 3; ++c) s += (X[c] - plane->point[c]) * plane->normal[c];
+    if (s <= 0) return false;
+    d = s * s;
+    if (d >= dhat2) return true;
+    for (int c = 0; c < 3; ++c) gd[c] = 2 * s * plane->normal[c];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Hd[3 * i + j] = 2 * plane->normal[i] * plane->normal[j];
+  }
+  *active = true;
+  const double b = contact::barrier(d, dhat2), b1 = contact::barrier_first_derivative(d, dhat2),
+               b2 = contact::barrier_second_derivative(d, dhat2);
+  const double s = kappa * weight;
+  // Mollifier for nearly parallel edges (edge–edge only): e = m(x) b(d(x)).
+  double m = 1, gm[12] = {}, Hm[144] = {};
+  const bool mollified = kind == 1 && contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
+  if (mollified) {
+    m = contact::edge_edge_mollifier(X, X + 3, X + 6, X + 9, eps_x);
+    if (want_g || want_H) contact::edge_edge_mollifier_gradient(X, X + 3, X + 6, X + 9, eps_x, gm);
+    if (want_H) contact::edge_edge_mollifier_hessian(X, X + 3, X + 6, X + 9, eps_x, Hm);
+  }
+  t->energy = s * m * b;
+  if (want_g || want_H)
+    for (int i = 0; i < ndof; ++i) t->g[i] = s * (m * b1 * gd[i] + b * gm[i]);
+  if (want_H) {
+    for (int i = 0; i < ndof; ++i)
+      for (int j = 0; j < ndof; ++j) {
+        const double bij = b2 * gd[i] * gd[j] + b1 * Hd[ndof * i + j];  // ∇²b
+        t->H[ndof * i + j] = s * (m * bij + b1 * (gm[i] * gd[j] + gd[i] * gm[j]) + b * Hm[ndof * i + j]);
+      }
+    if (project) project_psd<12>(t->H, ndof);
+  }
+  return true;
+}
+}  // namespace
+
+ContactForm::PairInfo ContactForm::describe(int kind, std::size_t i) const {
+  PairInfo info;
+  info.kind = kind;
+  if (kind == 0) {
+    const auto& f = faces_[vertex_face_[i][1]];
+    info.nodes = {vertex_face_[i][0], f.node[0], f.node[1], f.node[2]};
+    info.count = 4;
+    info.weight = node_area_.at(info.nodes[0]);
+  } else if (kind == 1) {
+    const auto& a = edges_[edge_edge_[i][0]];
+    const auto& b = edges_[edge_edge_[i][1]];
+    info.nodes = {a.node[0], a.node[1], b.node[0], b.node[1]};
+    info.count = 4;
+    const Primitive& own = a.gid < b.gid ? a : b;
+    info.weight = 0.5 * (node_area_.at(own.node[0]) + node_area_.at(own.node[1]));
+    // Mollifier threshold ε_x = 1e-3 |ea0−ea1|²|eb0−eb1|² at rest (Li et al. 2020, §4.3).
+    info.eps_x = 1e-3 * a.rest_length2 * b.rest_length2;
+  } else {
+    info.nodes = {vertex_plane_[i][0], -1, -1, -1};
+    info.count = 1;
+    info.plane = &parameters_.planes[vertex_plane_[i][1]];
+    info.weight = node_area_.at(info.nodes[0]);
+  }
+  return info;
+}
+
+bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
+                        PairTerms* t) const {
+  double X[12];
+  gather_positions(x, info.nodes.data(), info.count, X);
+  return pair_terms(info.kind, X, parameters_.dhat * parameters_.dhat, parameters_.kappa, info.weight, info.eps_x,
+                    info.plane, want_g, want_H, parameters_.project_hessian, active, t);
+}
+
+bool ContactForm::value(const double* x, double* energy) {
+  const double start = MPI_Wtime();
+  double e = 0;
+  const bool ok = for_each_pair([&](int kind, std::size_t i) {
+    bool active;
+    PairTerms t;
+    if (!terms(describe(kind, i), x, false, false, &active, &t)) return false;
+    e += t.energy;
+    return true;
+  });
+  *energy = e;
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+bool ContactForm::gradient(const double* x, double* g) {
+  const double start = MPI_Wtime();
+  const bool ok = for_each_pair([&](int kind, std::size_t i) {
+    const PairInfo info = describe(kind, i);
+    bool active;
+    PairTerms t;
+    if (!terms(info, x, true, false, &active, &t)) return false;
+    if (!active) return true;
+    for (int k = 0; k < info.count; ++k)
+      for (int c = 0; c < 3; ++c) g[3 * info.nodes[k] + c] += t.g[3 * k + c];
+    return true;
+  });
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+void ContactForm::update_pattern(const double* x) {
+  std::vector<PatternEntry> active_now;
+  long pairs = 0;
+  for_each_pair([&](int kind, std::size_t i) {
+    bool active;
+    PairTerms t;
+    terms(describe(kind, i), x, false, false, &active, &t);
+    if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)}), ++pairs;
+    return true;
+  });
+  stats_.pairs = pairs;
+  // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.
+  std::vector<std::array<std::int64_t, 5>> key;
+  for (const auto& pe : active_now) {
+    const PairInfo info = describe(pe.kind, pe.index);
+    std::array<std::int64_t, 5> k{pe.kind, -1, -1, -1, -1};
+    for (int n = 0; n < info.count; ++n) k[1 + n] = global_node(info.nodes[n]);
+    if (info.plane) k[2] = info.plane - parameters_.planes.data();
+    key.push_back(k);
+  }
+  pattern_pairs_ = std::move(active_now);
+  if (key != pattern_key_) {
+    pattern_key_ = std::move(key);
+    ++pattern_version_;
+  }
+}
+
+void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  rows->clear(), cols->clear();
+  for (const auto& k : pattern_key_) {
+    const int count = k[0] == 2 ? 1 : 4;
+    for (int a = 0; a < count; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int b = 0; b < count; ++b)
+          for (int j = 0; j < 3; ++j) {
+            rows->push_back(static_cast<PetscInt>(3 * k[1 + a] + i));
+            cols->push_back(static_cast<PetscInt>(3 * k[1 + b] + j));
+          }
+  }
+}
+
+bool ContactForm::hessian(const double* x, double* values) {
+  const double start = MPI_Wtime();
+  std::size_t offset = 0;
+  bool ok = true;
+  for (const auto& pe : pattern_pairs_) {
+    const PairInfo info = describe(pe.kind, pe.index);
+    const int n = 3 * info.count;
+    bool active;
+    PairTerms t;
+    ok = terms(info, x, true, true, &active, &t) && ok;
+    for (int r = 0; r < n * n; ++r) values[offset + r] = active ? t.H[r] : 0.0;
+    offset += static_cast<std::size_t>(n) * n;
+  }
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+double ContactForm::max_step(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  double t = 1.0;
+  for_each_pair([&](int kind, std::size_t i) {
+    const PairInfo info = describe(kind, i);
+    double X0[12], X1[12];
+    gather_positions(x, info.nodes.data(), info.count, X0);
+    for (int k = 0; k < info.count; ++k)
+      for (int c = 0; c < 3; ++c) X1[3 * k + c] = X0[3 * k + c] + p[3 * info.nodes[k] + c];
+    double toi;
+    if (kind == 0)
+      toi = contact::point_triangle_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t);
+    else if (kind == 1)
+      toi = contact::edge_edge_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t);
+    else
+      toi = contact::point_plane_time_of_impact(X0, X1, info.plane->point.data(), info.plane->normal.data(), 0.0, t);
+    t = std::min(t, toi);
+    return true;
+  });
+  stats_.ccd_seconds += MPI_Wtime() - start;
+  // IPC starts the line search at a fraction of the time of impact, so that the new state
+  // keeps a positive distance even before the barrier pushes back.
+  return t < 1.0 ? parameters_.ccd_fraction * t : 1.0;
+}
+
+double ContactForm::min_distance(const double* x) const {
+  double d2 = std::numeric_limits<double>::infinity();
+  for_each_pair([&](int kind, std::size_t i) {
+    const PairInfo info = describe(kind, i);
+    double X[12];
+    gather_positions(x, info.nodes.data(), info.count, X);
+    double d;
+    if (kind == 0) {
+      d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
+                                           contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
+    } else if (kind == 1) {
+      d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
+    } else {
+      double s = 0;
+      for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
+      d = s * s;
+    }
+    d2 = std::min(d2, d);
+    return true;
+  });
+  return std::sqrt(d2);
+}
+
+bool ContactForm::begin_iteration(const double* x) {
+  // IPC's stiffness update (Li et al. 2020, supplement): when the smallest distance is tiny and
+  // still shrinking between Newton iterations, double κ (up to κ_max).
+  double local = min_distance(x), global = 0;
+  local *= local;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  stats_.min_distance = std::sqrt(global);
+  bool changed = false;
+  if (parameters_.kappa_adaptive && previous_min_distance2_ >= 0 && previous_min_distance2_ < min_distance_eps2_ &&
+      global < min_distance_eps2_ && global < previous_min_distance2_ && parameters_.kappa < kappa_max_) {
+    parameters_.kappa = std::min(kappa_max_, 2 * parameters_.kappa);
+    changed = true;
+  }
+  previous_min_distance2_ = global;
+  return changed;
+}
+
+std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) const {
+  std::vector<ActivePair> out;
+  for_each_pair([&](int kind, std::size_t i) {
+    const PairInfo info = describe(kind, i);
+    bool active;
+    PairTerms t;
+    terms(info, x, false, false, &active, &t);
+    if (active) out.push_back({info, global_node(info.nodes[0])});
+    return true;
+  });
+  return out;
+}
+
+long ContactForm::count_intersections(const double* x, std::string* first) const {
+  auto body = [&](int b) {
+    return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
+                                                                          : std::to_string(b);
+  };
+  auto name = [&](std::int32_t n) {
+    return n < mesh_.num_local_nodes() ? "node " + std::to_string(mesh_.node_input_id[n])
+                                       : "node (global " + std::to_string(global_node(n)) + ")";
+  };
+  // Triangles sorted by the lower x of their boxes, so each edge only looks at the triangles
+  // whose x-range can overlap its own (sweep and prune).
+  std::vector<std::pair<double, std::size_t>> by_x;
+  std::vector<Box> face_box(faces_.size());
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    face_box[f] = empty_box();
+    for (int k = 0; k < 3; ++k) grow(face_box[f], x + 3 * faces_[f].node[k]);
+    by_x.emplace_back(face_box[f][0], f);
+  }
+  std::sort(by_x.begin(), by_x.end());
+  long count = 0;
+  for (std::size_t e = 0; e < owned_edges_; ++e) {
+    const Primitive& edge = edges_[e];
+    Box eb = empty_box();
+    grow(eb, x + 3 * edge.node[0]);
+    grow(eb, x + 3 * edge.node[1]);
+    for (const auto& [fx, f] : by_x) {
+      if (fx > eb[3]) break;
+      const Primitive& face = faces_[f];
+      if (!overlap(eb, face_box[f])) continue;
+      bool shared = false;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 3; ++b) shared = shared || edge.node[a] == face.node[b];
+      if (shared) continue;
+      if (!segment_crosses_triangle(x + 3 * edge.node[0], x + 3 * edge.node[1], x + 3 * face.node[0],
+                                    x + 3 * face.node[1], x + 3 * face.node[2]))
+        continue;
+      if (count++ == 0 && first)
+        *first = "edge (" + name(edge.node[0]) + ", " + name(edge.node[1]) + ") of body " + body(edge.body) +
+                 " crosses triangle (" + name(face.node[0]) + ", " + name(face.node[1]) + ", " + name(face.node[2]) +
+                 ") of body " + body(face.body);
+    }
+  }
+  for (std::size_t i = 0; i < surface_.vertices.size(); ++i)
+    for (const auto& plane : parameters_.planes) {
+      const std::int32_t v = surface_.vertices[i];
+      double s = 0;
+      for (int c = 0; c < 3; ++c) s += (x[3 * v + c] - plane.point[c]) * plane.normal[c];
+      if (s > 0) continue;
+      if (count++ == 0 && first)
+        *first = name(v) + " of body " + body(surface_.vertex_body[i]) + " is on or behind the plane through (" +
+                 std::to_string(plane.point[0]) + ", " + std::to_string(plane.point[1]) + ", " +
+                 std::to_string(plane.point[2]) + ")";
+    }
+  return count;
+}
+
+}  // namespace dipc

@@ -1,0 +1,157 @@
+// ContactForm: IPC's barrier potential B(x) = κ Σ_k w_k b(d_k(x)) over the contact pairs of the
+// whole (distributed) surface — point–triangle, edge–edge (mollified near parallel edges) and
+// point–plane for half-space obstacles — with its CCD step bound (Li et al. 2020, §4).
+//
+// Distribution. Every surface primitive is owned by one rank (partition/contact_surface.hpp).
+// A pair is evaluated by exactly one rank: vertex–triangle and vertex–plane pairs by the
+// vertex's owner, edge–edge pairs by the owner of the edge with the smaller global id. Before
+// the potential is evaluated along a Newton segment x + αp, ranks exchange only the triangles
+// and edges whose swept, d̂-inflated boxes overlap another rank's surface box (the "ghost
+// surface"); their nodes become extra local nodes of the potential, so positions and gradient
+// contributions travel with the ordinary halo exchange, and Hessian entries to rows owned
+// elsewhere go through COO.
+//
+// Weights w_k: vertex–triangle and vertex–plane pairs use the vertex's rest area (⅓ of its
+// incident rest triangle areas), edge–edge pairs the mean rest area of the edge's end vertices,
+// so κ does not depend on the mesh resolution (area-weighted barrier as in IPC Toolkit).
+#pragma once
+#include <mpi.h>
+
+#include <array>
+#include <string>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "nonlinear/form.hpp"
+#include "nonlinear/contact_parameters.hpp"
+#include "partition/contact_surface.hpp"
+#include "partition/distributed_mesh.hpp"
+
+namespace dipc {
+
+// Per-step contact statistics (this rank's; the caller reduces).
+struct ContactStats {
+  long pairs = 0;                 // active pairs (d < d̂) at the last Hessian evaluation
+  double min_distance = 1e300;    // unsquared, over candidate pairs at the last evaluation
+  double broad_phase_seconds = 0;
+  double ccd_seconds = 0;
+  double barrier_seconds = 0;     // value/gradient/Hessian of the barrier
+  double exchange_seconds = 0;    // ghost-surface exchange
+  long ghost_primitives = 0;
+};
+
+class ContactForm : public Form {
+ public:
+  ContactForm(const DistributedMesh& mesh, ContactParameters parameters);
+  std::string name() const override { return "contact barrier"; }
+  bool value(const double* x, double* energy) override;
+  bool gradient(const double* x, double* g) override;
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool hessian(const double* x, double* values) override;
+  double max_step(const double* x, const double* p) override;
+  const std::vector<std::int64_t>* extra_nodes() const override { return &extra_nodes_; }
+  bool update_extra_nodes(const double* x, const double* p) override;
+  void prepare_segment(const double* x, const double* p) override;
+  void update_pattern(const double* x) override;
+  long pattern_version() const override { return pattern_version_; }
+  bool begin_iteration(const double* x) override;
+
+  double kappa() const { return parameters_.kappa; }
+  void set_kappa(double kappa) { parameters_.kappa = kappa; }
+  // Bounds of the adaptive stiffness (IPC supplement): κ_min from the average nodal mass,
+  // κ_max = 100 κ_min. Collective.
+  void set_kappa_bounds(double average_mass, double bbox_diagonal);
+  double kappa_min() const { return kappa_min_; }
+  double kappa_max() const { return kappa_max_; }
+  bool kappa_adaptive() const { return parameters_.kappa_adaptive; }
+  // Smallest distance (unsquared) over this rank's candidate pairs at x (and ∞ without pairs).
+  double min_distance(const double* x) const;
+  const ContactStats& stats() const { return stats_; }
+  void reset_stats() { stats_ = ContactStats{}; }
+  double dhat() const { return parameters_.dhat; }
+
+  // One candidate pair: kind (0 vertex–triangle, 1 edge–edge, 2 vertex–plane), its ext-local
+  // nodes ([v, t0, t1, t2], [ea0, ea1, eb0, eb1] or [v]), weight w_k, mollifier threshold.
+  struct PairInfo {
+    int kind = 0;
+    std::array<std::int32_t, 4> nodes{-1, -1, -1, -1};
+    int count = 0;
+    double weight = 0, eps_x = 0;
+    const ContactParameters::Plane* plane = nullptr;
+  };
+  // Pairs active at x (d < d̂), for friction; `first_global` tells pairs apart across exchanges.
+  struct ActivePair {
+    PairInfo info;
+    std::int64_t first_global;
+  };
+  std::vector<ActivePair> active_pairs(const double* x) const;
+  // Contributions of one pair: energy, gradient and (PSD-projected) Hessian of κ w m b(d),
+  // m the edge–edge mollifier (1 otherwise); 12 or 3 dofs.
+  struct PairTerms {
+    double energy = 0;
+    double g[12] = {};
+    double H[144] = {};
+  };
+  std::int64_t global_node(std::int32_t ext_local) const;
+  // Local id (mesh or extra) of a global node, −1 if it is not known on this rank.
+  std::int32_t local_node(std::int64_t global) const {
+    auto it = global_to_local_.find(global);
+    return it == global_to_local_.end() ? -1 : it->second;
+  }
+  // Nodes that must stay among the extra nodes whatever the exchanges find (friction pairs).
+  void pin_nodes(std::vector<std::int64_t> nodes) { pinned_ = std::move(nodes); }
+  const ContactParameters& parameters() const { return parameters_; }
+
+  // Edge–triangle crossings at x between this rank's owned edges and every triangle known
+  // here (owned or ghost; call after the potential prepared x), and vertices behind a plane.
+  // Returns how many; *first describes one (bodies and input node ids) for error messages.
+  long count_intersections(const double* x, std::string* first) const;
+
+ private:
+  struct Primitive {  // an edge or a triangle known on this rank (owned or ghost)
+    std::int64_t gid;
+    int body;
+    bool owned;
+    std::array<std::int32_t, 3> node;  // ext-local node ids (edges use 2)
+    double rest_length2 = 0;           // edges: squared rest length (mollifier threshold)
+  };
+  std::int32_t ext_local(std::int64_t global_node);  // adds an extra node if needed
+  void collect_owned();
+  void find_candidates(const double* x, const double* p);
+  template <class F>
+  bool for_each_pair(F&& f) const;
+  PairInfo describe(int kind, std::size_t i) const;
+  bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
+             PairTerms* t) const;
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  const DistributedMesh& mesh_;
+  ContactParameters parameters_;
+  ContactSurface surface_;
+  std::vector<double> vertex_area_;   // per owned surface vertex (rest)
+  std::unordered_map<std::int32_t, double> node_area_;  // mesh-local node -> rest vertex area
+  std::vector<Primitive> edges_, faces_;  // owned first, then ghosts (rebuilt by exchanges)
+  std::size_t owned_edges_ = 0, owned_faces_ = 0;
+  std::vector<std::int64_t> extra_nodes_;
+  std::vector<std::int64_t> pinned_;
+  std::unordered_map<std::int64_t, std::int32_t> global_to_local_;
+  // Candidate pairs this rank evaluates: (vertex node, face index), (edge index, edge index).
+  std::vector<std::array<std::int32_t, 2>> vertex_face_, edge_edge_;
+  std::vector<std::array<std::int32_t, 2>> vertex_plane_;  // (vertex node, plane)
+  // Active pairs at the last update_pattern (their order defines the COO pattern).
+  struct PatternEntry {
+    int kind;  // 0 vertex–face, 1 edge–edge, 2 vertex–plane
+    std::int32_t index;  // into vertex_face_, edge_edge_ or vertex_plane_
+  };
+  std::vector<PatternEntry> pattern_pairs_;
+  std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
+  long pattern_version_ = 0;
+  double kappa_min_ = 0, kappa_max_ = 0;
+  double previous_min_distance2_ = -1;
+  double min_distance_eps2_ = 0;
+  ContactStats stats_;
+};
+
+}  // namespace dipc

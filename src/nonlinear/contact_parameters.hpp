@@ -1,0 +1,23 @@
+// ContactParameters: what the contact forms need to know about a scene's contact settings.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+struct ContactParameters {
+  double dhat = 1e-3;              // activation distance (unsquared, length)
+  double kappa = 0;                // barrier stiffness; adaptive when kappa_adaptive
+  bool kappa_adaptive = true;
+  std::vector<char> self_contact;  // per body: may its surface touch itself?
+  struct Plane {
+    std::array<double, 3> point, normal;  // solid side behind the unit normal
+  };
+  std::vector<Plane> planes;
+  double ccd_fraction = 0.8;  // the Newton step starts at min(1, ccd_fraction · t_CCD)
+  bool project_hessian = true;  // PSD-project each pair's Hessian (tests switch it off)
+  std::vector<std::string> body_names;  // for messages (body id when absent)
+};
+
+}  // namespace dipc

@@ -1,0 +1,120 @@
+#include "nonlinear/friction_form.hpp"
+
+#include <cmath>
+
+#include "contact/friction/friction_potential.hpp"
+#include "contact/geometry/barrier.hpp"
+#include "contact/geometry/edge_edge_distance.hpp"
+#include "contact/geometry/point_triangle_distance.hpp"
+
+namespace dipc {
+
+void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
+  pairs_.clear();
+  const double dhat2 = contact_.dhat() * contact_.dhat();
+  std::vector<std::int64_t> pinned;
+  for (const auto& active : contact_.active_pairs(x_lag)) {
+    const auto& info = active.info;
+    Pair p;
+    p.count = info.count;
+    double X[12];
+    for (int k = 0; k < info.count; ++k) {
+      p.global[k] = contact_.global_node(info.nodes[k]);
+      pinned.push_back(p.global[k]);
+      for (int c = 0; c < 3; ++c) {
+        X[3 * k + c] = x_lag[3 * info.nodes[k] + c];
+        p.x_start[3 * k + c] = x_start[3 * info.nodes[k] + c];
+      }
+    }
+    // Normal force λ = −κ w b'(d) 2√d at the lagged positions (IPC §5).
+    double d;
+    if (info.kind == 0) {
+      d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
+                                           contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
+    } else if (info.kind == 1) {
+      d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
+    } else {
+      double s = 0;
+      for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
+      d = s * s;
+    }
+    const double lambda = contact::friction_normal_force(contact_.kappa() * info.weight,
+                                                         contact::barrier_first_derivative(d, dhat2), d);
+    if (info.kind == 0)
+      p.pair = contact::point_triangle_lagged_friction(X, mu_, lambda, eps_u_);
+    else if (info.kind == 1)
+      p.pair = contact::edge_edge_lagged_friction(X, mu_, lambda, eps_u_);
+    else
+      p.plane = contact::point_plane_lagged_friction(info.plane->normal.data(), mu_, lambda, eps_u_);
+    pairs_.push_back(p);
+  }
+  contact_.pin_nodes(std::move(pinned));
+  ++pattern_version_;
+}
+
+bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_t* local) const {
+  for (int k = 0; k < p.count; ++k) {
+    local[k] = contact_.local_node(p.global[k]);
+    if (local[k] < 0) return false;
+    for (int c = 0; c < 3; ++c) X[3 * k + c] = x[3 * local[k] + c];
+  }
+  return true;
+}
+
+bool FrictionForm::value(const double* x, double* energy) {
+  double e = 0;
+  for (const Pair& p : pairs_) {
+    double X[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    e += p.count == 1 ? contact::friction_energy(X, p.x_start.data(), p.plane)
+                      : contact::friction_energy(X, p.x_start.data(), p.pair);
+  }
+  *energy = e;
+  return true;
+}
+
+bool FrictionForm::gradient(const double* x, double* g) {
+  for (const Pair& p : pairs_) {
+    double X[12], gp[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    if (p.count == 1)
+      contact::friction_gradient(X, p.x_start.data(), p.plane, gp);
+    else
+      contact::friction_gradient(X, p.x_start.data(), p.pair, gp);
+    for (int k = 0; k < p.count; ++k)
+      for (int c = 0; c < 3; ++c) g[3 * local[k] + c] += gp[3 * k + c];
+  }
+  return true;
+}
+
+void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  rows->clear(), cols->clear();
+  for (const Pair& p : pairs_)
+    for (int a = 0; a < p.count; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int b = 0; b < p.count; ++b)
+          for (int j = 0; j < 3; ++j) {
+            rows->push_back(static_cast<PetscInt>(3 * p.global[a] + i));
+            cols->push_back(static_cast<PetscInt>(3 * p.global[b] + j));
+          }
+}
+
+bool FrictionForm::hessian(const double* x, double* values) {
+  std::size_t offset = 0;
+  for (const Pair& p : pairs_) {
+    double X[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    const int n = 3 * p.count;
+    if (p.count == 1)
+      contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
+    else
+      contact::friction_hessian(X, p.x_start.data(), p.pair, values + offset);
+    offset += static_cast<std::size_t>(n) * n;
+  }
+  return true;
+}
+
+}  // namespace dipc
