@@ -6,7 +6,7 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscFunctionBeginUser;
   char dir[PETSC_MAX_PATH_LEN] = "";
   PetscBool set = PETSC_FALSE, no_output = PETSC_FALSE, quiet = PETSC_FALSE;
-  PetscInt steps = o->steps;
+  PetscInt steps = o->steps, refine = o->refine;
   PetscOptionsBegin(comm, nullptr, "dipc run options", "dipc");
   PetscCall(PetscOptionsReal("-dipc_velocity_tol",
                              "Newton tolerance on |p|_inf/h (length/s); default: velocity_tol_rel x bounding-box diagonal",
@@ -14,6 +14,8 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscCall(PetscOptionsReal("-dipc_velocity_tol_rel", "Newton tolerance relative to the bounding-box diagonal (1/s)", "",
                              o->velocity_tol_rel, &o->velocity_tol_rel, nullptr));
   PetscCall(PetscOptionsInt("-dipc_steps", "Number of time steps (overrides the scene's time.steps)", "", steps, &steps, nullptr));
+  PetscCall(PetscOptionsInt("-dipc_refine", "Multiply the resolution of every generated box by this factor", "", refine,
+                            &refine, nullptr));
   PetscCall(PetscOptionsString("-dipc_output", "Output directory (overrides the scene's output.directory)", "", dir, dir,
                                sizeof(dir), &set));
   PetscCall(PetscOptionsBool("-dipc_no_output", "Write no HDF5/XDMF/CSV output", "", no_output, &no_output, nullptr));
@@ -26,6 +28,8 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscOptionsEnd();
   PetscCheck(o->velocity_tol_rel > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_velocity_tol_rel must be > 0");
   o->steps = static_cast<int>(steps);
+  PetscCheck(refine >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_refine must be >= 1");
+  o->refine = static_cast<int>(refine);
   if (set) o->output_dir = dir;
   o->write_output = !no_output;
   o->quiet = quiet;

@@ -13,6 +13,7 @@ struct RunOptions {
   double velocity_tol = -1;
   double velocity_tol_rel = 1e-5;
   int steps = -1;            // overrides the scene's number of steps when > 0
+  int refine = 1;            // multiplies every generated box's resolution (scales a scene up)
   std::string output_dir;    // overrides the scene's output directory when set
   bool write_output = true;  // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
   bool quiet = false;        // -dipc_quiet: no per-step lines

@@ -99,7 +99,7 @@ class RunOutput {
     om.element_body = mesh.element_body.data();
     writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om);
     std::vector<std::string> columns{"step", "t", "newton_its", "ksp_its", "alpha_min", "energy", "min_volume_ratio",
-                                     "wall_s"};
+                                     "wall_s", "linear_solve_s"};
     if (contact_)
       columns.insert(columns.end(), {"contact_pairs", "min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd",
                                      "broad_phase_s", "ccd_s", "barrier_s", "exchange_s"});
@@ -126,7 +126,7 @@ class RunOutput {
 
   void write_stats(const StepReport& r) {
     std::vector<double> row{double(r.step), r.time, double(r.newton.iterations), double(r.newton.linear_iterations),
-                            r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds};
+                            r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds, r.linear_solve_seconds};
     if (contact_)
       row.insert(row.end(), {double(r.contact_pairs), r.min_distance, r.min_distance / dhat_, r.kappa, r.alpha_ccd,
                              r.broad_phase_seconds, r.ccd_seconds, r.barrier_seconds, r.exchange_seconds});
@@ -173,8 +173,12 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
 
 }  // namespace
 
-PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, RunResult* result) {
+PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
   PetscFunctionBeginUser;
+  Scene scene = scene_in;
+  for (Body& body : scene.bodies)
+    if (body.box)
+      for (int& r : body.box->resolution) r *= options.refine;
   const double t_start = MPI_Wtime();
   *result = RunResult{};
   const LogStages& stages = log_stages();
@@ -219,6 +223,7 @@ PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& op
     StepReport r;
     PetscCall(integrator.step(&r));
     result->newton_iterations += r.newton.iterations;
+    result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
     result->linear_iterations += r.newton.linear_iterations;
     if (!r.failure.empty()) {
       result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;

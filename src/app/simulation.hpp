@@ -32,6 +32,7 @@ struct RunResult {
   PhaseTimes times;
   long long newton_iterations = 0, linear_iterations = 0;
   long long num_elements = 0, num_dofs = 0;
+  long max_contact_pairs = 0;       // over the steps (contact runs)
 };
 
 // Collective over comm. Input errors (mesh file, selections) throw std::runtime_error with the

@@ -391,8 +391,11 @@ ContactForm::PairInfo ContactForm::describe(int kind, std::size_t i) const {
     info.count = 4;
     info.weight = node_area_.at(info.nodes[0]);
   } else if (kind == 1) {
-    const auto& a = edges_[edge_edge_[i][0]];
-    const auto& b = edges_[edge_edge_[i][1]];
+    // The edge with the smaller global id first, so that every rank count evaluates (and runs
+    // CCD on) the pair in the same order and gets bit-identical results.
+    const bool swap = edges_[edge_edge_[i][0]].gid > edges_[edge_edge_[i][1]].gid;
+    const auto& a = edges_[edge_edge_[i][swap ? 1 : 0]];
+    const auto& b = edges_[edge_edge_[i][swap ? 0 : 1]];
     info.nodes = {a.node[0], a.node[1], b.node[0], b.node[1]};
     info.count = 4;
     const Primitive& own = a.gid < b.gid ? a : b;
@@ -551,23 +554,6 @@ double ContactForm::min_distance(const double* x) const {
     return true;
   });
   return std::sqrt(d2);
-}
-
-bool ContactForm::begin_iteration(const double* x) {
-  // IPC's stiffness update (Li et al. 2020, supplement): when the smallest distance is tiny and
-  // still shrinking between Newton iterations, double κ (up to κ_max).
-  double local = min_distance(x), global = 0;
-  local *= local;
-  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MIN, comm_);
-  stats_.min_distance = std::sqrt(global);
-  bool changed = false;
-  if (parameters_.kappa_adaptive && previous_min_distance2_ >= 0 && previous_min_distance2_ < min_distance_eps2_ &&
-      global < min_distance_eps2_ && global < previous_min_distance2_ && parameters_.kappa < kappa_max_) {
-    parameters_.kappa = std::min(kappa_max_, 2 * parameters_.kappa);
-    changed = true;
-  }
-  previous_min_distance2_ = global;
-  return changed;
 }
 
 std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) const {

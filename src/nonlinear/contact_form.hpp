@@ -55,7 +55,6 @@ class ContactForm : public Form {
   void prepare_segment(const double* x, const double* p) override;
   void update_pattern(const double* x) override;
   long pattern_version() const override { return pattern_version_; }
-  bool begin_iteration(const double* x) override;
 
   double kappa() const { return parameters_.kappa; }
   void set_kappa(double kappa) { parameters_.kappa = kappa; }
@@ -64,6 +63,8 @@ class ContactForm : public Form {
   void set_kappa_bounds(double average_mass, double bbox_diagonal);
   double kappa_min() const { return kappa_min_; }
   double kappa_max() const { return kappa_max_; }
+  // IPC's "tiny distance" threshold ε_d² = (1e-9 L)² of the stiffness update.
+  double min_distance_threshold2() const { return min_distance_eps2_; }
   bool kappa_adaptive() const { return parameters_.kappa_adaptive; }
   // Smallest distance (unsquared) over this rank's candidate pairs at x (and ∞ without pairs).
   double min_distance(const double* x) const;
@@ -149,7 +150,6 @@ class ContactForm : public Form {
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
   long pattern_version_ = 0;
   double kappa_min_ = 0, kappa_max_ = 0;
-  double previous_min_distance2_ = -1;
   double min_distance_eps2_ = 0;
   ContactStats stats_;
 };

@@ -73,14 +73,14 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_hypre_boomeramg_vec_interp_variant", "3"));
   // hypre's recommendation for 3D problems (the 0.25 default is tuned for 2D).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
-  // HMIS coarsening, extended+i interpolation truncated to 4 entries per row and one level of
-  // aggressive coarsening: with PETSc's classical defaults (Falgout, classical interpolation)
-  // the vector interpolation above made AMG setup 10× slower (bench_step_breakdown, 31K dofs:
-  // 4.3 s vs 0.31 s per Newton iteration, same iteration counts).
+  // HMIS coarsening and extended+i interpolation truncated to 4 entries per row: with PETSc's
+  // classical defaults (Falgout, classical interpolation) the vector interpolation above made
+  // AMG setup 10× slower (bench_step_breakdown, 31K dofs: 4.3 s vs 0.31 s per Newton iteration).
+  // No aggressive coarsening: with it, BoomerAMG turned indefinite on contact Hessians on 4 ranks
+  // (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
   PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
-  PetscCall(default_option("-pc_hypre_boomeramg_agg_nl", "1"));
   PetscCall(default_option("-snes_max_it", "100"));
   PetscFunctionReturn(0);
 }

@@ -212,6 +212,7 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     PetscCall(potential_.begin_step(x_hat_));
   }
   const double solve_start = MPI_Wtime();
+  const EvaluationTimes before = potential_.times();
   if (contact_) {
     contact_->reset_stats();
     PetscCall(initialize_barrier_stiffness());
@@ -235,7 +236,15 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     report->newton.reason = solve.reason;
     if (solve.reason < 0) report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[solve.reason];
   }
-  solve_seconds_ += MPI_Wtime() - solve_start;
+  const double solve_wall = MPI_Wtime() - solve_start;
+  solve_seconds_ += solve_wall;
+  {
+    const EvaluationTimes& after = potential_.times();
+    report->linear_solve_seconds =
+        solve_wall - (after.energy - before.energy) - (after.gradient - before.gradient) -
+        (after.hessian - before.hessian) - (after.validity - before.validity) -
+        (after.neighbourhood - before.neighbourhood) - (after.max_step - before.max_step);
+  }
   if (!report->failure.empty()) {
     PetscCall(VecCopy(x_n_, x_));
     PetscFunctionReturn(0);
@@ -326,10 +335,16 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
   PetscFunctionReturn(0);
 }
 
-// IPC's initial barrier stiffness (Li et al. 2020, supplement): the κ that balances the
-// barrier gradient against the rest of the incremental potential's gradient at x_n,
-// κ = −∇B₁·∇E / ‖∇B₁‖² (∇B₁ the barrier gradient for κ = 1), clamped to [κ_min, κ_max].
-// dipc never lowers κ during a run, so a contact that built up stiffness keeps it.
+// The barrier stiffness of a step (IPC, Li et al. 2020, supplement, "adaptive barrier
+// stiffness"), fixed for the whole step:
+//  - the κ that balances the barrier gradient against the rest of the incremental potential's
+//    gradient at x_n, κ = −∇B₁·∇E / ‖∇B₁‖² (∇B₁ the barrier gradient for κ = 1), clamped to
+//    [κ_min, κ_max]; dipc never lowers κ during a run;
+//  - doubled (up to κ_max) when the minimum distance is below IPC's tiny threshold and still
+//    shrinking. IPC applies this test between Newton iterations; dipc applies it between time
+//    steps, so that every step minimises one fixed potential: its solution then does not depend
+//    on the Newton path, which the line search's CCD bounds make sensitive to round-off (and so
+//    to the number of ranks).
 PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
   PetscFunctionBeginUser;
   if (!contact_->kappa_adaptive()) PetscFunctionReturn(0);
@@ -339,7 +354,7 @@ PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
   PetscCall(VecDuplicate(x_, &gb));
   const Form* contact = contact_;
   PetscCall(potential_.partial_gradient(x_, ge, [contact](const Form& f) { return &f != contact; }));
-  const double kappa = contact_->kappa();
+  double kappa = contact_->kappa();
   contact_->set_kappa(1.0);
   PetscCall(potential_.partial_gradient(x_, gb, [contact](const Form& f) { return &f == contact; }));
   PetscReal dot, nn;
@@ -347,7 +362,17 @@ PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
   PetscCall(VecDot(gb, gb, &nn));
   double balanced = nn > 0 ? -dot / nn : contact_->kappa_min();
   balanced = std::min(contact_->kappa_max(), std::max(contact_->kappa_min(), balanced));
-  contact_->set_kappa(std::max(kappa, balanced));
+  kappa = std::max(kappa, balanced);
+
+  double local = 0, d2 = 0;
+  PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) { local = contact_->min_distance(xl); }));
+  local *= local;
+  MPI_Allreduce(&local, &d2, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  const double eps2 = contact_->min_distance_threshold2();
+  if (previous_min_distance2_ >= 0 && previous_min_distance2_ < eps2 && d2 < eps2 && d2 < previous_min_distance2_)
+    kappa = std::min(contact_->kappa_max(), 2 * kappa);
+  previous_min_distance2_ = d2;
+  contact_->set_kappa(kappa);
   PetscCall(VecDestroy(&ge));
   PetscCall(VecDestroy(&gb));
   PetscFunctionReturn(0);

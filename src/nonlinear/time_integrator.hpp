@@ -29,6 +29,9 @@ struct StepReport {
   double kappa = 0;              // barrier stiffness
   double alpha_ccd = 1;          // smallest CCD bound on a Newton step during the step
   double broad_phase_seconds = 0, ccd_seconds = 0, barrier_seconds = 0, exchange_seconds = 0;  // max over ranks
+  // This rank's wall time in the Newton solves of the step apart from every evaluation of the
+  // potential (assembly, line search, contact): KSP + AMG setup + vector work.
+  double linear_solve_seconds = 0;
   std::string failure;   // empty when the step succeeded; otherwise why it did not
 };
 
@@ -90,6 +93,7 @@ class TimeIntegrator {
   Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
   Vec x_local_ = nullptr;
   bool check_invariants_ = false;
+  double previous_min_distance2_ = -1;  // at the start of the previous step (κ update)
   int steps_taken_ = 0;
   double time_ = 0;
   double solve_seconds_ = 0;

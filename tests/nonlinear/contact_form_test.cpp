@@ -25,12 +25,12 @@ struct ContactFixture {
   ContactForm* contact = nullptr;
   Mat H = nullptr;
 
-  ContactFixture(double gap, bool project) {
+  ContactFixture(double gap, bool project, MPI_Comm comm = PETSC_COMM_WORLD) {
     // A 3×3×1 slab and a 2×2×2 box above it, offset so vertices, edges and faces all face
     // each other (point–triangle and edge–edge pairs, not only aligned vertices).
-    HexMesh whole = generate_box({1, 1, 0.25}, {3, 3, 1}, {0, 0, 0.05}, 0, "slab");
+    HexMesh whole = generate_box({1, 1, 0.25}, {3, 3, 1}, {0, 0, 0.01}, 0, "slab");
     whole.append(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0.21, 0.17, 0.3 + gap}, 1, "box"));
-    mesh = distribute_mesh(whole, PETSC_COMM_WORLD);
+    mesh = distribute_mesh(whole, comm);
     ContactParameters params;
     params.dhat = 0.02;
     params.kappa = 1.0;
@@ -140,6 +140,46 @@ TEST(ContactForm, ProjectedHessianIsSymmetricPositiveSemidefinite) {
   VecDestroy(&x);
   VecDestroy(&d);
   VecDestroy(&Hd);
+}
+
+// The same state gives the same energy and gradient norm on all ranks and on rank 0 alone.
+TEST(ContactForm, SameEnergyAndGradientOnAnyRankCount) {
+  double values[2][2];
+  int rank;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm self;
+  MPI_Comm_split(PETSC_COMM_WORLD, rank == 0 ? 0 : MPI_UNDEFINED, 0, &self);
+  for (int run = 0; run < 2; ++run) {
+    if (run == 1 && rank != 0) break;
+    ContactFixture f(0.004, true, run == 0 ? PETSC_COMM_WORLD : self);
+    Vec x, g, p;
+    f.potential.create_global_vec(&x);
+    VecDuplicate(x, &g);
+    VecDuplicate(x, &p);
+    f.perturbed(x, 1, 3e-3);
+    // A segment that sweeps the box down onto the slab, as in an impact step.
+    PetscScalar* a;
+    VecGetArray(p, &a);
+    for (int n = 0; n < f.mesh.num_owned_nodes; ++n)
+      for (int c = 0; c < 3; ++c) a[3 * n + c] = c == 2 && f.mesh.coordinates[n][2] > 0.29 ? -0.003 : 0.0;
+    VecRestoreArray(p, &a);
+    PetscReal alpha;
+    ASSERT_EQ(f.potential.max_step(x, p, &alpha), 0);
+    PetscReal E, gn;
+    f.potential.objective(x, &E);
+    f.potential.gradient(x, g);
+    VecNorm(g, NORM_2, &gn);
+    values[run][0] = E, values[run][1] = gn;
+    VecDestroy(&x);
+    VecDestroy(&g);
+    VecDestroy(&p);
+  }
+  if (rank == 0) {
+    EXPECT_GT(values[1][0], 0);
+    EXPECT_NEAR(values[0][0], values[1][0], 1e-12 * values[1][0]);
+    EXPECT_NEAR(values[0][1], values[1][1], 1e-12 * values[1][1]);
+    MPI_Comm_free(&self);
+  }
 }
 
 }  // namespace
