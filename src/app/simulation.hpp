@@ -18,6 +18,8 @@ struct PhaseTimes {
   double assembly = 0;     // gradient and Hessian evaluation, COO insertion included
   double coo_insert = 0;   // MatSetValuesCOO alone
   double line_search = 0;  // energy and validity of trial states
+  double contact = 0;      // ghost-surface exchange, broad phase and CCD (the barrier is in assembly)
+  double preallocation = 0;  // new matrices for new contact patterns
   double linear_solve = 0; // the rest of the Newton solves: KSP, AMG setup, vector work
   double output = 0, total = 0;
 };

@@ -140,6 +140,8 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
 
 PetscErrorCode IncrementalPotential::create_matrix(Mat* J) {
   PetscFunctionBeginUser;
+  const double start = MPI_Wtime();
+  const double before = times_.preallocation;
   PetscCall(MatCreate(comm_, J));
   PetscCall(MatSetSizes(*J, num_owned_dofs_, num_owned_dofs_, PETSC_DETERMINE, PETSC_DETERMINE));
   PetscCall(MatSetBlockSize(*J, 3));
@@ -148,6 +150,7 @@ PetscErrorCode IncrementalPotential::create_matrix(Mat* J) {
   J_ = *J;
   PetscCall(rebuild_pattern());
   PetscCall(MatSetOption(*J, MAT_SPD, PETSC_TRUE));
+  times_.preallocation = before + (MPI_Wtime() - start);
   PetscFunctionReturn(0);
 }
 
@@ -237,6 +240,20 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   const double insert_start = MPI_Wtime();
   PetscCall(MatSetValuesCOO(J, values_.data(), INSERT_VALUES));
   times_.coo_insert += MPI_Wtime() - insert_start;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {
+  PetscFunctionBeginUser;
+  PetscCall(gather(x));
+  const PetscScalar* xl;
+  PetscCall(VecGetArrayRead(x_local_, &xl));
+  for (auto& form : forms_) form->update_pattern(xl);
+  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  int local = pattern_changed() ? 1 : 0, any = 0;
+  PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_));
+  *changed = any ? PETSC_TRUE : PETSC_FALSE;
+  if (any) J_ = nullptr;  // the caller replaces the matrix: create_matrix() rebuilds the pattern
   PetscFunctionReturn(0);
 }
 

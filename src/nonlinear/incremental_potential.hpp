@@ -57,6 +57,10 @@ class IncrementalPotential {
   // Gradient of the forms for which include(form) is true (Dirichlet rows zeroed).
   PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include);
   PetscErrorCode hessian(Vec x, Mat J);
+  // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when the combined
+  // pattern differs from the current matrix's, which the caller must then replace with
+  // create_matrix().
+  PetscErrorCode refresh_pattern(Vec x, PetscBool* changed);
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
   // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then

@@ -16,7 +16,7 @@ PetscErrorCode gradient_callback(SNES, Vec x, Vec g, void* ctx) {
   StageScope stage(log_stages().assembly);
   return static_cast<IncrementalPotential*>(ctx)->gradient(x, g);
 }
-PetscErrorCode hessian_callback(SNES, Vec x, Mat J, Mat P, void* ctx) {
+PetscErrorCode hessian_callback(SNES snes, Vec x, Mat J, Mat P, void* ctx) {
   StageScope stage(log_stages().assembly);
   PetscFunctionBeginUser;
   PetscCall(static_cast<IncrementalPotential*>(ctx)->hessian(x, P));
@@ -27,21 +27,38 @@ PetscErrorCode hessian_callback(SNES, Vec x, Mat J, Mat P, void* ctx) {
   PetscFunctionReturn(0);
 }
 
-// At the start of every Newton iteration: forms may adapt (the barrier stiffness κ grows when
-// the minimum distance keeps shrinking); then the gradient at x is recomputed with them.
-PetscErrorCode update_callback(SNES snes, PetscInt) {
+}  // namespace
+
+// At the start of every Newton iteration: forms may adapt, and then the gradient at x is
+// recomputed with them; and when the Hessian's nonzero pattern at x differs from the current
+// matrix's (the contact active set changed), the solver gets a new matrix, so that every
+// preconditioner sets itself up for the new pattern from scratch.
+PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt) {
   PetscFunctionBeginUser;
   void* ctx;
   PetscCall(SNESGetApplicationContext(snes, &ctx));
-  auto* potential = static_cast<IncrementalPotential*>(ctx);
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  IncrementalPotential* potential = self->ls_.potential;
   Vec x, f;
   PetscCall(SNESGetSolution(snes, &x));
   PetscCall(SNESGetFunction(snes, &f, nullptr, nullptr));
   PetscBool changed;
   PetscCall(potential->begin_iteration(x, &changed));
   if (changed) PetscCall(SNESComputeFunction(snes, x, f));
+  PetscBool new_pattern;
+  PetscCall(potential->refresh_pattern(x, &new_pattern));
+  if (new_pattern) {
+    Mat J;
+    PetscCall(potential->create_matrix(&J));
+    PetscCall(SNESSetJacobian(snes, J, J, hessian_callback, potential));
+    PetscCall(MatDestroy(&self->J_));
+    self->J_ = J;
+    PetscCall(self->attach_near_null_space(x));
+  }
   PetscFunctionReturn(0);
 }
+
+namespace {
 
 // Sets `name` to `value` in the options database unless the user already set it, so every
 // default stays a PETSc option that the command line or an options file overrides.
@@ -67,17 +84,15 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-ksp_rtol", "1e-8"));
   PetscCall(default_option("-pc_type", "hypre"));
   PetscCall(default_option("-pc_hypre_type", "boomeramg"));
-  // BoomerAMG for 3D elasticity: coarsen node-wise on the 3×3 blocks and interpolate the
-  // rigid-body modes attached as near-null space (hypre ignores them without these two).
+  // BoomerAMG for 3D elasticity: coarsen node-wise on the 3×3 blocks (block size 3), HMIS
+  // coarsening and extended+i interpolation truncated to 4 entries per row, hypre's strength
+  // threshold for 3D problems. The rigid-body modes are attached as near-null space, so
+  // `-pc_hypre_boomeramg_vec_interp_variant 3` (or -pc_type gamg) can use them; vector
+  // interpolation is not the default because it cost 5–10× more per Newton iteration with no
+  // fewer iterations on every scene measured (README, "Linear solver"). Aggressive coarsening
+  // is off: with it BoomerAMG turned indefinite on contact Hessians on 4 ranks.
   PetscCall(default_option("-pc_hypre_boomeramg_nodal_coarsen", "6"));
-  PetscCall(default_option("-pc_hypre_boomeramg_vec_interp_variant", "3"));
-  // hypre's recommendation for 3D problems (the 0.25 default is tuned for 2D).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
-  // HMIS coarsening and extended+i interpolation truncated to 4 entries per row: with PETSc's
-  // classical defaults (Falgout, classical interpolation) the vector interpolation above made
-  // AMG setup 10× slower (bench_step_breakdown, 31K dofs: 4.3 s vs 0.31 s per Newton iteration).
-  // No aggressive coarsening: with it, BoomerAMG turned indefinite on contact Hessians on 4 ranks
-  // (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
   PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
@@ -100,8 +115,8 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
   PetscCall(SNESSetJacobian(snes_, J_, J_, hessian_callback, potential));
   PetscCall(SNESSetConvergenceTest(snes_, velocity_convergence_test, &ls_, nullptr));
-  PetscCall(SNESSetApplicationContext(snes_, potential));
-  PetscCall(SNESSetUpdate(snes_, update_callback));
+  PetscCall(SNESSetApplicationContext(snes_, this));
+  PetscCall(SNESSetUpdate(snes_, NewtonSolver::update_callback));
   SNESLineSearch ls;
   PetscCall(SNESGetLineSearch(snes_, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
@@ -114,14 +129,20 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
+// Rigid-body modes at the configuration x: the near-null space BoomerAMG's vector
+// interpolation (and GAMG, if chosen) uses.
+PetscErrorCode NewtonSolver::attach_near_null_space(Vec x) {
   PetscFunctionBeginUser;
-  // Rigid-body modes at the current configuration: the near-null space BoomerAMG's vector
-  // interpolation (and GAMG, if chosen) uses.
   MatNullSpace rigid;
   PetscCall(MatNullSpaceCreateRigidBody(x, &rigid));
   PetscCall(MatSetNearNullSpace(J_, rigid));
   PetscCall(MatNullSpaceDestroy(&rigid));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
+  PetscFunctionBeginUser;
+  PetscCall(attach_near_null_space(x));
 
   ls_.min_alpha = 1.0;
   ls_.min_alpha_ccd = 1.0;

@@ -51,6 +51,8 @@ class NewtonSolver {
 
  private:
   PetscErrorCode set_default_options();
+  PetscErrorCode attach_near_null_space(Vec x);
+  static PetscErrorCode update_callback(SNES snes, PetscInt step);
 
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
