@@ -46,6 +46,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     bm.rho = m.rho;
     p.body_materials.push_back(bm);
     p.body_velocity.push_back(body.initial_velocity);
+    p.body_kinematic.push_back(body.kinematic ? 1 : 0);
   }
   p.gravity = scene.gravity;
   p.is_static = scene.is_static;

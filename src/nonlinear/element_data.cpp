@@ -5,20 +5,19 @@
 
 namespace dipc {
 
-ElementData::ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials)
+ElementData::ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials,
+                         const std::vector<char>& skip_body)
     : local_to_global(mesh.local_to_global) {
-  const int ne = mesh.num_elements();
-  nodes.reserve(8 * static_cast<std::size_t>(ne));
-  for (const auto& e : mesh.elements) nodes.insert(nodes.end(), e.begin(), e.end());
   reference.reserve(3 * mesh.coordinates.size());
   for (const auto& X : mesh.coordinates) reference.insert(reference.end(), X.begin(), X.end());
-  lambda.resize(ne), mu.resize(ne), rho.resize(ne);
-  for (int e = 0; e < ne; ++e) {
+  for (int e = 0; e < mesh.num_elements(); ++e) {
     const int b = mesh.element_body[e];
     if (b < 0 || b >= static_cast<int>(materials.size()))
       throw std::runtime_error("element " + std::to_string(mesh.element_input_id[e]) +
                                " has body id " + std::to_string(b) + " without a material");
-    lambda[e] = materials[b].lambda, mu[e] = materials[b].mu, rho[e] = materials[b].rho;
+    if (b < static_cast<int>(skip_body.size()) && skip_body[b]) continue;
+    nodes.insert(nodes.end(), mesh.elements[e].begin(), mesh.elements[e].end());
+    lambda.push_back(materials[b].lambda), mu.push_back(materials[b].mu), rho.push_back(materials[b].rho);
   }
 }
 

@@ -17,7 +17,10 @@ struct ElementData {
   std::vector<double> lambda, mu, rho;
   std::vector<std::int64_t> local_to_global;
 
-  ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials);
+  // skip_body[b] (optional): leave out the elements of body b (kinematic bodies, whose nodes are
+  // all prescribed, contribute nothing to the elastic energy's minimisation).
+  ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials,
+              const std::vector<char>& skip_body = {});
   ElementBlock block() const;
   // Reference coordinates of element e's nodes, X[3a + i].
   void gather_reference(int e, double X[24]) const;

@@ -79,7 +79,11 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
   else if (inertia)
     forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_));
-  forms.push_back(std::make_unique<ElasticForm>(*elements_, h2));
+  // Kinematic bodies (every node prescribed) need no elastic energy.
+  bool any_kinematic = false;
+  for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
+  if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
+  forms.push_back(std::make_unique<ElasticForm>(any_kinematic ? *deformable_elements_ : *elements_, h2));
   if (gravity) forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
   if (problem.contact) {
     auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters);

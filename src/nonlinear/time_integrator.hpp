@@ -83,6 +83,7 @@ class TimeIntegrator {
   const DistributedMesh* mesh_ = nullptr;
   ProblemSetup problem_;
   std::unique_ptr<ElementData> elements_;
+  std::unique_ptr<ElementData> deformable_elements_;  // without kinematic bodies (when there are any)
   GhostExchange exchange_;
   IncrementalPotential potential_;
   NewtonSolver newton_;

@@ -52,7 +52,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"nan_mesh.json", {"nan_coordinate.msh", "node 1"}},
                       BadInput{"missing_mesh.json", {"missing.msh"}},
                       BadInput{"unknown_selection.json", {"unknown_selection.json", "cube.left"}},
-                      BadInput{"does_not_exist.json", {"does_not_exist.json"}}),
+                      BadInput{"does_not_exist.json", {"does_not_exist.json"}},
+                      BadInput{"intersecting_bodies.json",
+                               {"not intersection-free", "crosses triangle", "\"upper\"", "\"lower\""}},
+                      BadInput{"touching_bodies.json", {"not intersection-free", "touch"}}),
     [](const auto& info) {
       std::string n = info.param.scene;
       return n.substr(0, n.find('.'));
