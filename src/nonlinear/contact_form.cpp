@@ -118,12 +118,18 @@ std::int64_t ContactForm::global_node(std::int32_t ext) const {
 void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
   // IPC supplement (adaptive barrier stiffness): κ_min makes the barrier's stiffness at a
   // tiny distance d₀ = (1e-8 L)² comparable to the inertia of an average node,
-  // κ_min = 1e11 · m̄ / (4 d₀ b''(d₀)), and κ_max = 100 κ_min.
+  // κ_min = 1e11 · m̄ / (4 d₀ b''(d₀)), and κ_max = 100 κ_min. dipc's barrier is weighted by
+  // rest vertex areas, so a node's barrier stiffness is κ Ā b'': the mass is taken per unit
+  // area, m̄ / Ā (Ā the average vertex area), which keeps κ_min independent of the mesh size.
+  double local[2] = {0, static_cast<double>(surface_.vertices.size())}, total[2];
+  for (std::int32_t v : surface_.vertices) local[0] += node_area_.at(v);
+  MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, comm_);
+  const double average_area = total[1] > 0 ? total[0] / total[1] : 1.0;
   const double dhat2 = parameters_.dhat * parameters_.dhat;
   double d0 = 1e-8 * bbox_diagonal;
   d0 *= d0;
   if (d0 >= dhat2) d0 = 0.5 * dhat2;
-  kappa_min_ = 1e11 * average_mass / (4.0 * d0 * contact::barrier_second_derivative(d0, dhat2));
+  kappa_min_ = 1e11 * (average_mass / average_area) / (4.0 * d0 * contact::barrier_second_derivative(d0, dhat2));
   kappa_max_ = 100.0 * kappa_min_;
   min_distance_eps2_ = (1e-9 * bbox_diagonal) * (1e-9 * bbox_diagonal);
   if (parameters_.kappa_adaptive && parameters_.kappa < kappa_min_) parameters_.kappa = kappa_min_;
