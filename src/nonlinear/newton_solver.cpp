@@ -84,14 +84,15 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-ksp_rtol", "1e-8"));
   PetscCall(default_option("-pc_type", "hypre"));
   PetscCall(default_option("-pc_hypre_type", "boomeramg"));
-  // BoomerAMG for 3D elasticity: coarsen node-wise on the 3×3 blocks (block size 3), HMIS
-  // coarsening and extended+i interpolation truncated to 4 entries per row, hypre's strength
-  // threshold for 3D problems. The rigid-body modes are attached as near-null space, so
-  // `-pc_hypre_boomeramg_vec_interp_variant 3` (or -pc_type gamg) can use them; vector
-  // interpolation is not the default because it cost 5–10× more per Newton iteration with no
-  // fewer iterations on every scene measured (README, "Linear solver"). Aggressive coarsening
-  // is off: with it BoomerAMG turned indefinite on contact Hessians on 4 ranks.
-  PetscCall(default_option("-pc_hypre_boomeramg_nodal_coarsen", "6"));
+  // BoomerAMG: HMIS coarsening, extended+i interpolation truncated to 4 entries per row,
+  // hypre's strength threshold for 3D problems; matrix block size 3 and the rigid-body modes
+  // attached as near-null space. Measured on a 97,556-hex box (bench_step_breakdown, 2 ranks,
+  // README "Benchmarks"): plain unknown-based coarsening needed 4.1 s per Newton iteration,
+  // nodal coarsening (-pc_hypre_boomeramg_nodal_coarsen 6) 14.1 s and nodal coarsening with
+  // vector interpolation of the rigid-body modes (…_vec_interp_variant 3) 35 s, so the nodal
+  // and vector-interpolation options are available (scenes/solver/*.opts) but not the default.
+  // Aggressive coarsening is off: with it BoomerAMG turned indefinite on contact Hessians on
+  // 4 ranks (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
