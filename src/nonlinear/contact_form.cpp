@@ -539,24 +539,24 @@ double ContactForm::max_step(const double* x, const double* p) {
   return t < 1.0 ? parameters_.ccd_fraction * t : 1.0;
 }
 
+double ContactForm::squared_distance(const PairInfo& info, const double* X) {
+  if (info.kind == 0)
+    return contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
+                                            contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
+  if (info.kind == 1)
+    return contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
+  double s = 0;
+  for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
+  return s * s;
+}
+
 double ContactForm::min_distance(const double* x) const {
   double d2 = std::numeric_limits<double>::infinity();
   for_each_pair([&](int kind, std::size_t i) {
     const PairInfo info = describe(kind, i);
     double X[12];
     gather_positions(x, info.nodes.data(), info.count, X);
-    double d;
-    if (kind == 0) {
-      d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
-                                           contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
-    } else if (kind == 1) {
-      d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
-    } else {
-      double s = 0;
-      for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
-      d = s * s;
-    }
-    d2 = std::min(d2, d);
+    d2 = std::min(d2, squared_distance(info, X));
     return true;
   });
   return std::sqrt(d2);

@@ -87,6 +87,8 @@ class ContactForm : public Form {
     std::int64_t first_global;
   };
   std::vector<ActivePair> active_pairs(const double* x) const;
+  // Squared distance of a pair whose stacked node positions are X (3 per node of info.nodes).
+  static double squared_distance(const PairInfo& info, const double* X);
   // Contributions of one pair: energy, gradient and (PSD-projected) Hessian of κ w m b(d),
   // m the edge–edge mollifier (1 otherwise); 12 or 3 dofs.
   struct PairTerms {

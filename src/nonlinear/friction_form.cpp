@@ -4,8 +4,6 @@
 
 #include "contact/friction/friction_potential.hpp"
 #include "contact/geometry/barrier.hpp"
-#include "contact/geometry/edge_edge_distance.hpp"
-#include "contact/geometry/point_triangle_distance.hpp"
 
 namespace dipc {
 
@@ -27,17 +25,7 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
       }
     }
     // Normal force λ = −κ w b'(d) 2√d at the lagged positions (IPC §5).
-    double d;
-    if (info.kind == 0) {
-      d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
-                                           contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
-    } else if (info.kind == 1) {
-      d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
-    } else {
-      double s = 0;
-      for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
-      d = s * s;
-    }
+    const double d = ContactForm::squared_distance(info, X);
     const double lambda = contact::friction_normal_force(contact_.kappa() * info.weight,
                                                          contact::barrier_first_derivative(d, dhat2), d);
     if (info.kind == 0)
