@@ -10,18 +10,25 @@
 
 namespace dipc {
 
+// Shape functions N at Gauss point q of the element with reference coordinates X, and the
+// mass weight ρ w_q |det J0_q| of that point.
+DIPC_HD double hex8_mass_point(const double X[24], double rho, int q, double N[8]) {
+  double xi, eta, zeta, dN[24], J0[9];
+  hex8::gauss_point(q, xi, eta, zeta);
+  hex8::shape(xi, eta, zeta, N);
+  hex8::shape_gradient(xi, eta, zeta, dN);
+  hex8::jacobian(X, dN, J0);
+  const double det_J0 = det3x3(J0);
+  return rho * hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
+}
+
 // Consistent scalar mass M_ab = sum_q rho w_q |det J0_q| N_a N_b (8x8 row-major); the
 // vector mass matrix is M (x) I_3.
 DIPC_HD void hex8_consistent_mass(const double X[24], double rho, double M[64]) {
   for (int k = 0; k < 64; ++k) M[k] = 0;
   for (int q = 0; q < hex8::kQuadraturePoints; ++q) {
-    double xi, eta, zeta, N[8], dN[24], J0[9];
-    hex8::gauss_point(q, xi, eta, zeta);
-    hex8::shape(xi, eta, zeta, N);
-    hex8::shape_gradient(xi, eta, zeta, dN);
-    hex8::jacobian(X, dN, J0);
-    const double det_J0 = det3x3(J0);
-    const double wdet = rho * hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
+    double N[8];
+    const double wdet = hex8_mass_point(X, rho, q, N);
     for (int a = 0; a < 8; ++a)
       for (int b = a; b < 8; ++b) M[8 * a + b] += wdet * N[a] * N[b];
   }
@@ -34,13 +41,8 @@ DIPC_HD void hex8_consistent_mass(const double X[24], double rho, double M[64]) 
 DIPC_HD void hex8_lumped_mass(const double X[24], double rho, double m[8]) {
   for (int a = 0; a < 8; ++a) m[a] = 0;
   for (int q = 0; q < hex8::kQuadraturePoints; ++q) {
-    double xi, eta, zeta, N[8], dN[24], J0[9];
-    hex8::gauss_point(q, xi, eta, zeta);
-    hex8::shape(xi, eta, zeta, N);
-    hex8::shape_gradient(xi, eta, zeta, dN);
-    hex8::jacobian(X, dN, J0);
-    const double det_J0 = det3x3(J0);
-    const double wdet = rho * hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
+    double N[8];
+    const double wdet = hex8_mass_point(X, rho, q, N);
     for (int a = 0; a < 8; ++a) m[a] += wdet * N[a];
   }
 }

@@ -229,7 +229,6 @@ bool ContactForm::update_extra_nodes(const double* x, const double* p) {
     }
   }
   for (std::int64_t g : pinned_) ext_local(g);
-  stats_.ghost_primitives = total;
   stats_.exchange_seconds += MPI_Wtime() - start;
   return extra_nodes_ != previous;
 }
@@ -458,15 +457,13 @@ bool ContactForm::gradient(const double* x, double* g) {
 
 void ContactForm::update_pattern(const double* x) {
   std::vector<PatternEntry> active_now;
-  long pairs = 0;
   for_each_pair([&](int kind, std::size_t i) {
     bool active;
     PairTerms t;
     terms(describe(kind, i), x, false, false, &active, &t);
-    if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)}), ++pairs;
+    if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)});
     return true;
   });
-  stats_.pairs = pairs;
   // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.
   std::vector<std::array<std::int64_t, 5>> key;
   for (const auto& pe : active_now) {

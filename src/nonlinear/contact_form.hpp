@@ -30,15 +30,12 @@
 
 namespace dipc {
 
-// Per-step contact statistics (this rank's; the caller reduces).
+// Per-step contact timings (this rank's; the caller reduces).
 struct ContactStats {
-  long pairs = 0;                 // active pairs (d < d̂) at the last Hessian evaluation
-  double min_distance = 1e300;    // unsquared, over candidate pairs at the last evaluation
   double broad_phase_seconds = 0;
   double ccd_seconds = 0;
   double barrier_seconds = 0;     // value/gradient/Hessian of the barrier
   double exchange_seconds = 0;    // ghost-surface exchange
-  long ghost_primitives = 0;
 };
 
 class ContactForm : public Form {
