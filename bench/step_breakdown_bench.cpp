@@ -3,7 +3,9 @@
 // N and writes CSV: partition, setup, assembly (of which COO insertion), line search, AMG
 // setup, KSP solve, output, per Newton iteration where it makes sense.
 //
-//   mpirun -n R bench_step_breakdown [-elements 10000,100000] [-steps 3] [-csv out.csv] [PETSc options]
+//   mpirun -n R bench_step_breakdown [-elements 10000,100000] [-steps 3] [-csv out.csv]
+//                                    [-dipc_backend cpu|cuda|auto] [PETSc options]
+// With -vec_type cuda -mat_type aijcusparse (a CUDA PETSc) vectors and matrix stay on the device.
 #include <petscksp.h>
 
 #include <cmath>
@@ -63,6 +65,9 @@ int main(int argc, char** argv) {
   if (!has_sizes) nsizes = 2;
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-steps", &steps, nullptr));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-csv", csv_path, sizeof(csv_path), nullptr));
+  char backend[16] = "cpu", mat_type[64] = "aij";
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-dipc_backend", backend, sizeof(backend), nullptr));
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-mat_type", mat_type, sizeof(mat_type), nullptr));
   int ranks, rank;
   MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -75,9 +80,10 @@ int main(int argc, char** argv) {
       PetscCall(PetscFinalize());
       return 1;
     }
-    std::fprintf(csv, "ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,coo_insert_s,"
-                      "line_search_s,amg_setup_s,ksp_solve_s,total_s\n");
+    std::fprintf(csv, "backend,mat_type,ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,"
+                      "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s\n");
   }
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "backend %s, Mat %s\n", backend, mat_type));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks",
                         "elements", "dofs", "newton", "ksp", "assembly", "coo_ins", "lsearch", "amg_setup",
                         "ksp_solve", "total", "s/newton"));
@@ -88,6 +94,7 @@ int main(int argc, char** argv) {
     options.write_output = false;
     options.quiet = true;
     options.report = false;
+    options.backend = backend;
     const double pc0 = event_seconds("PCSetUp"), ksp0 = event_seconds("KSPSolve");
     dipc::RunResult r;
     PetscCall(dipc::run_scene(scene, PETSC_COMM_WORLD, options, &r));
@@ -99,9 +106,9 @@ int main(int argc, char** argv) {
                           t.coo_insert, t.line_search, pc, ksp, t.total, per_newton,
                           r.failure.empty() ? "" : "  (FAILED)"));
     if (csv)
-      std::fprintf(csv, "%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", ranks, r.num_elements,
-                   r.num_dofs, (int)steps, r.newton_iterations, r.linear_iterations, t.partition, t.setup, t.assembly,
-                   t.coo_insert, t.line_search, pc, ksp, t.total);
+      std::fprintf(csv, "%s,%s,%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", backend,
+                   mat_type, ranks, r.num_elements, r.num_dofs, (int)steps, r.newton_iterations, r.linear_iterations,
+                   t.partition, t.setup, t.assembly, t.coo_insert, t.line_search, t.contact, pc, ksp, t.total, per_newton);
   }
   if (csv) std::fclose(csv);
   PetscCall(PetscFinalize());

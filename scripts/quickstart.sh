@@ -5,7 +5,8 @@
 #   scripts/quickstart.sh           # build and run the default scene -> output/dipc.xmf
 #   scripts/quickstart.sh --test    # build and run every test (what CI runs)
 #
-# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores), DIPC_WITH_CUDA=OFF
+# to skip the CUDA kernels where nvcc is installed.
 set -euo pipefail
 
 mode=run
@@ -39,7 +40,16 @@ if ((${#missing[@]})); then
 fi
 
 # --- 2. build ---------------------------------------------------------------
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release
+# With a CUDA compiler present the kernels are built too (CI compiles them even without a GPU;
+# at run time -dipc_backend auto falls back to the CPU where no device is found).
+cuda=()
+nvcc=$(command -v nvcc || true)
+[[ -z $nvcc && -x /usr/local/cuda/bin/nvcc ]] && nvcc=/usr/local/cuda/bin/nvcc
+if [[ -n $nvcc && ${DIPC_WITH_CUDA:-auto} != OFF ]]; then
+  echo "quickstart: building the CUDA kernels with $nvcc"
+  cuda=(-DDIPC_WITH_CUDA=ON -DCMAKE_CUDA_COMPILER="$nvcc")
+fi
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cuda[@]}"
 cmake --build "$build" -j "$jobs"
 
 # Open MPI refuses to run as root and to start more ranks than cores unless told to.

@@ -1,5 +1,7 @@
 #include "app/run_options.hpp"
 
+#include <cstdio>
+
 namespace dipc {
 
 PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
@@ -25,7 +27,19 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
                              "After every step verify det J > 0, no edge-triangle intersection and d_min > 0", "", check,
                              &check, nullptr));
   o->check_invariants = check;
+  char backend[16];
+  std::snprintf(backend, sizeof backend, "%s", o->backend.c_str());
+  PetscCall(PetscOptionsString("-dipc_backend", "Where elements and contact are evaluated: cpu, cuda or auto", "", backend,
+                               backend, sizeof(backend), nullptr));
+  o->backend = backend;
+  PetscInt crossover = static_cast<PetscInt>(o->auto_gpu_min_elements);
+  PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU", "",
+                            crossover, &crossover, nullptr));
+  o->auto_gpu_min_elements = crossover;
   PetscOptionsEnd();
+  PetscCheck(o->auto_gpu_min_elements >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_auto_gpu_elements must be >= 0");
+  PetscCheck(o->backend == "cpu" || o->backend == "cuda" || o->backend == "auto", comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-dipc_backend must be cpu, cuda or auto (got '%s')", o->backend.c_str());
   PetscCheck(o->velocity_tol_rel > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_velocity_tol_rel must be > 0");
   o->steps = static_cast<int>(steps);
   PetscCheck(refine >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_refine must be >= 1");

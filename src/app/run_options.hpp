@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "app/backend.hpp"
+
 namespace dipc {
 
 struct RunOptions {
@@ -20,6 +22,8 @@ struct RunOptions {
   bool report = true;        // run header and timing table (tests and benchmarks turn it off)
   bool check_invariants = false;  // -dipc_check_invariants: verify no inversion/intersection after every step
   bool setup_only = false;   // build everything (so -help lists all options), take no step
+  std::string backend = "auto";   // -dipc_backend cpu | cuda | auto (app/backend.hpp)
+  long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
 };
 
 PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* options);

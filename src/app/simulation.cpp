@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <cstring>
 #include <memory>
 
+#include "app/backend.hpp"
 #include "app/problem_builder.hpp"
 #include "app/scene_mesh.hpp"
+#include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
 #include "mesh/mesh_checks.hpp"
@@ -142,8 +145,22 @@ class RunOutput {
   std::unique_ptr<StatsCsv> stats_;
 };
 
+// Device memory around the integrator's setup, for the header's bytes-per-element line.
+struct DeviceUse {
+  bool matrix_on_device = false;
+  std::size_t free_before = 0, free_after = 0;
+};
+
+bool matrix_type_is_device() {
+  char type[64] = "";
+  PetscBool set = PETSC_FALSE;
+  PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set);
+  return set && std::strstr(type, "cusparse") != nullptr;
+}
+
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
-                            TimeIntegrator& integrator, const RunOptions& options, double velocity_tol) {
+                            TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
+                            const BackendChoice& backend, const DeviceUse& device_use) {
   PetscFunctionBeginUser;
   int size;
   MPI_Comm_size(comm, &size);
@@ -160,9 +177,18 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   MPI_Allreduce(&entries, &total_entries, 1, MPI_LONG_LONG, MPI_SUM, comm);
   PetscCall(PetscPrintf(comm, "dipc %s | PETSc %d.%d.%d | scene: %s\n", "0.1.0", PETSC_VERSION_MAJOR,
                         PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR, scene.source.c_str()));
-  PetscCall(PetscPrintf(comm, "  ranks %d (backend cpu, no GPU) | elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
-                        size, (long long)mesh.num_global_elements, ne_min, ne_max, (long long)mesh.num_global_nodes,
-                        (int)integrator.num_dofs()));
+  PetscCall(PetscPrintf(comm, "  ranks %d | backend %s | elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
+                        size, backend.description.c_str(), (long long)mesh.num_global_elements, ne_min, ne_max,
+                        (long long)mesh.num_global_nodes, (int)integrator.num_dofs()));
+  if (backend.space == MemorySpace::device) {
+    // Measured on each rank as the drop in free device memory over the setup; the largest shown.
+    double used = static_cast<double>(device_use.free_before) - static_cast<double>(device_use.free_after), max_used;
+    MPI_Allreduce(&used, &max_used, 1, MPI_DOUBLE, MPI_MAX, comm);
+    PetscCall(PetscPrintf(comm, "  GPU %s (device %d on rank 0) | setup used %.1f MiB on the fullest rank, %.0f B/element "
+                          "(dipc's estimate %zu B/element before the matrix and preconditioner)\n",
+                          device::name(backend.device).c_str(), backend.device, max_used / 1048576.0,
+                          max_used / std::max(1, ne_max), device_bytes_per_element(false)));
+  }
   PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
                         forms.c_str()));
   PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps | Newton: |p|_inf/h < %g\n",
@@ -199,13 +225,23 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   double t_setup = MPI_Wtime();
   ProblemSetup problem = build_problem(scene, mesh, diagonal);
   const double velocity_tol = options.velocity_tol > 0 ? options.velocity_tol : options.velocity_tol_rel * diagonal;
+  const BackendChoice backend =
+      choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+  DeviceUse device_use;
+  if (backend.space == MemorySpace::device) {
+    device_use.matrix_on_device = matrix_type_is_device();
+    check_device_memory(comm, mesh.num_elements(), device_use.matrix_on_device);
+    device_use.free_before = device::memory_info().free_bytes;
+  }
   TimeIntegrator integrator;
   {
     StageScope stage(stages.setup);
-    PetscCall(integrator.setup(mesh, problem, velocity_tol, options.check_invariants));
+    PetscCall(integrator.setup(mesh, problem, velocity_tol, options.check_invariants, backend.space));
   }
+  if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
   t_setup = MPI_Wtime() - t_setup;
-  if (options.report) PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol));
+  if (options.report)
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, backend, device_use));
 
   std::unique_ptr<RunOutput> output;
   double t_output = MPI_Wtime();

@@ -11,6 +11,25 @@
 
 namespace dipc {
 
+// Geometry of Gauss point q: the reference shape gradients G_a = dN_a/dX = J0^{-T} dN_a/dxi
+// (G[3a + j]), the deformation gradient F = sum_a x_a (x) G_a, and the returned quadrature
+// weight w_q |det J0_q|. Shared by the CPU element loop and the CUDA element kernel.
+DIPC_HD double hex8_quadrature_point(const double X[24], const double x[24], int q, double G[24], double F[9]) {
+  double xi, eta, zeta, dN[24], J0[9], J0inv[9];
+  hex8::gauss_point(q, xi, eta, zeta);
+  hex8::shape_gradient(xi, eta, zeta, dN);
+  hex8::jacobian(X, dN, J0);
+  const double det_J0 = inverse3x3(J0, J0inv);
+  for (int a = 0; a < 8; ++a)
+    for (int j = 0; j < 3; ++j)
+      G[3 * a + j] = dN[3 * a] * J0inv[j] + dN[3 * a + 1] * J0inv[3 + j] + dN[3 * a + 2] * J0inv[6 + j];
+  for (int k = 0; k < 9; ++k) F[k] = 0;
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
+  return hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
+}
+
 namespace detail {
 
 // Psi_e = sum_q w_q |det J0_q| psi(F_q), F = (dx/dxi)(dX/dxi)^{-1} = sum_a x_a (x) G_a with the
@@ -30,20 +49,8 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
   if (hessian)
     for (int k = 0; k < 576; ++k) Hc[k] = 0;
   for (int q = 0; q < hex8::kQuadraturePoints; ++q) {
-    double xi, eta, zeta, dN[24], J0[9], J0inv[9];
-    hex8::gauss_point(q, xi, eta, zeta);
-    hex8::shape_gradient(xi, eta, zeta, dN);
-    hex8::jacobian(X, dN, J0);
-    const double det_J0 = inverse3x3(J0, J0inv);
-    const double wdet = hex8::kGaussWeight * (det_J0 < 0 ? -det_J0 : det_J0);
-    double G[24];
-    for (int a = 0; a < 8; ++a)
-      for (int j = 0; j < 3; ++j)
-        G[3 * a + j] = dN[3 * a] * J0inv[j] + dN[3 * a + 1] * J0inv[3 + j] + dN[3 * a + 2] * J0inv[6 + j];
-    double F[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    for (int a = 0; a < 8; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
+    double G[24], F[9];
+    const double wdet = hex8_quadrature_point(X, x, q, G, F);
     if (!(det3x3(F) > 0)) return false;
     if (energy) e += wdet * neo_hookean_energy(F, lambda, mu);
     if (gradient) {

@@ -6,13 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include "assembly/symmetric_eigen.hpp"
 #include "contact/broad_phase/find_candidates.hpp"
-#include "contact/ccd/time_of_impact.hpp"
 #include "contact/geometry/barrier.hpp"
-#include "contact/geometry/edge_edge_distance.hpp"
-#include "contact/geometry/edge_edge_mollifier.hpp"
-#include "contact/geometry/point_triangle_distance.hpp"
+#include "nonlinear/contact_pair_terms.hpp"
 #include "nonlinear/segment_triangle.hpp"
 #include "partition/ghost_exchange.hpp"
 
@@ -44,12 +40,37 @@ double triangle_area(const double* a, const double* b, const double* c) {
   return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-using PairTerms = ContactForm::PairTerms;
+// The plane of a vertex–plane pair (nullptr for the other kinds).
+const double* plane_point(const ContactForm::PairInfo& info) {
+  return info.plane ? info.plane->point.data() : nullptr;
+}
+const double* plane_normal(const ContactForm::PairInfo& info) {
+  return info.plane ? info.plane->normal.data() : nullptr;
+}
+
+// Positions of a pair's nodes, stacked.
+void gather_positions(const double* x, const std::int32_t* nodes, int count, double* out) {
+  for (int k = 0; k < count; ++k)
+    for (int c = 0; c < 3; ++c) out[3 * k + c] = x[3 * nodes[k] + c];
+}
 
 }  // namespace
 
-ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters)
-    : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)) {
+ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
+    : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space) {
+  if (space_ == MemorySpace::device) {
+    if (device::device_count() == 0)
+      throw device::DeviceError(device::built_with_cuda()
+                                    ? "contact barrier on the device: no CUDA device is visible to this process"
+                                    : "contact barrier on the device: dipc was built without CUDA "
+                                      "(configure with -DDIPC_WITH_CUDA=ON)");
+    std::vector<double> points, normals;
+    for (const auto& plane : parameters_.planes) {
+      points.insert(points.end(), plane.point.begin(), plane.point.end());
+      normals.insert(normals.end(), plane.normal.begin(), plane.normal.end());
+    }
+    device_planes_.upload(points, normals);
+  }
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   surface_ = build_contact_surface(mesh);
@@ -233,7 +254,18 @@ bool ContactForm::update_extra_nodes(const double* x, const double* p) {
   return extra_nodes_ != previous;
 }
 
-void ContactForm::prepare_segment(const double* x, const double* p) { find_candidates(x, p); }
+void ContactForm::prepare_segment(const double* x, const double* p) {
+  find_candidates(x, p);
+  if (space_ != MemorySpace::device) return;
+  const double start = MPI_Wtime();
+  device::ContactPairList list;
+  for_each_pair([&](int kind, std::size_t i) {
+    append(&list, describe(kind, i));
+    return true;
+  });
+  device_candidates_.upload(list);
+  stats_.transfer_seconds += MPI_Wtime() - start;
+}
 
 void ContactForm::find_candidates(const double* x, const double* p) {
   const double start = MPI_Wtime();
@@ -317,76 +349,6 @@ bool ContactForm::for_each_pair(F&& f) const {
   return ok;
 }
 
-namespace {
-
-// Positions of a pair's nodes, stacked.
-void gather_positions(const double* x, const std::int32_t* nodes, int count, double* out) {
-  for (int k = 0; k < count; ++k)
-    for (int c = 0; c < 3; ++c) out[3 * k + c] = x[3 * nodes[k] + c];
-}
-
-}  // namespace
-
-namespace {
-// The barrier terms of one candidate pair at x. Returns false when the pair is not admissible
-// (distance ≤ 0); *active is false when d ≥ d̂ (then the terms are zero).
-bool pair_terms(int kind, const double* X, double dhat2, double kappa, double weight, double eps_x,
-                       const ContactParameters::Plane* plane, bool want_g, bool want_H, bool project, bool* active,
-                       PairTerms* t) {
-  *active = false;
-  const int ndof = kind == 2 ? 3 : 12;
-  double d = 0, gd[12] = {}, Hd[144] = {};
-  if (kind == 0) {
-    const auto type = contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9);
-    d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9, type);
-    if (d >= dhat2) return true;
-    if (d <= 0) return false;
-    if (want_g || want_H) contact::point_triangle_distance_gradient(X, X + 3, X + 6, X + 9, type, gd);
-    if (want_H) contact::point_triangle_distance_hessian(X, X + 3, X + 6, X + 9, type, Hd);
-  } else if (kind == 1) {
-    const auto type = contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9);
-    d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, type);
-    if (d >= dhat2) return true;
-    if (d <= 0) return false;
-    if (want_g || want_H) contact::edge_edge_distance_gradient(X, X + 3, X + 6, X + 9, type, gd);
-    if (want_H) contact::edge_edge_distance_hessian(X, X + 3, X + 6, X + 9, type, Hd);
-  } else {
-    double s = 0;
-    for (int c = 0; c < 3; ++c) s += (X[c] - plane->point[c]) * plane->normal[c];
-    if (s <= 0) return false;
-    d = s * s;
-    if (d >= dhat2) return true;
-    for (int c = 0; c < 3; ++c) gd[c] = 2 * s * plane->normal[c];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Hd[3 * i + j] = 2 * plane->normal[i] * plane->normal[j];
-  }
-  *active = true;
-  const double b = contact::barrier(d, dhat2), b1 = contact::barrier_first_derivative(d, dhat2),
-               b2 = contact::barrier_second_derivative(d, dhat2);
-  const double s = kappa * weight;
-  // Mollifier for nearly parallel edges (edge–edge only): e = m(x) b(d(x)).
-  double m = 1, gm[12] = {}, Hm[144] = {};
-  const bool mollified = kind == 1 && contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
-  if (mollified) {
-    m = contact::edge_edge_mollifier(X, X + 3, X + 6, X + 9, eps_x);
-    if (want_g || want_H) contact::edge_edge_mollifier_gradient(X, X + 3, X + 6, X + 9, eps_x, gm);
-    if (want_H) contact::edge_edge_mollifier_hessian(X, X + 3, X + 6, X + 9, eps_x, Hm);
-  }
-  t->energy = s * m * b;
-  if (want_g || want_H)
-    for (int i = 0; i < ndof; ++i) t->g[i] = s * (m * b1 * gd[i] + b * gm[i]);
-  if (want_H) {
-    for (int i = 0; i < ndof; ++i)
-      for (int j = 0; j < ndof; ++j) {
-        const double bij = b2 * gd[i] * gd[j] + b1 * Hd[ndof * i + j];  // ∇²b
-        t->H[ndof * i + j] = s * (m * bij + b1 * (gm[i] * gd[j] + gd[i] * gm[j]) + b * Hm[ndof * i + j]);
-      }
-    if (project) project_psd<12>(t->H, ndof);
-  }
-  return true;
-}
-}  // namespace
-
 ContactForm::PairInfo ContactForm::describe(int kind, std::size_t i) const {
   PairInfo info;
   info.kind = kind;
@@ -417,19 +379,39 @@ ContactForm::PairInfo ContactForm::describe(int kind, std::size_t i) const {
 }
 
 bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
-                        PairTerms* t) const {
+                        ContactPairTerms* t) const {
   double X[12];
   gather_positions(x, info.nodes.data(), info.count, X);
-  return pair_terms(info.kind, X, parameters_.dhat * parameters_.dhat, parameters_.kappa, info.weight, info.eps_x,
-                    info.plane, want_g, want_H, parameters_.project_hessian, active, t);
+  return contact_pair_terms(info.kind, X, plane_point(info), plane_normal(info), parameters_.dhat * parameters_.dhat,
+                            parameters_.kappa, info.weight, info.eps_x, want_g, want_H, parameters_.project_hessian,
+                            active, t);
+}
+
+void ContactForm::append(device::ContactPairList* list, const PairInfo& info) const {
+  list->add(info.kind, info.nodes.data(), info.weight, info.eps_x,
+            info.plane ? static_cast<int>(info.plane - parameters_.planes.data()) : -1);
+}
+
+device::BarrierConstants ContactForm::barrier_constants() const {
+  device::BarrierConstants c;
+  c.dhat2 = parameters_.dhat * parameters_.dhat;
+  c.kappa = parameters_.kappa;
+  c.project = parameters_.project_hessian;
+  return c;
 }
 
 bool ContactForm::value(const double* x, double* energy) {
   const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::contact_barrier_energy(device_candidates_, device_planes_, barrier_constants(), x, reducer_, energy);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
   double e = 0;
   const bool ok = for_each_pair([&](int kind, std::size_t i) {
     bool active;
-    PairTerms t;
+    ContactPairTerms t;
     if (!terms(describe(kind, i), x, false, false, &active, &t)) return false;
     e += t.energy;
     return true;
@@ -441,10 +423,16 @@ bool ContactForm::value(const double* x, double* energy) {
 
 bool ContactForm::gradient(const double* x, double* g) {
   const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::add_contact_barrier_gradient(device_candidates_, device_planes_, barrier_constants(), x, g, reducer_);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
   const bool ok = for_each_pair([&](int kind, std::size_t i) {
     const PairInfo info = describe(kind, i);
     bool active;
-    PairTerms t;
+    ContactPairTerms t;
     if (!terms(info, x, true, false, &active, &t)) return false;
     if (!active) return true;
     for (int k = 0; k < info.count; ++k)
@@ -459,7 +447,7 @@ void ContactForm::update_pattern(const double* x) {
   std::vector<PatternEntry> active_now;
   for_each_pair([&](int kind, std::size_t i) {
     bool active;
-    PairTerms t;
+    ContactPairTerms t;
     terms(describe(kind, i), x, false, false, &active, &t);
     if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)});
     return true;
@@ -478,6 +466,17 @@ void ContactForm::update_pattern(const double* x) {
     pattern_key_ = std::move(key);
     ++pattern_version_;
   }
+  if (space_ != MemorySpace::device) return;
+  // The pattern's device list also changes when exchanges renumber its nodes, so compare the
+  // list itself, not only the key.
+  const double start = MPI_Wtime();
+  device::ContactPairList list;
+  for (const auto& pe : pattern_pairs_) append(&list, describe(pe.kind, pe.index));
+  if (list != uploaded_pattern_) {
+    device_pattern_.upload(list);
+    uploaded_pattern_ = std::move(list);
+  }
+  stats_.transfer_seconds += MPI_Wtime() - start;
 }
 
 void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
@@ -496,13 +495,19 @@ void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>
 
 bool ContactForm::hessian(const double* x, double* values) {
   const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::contact_barrier_hessian(device_pattern_, device_planes_, barrier_constants(), x, values, reducer_);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
   std::size_t offset = 0;
   bool ok = true;
   for (const auto& pe : pattern_pairs_) {
     const PairInfo info = describe(pe.kind, pe.index);
     const int n = 3 * info.count;
     bool active;
-    PairTerms t;
+    ContactPairTerms t;
     ok = terms(info, x, true, true, &active, &t) && ok;
     for (int r = 0; r < n * n; ++r) values[offset + r] = active ? t.H[r] : 0.0;
     offset += static_cast<std::size_t>(n) * n;
@@ -514,22 +519,20 @@ bool ContactForm::hessian(const double* x, double* values) {
 double ContactForm::max_step(const double* x, const double* p) {
   const double start = MPI_Wtime();
   double t = 1.0;
-  for_each_pair([&](int kind, std::size_t i) {
-    const PairInfo info = describe(kind, i);
-    double X0[12], X1[12];
-    gather_positions(x, info.nodes.data(), info.count, X0);
-    for (int k = 0; k < info.count; ++k)
-      for (int c = 0; c < 3; ++c) X1[3 * k + c] = X0[3 * k + c] + p[3 * info.nodes[k] + c];
-    double toi;
-    if (kind == 0)
-      toi = contact::point_triangle_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t);
-    else if (kind == 1)
-      toi = contact::edge_edge_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t);
-    else
-      toi = contact::point_plane_time_of_impact(X0, X1, info.plane->point.data(), info.plane->normal.data(), 0.0, t);
-    t = std::min(t, toi);
-    return true;
-  });
+  if (space_ == MemorySpace::device) {
+    t = device::contact_min_time_of_impact(device_candidates_, device_planes_, x, p, 1.0, reducer_);
+  } else {
+    // Every pair on [0, 1], as on the device (see the header).
+    for_each_pair([&](int kind, std::size_t i) {
+      const PairInfo info = describe(kind, i);
+      double X0[12], X1[12];
+      gather_positions(x, info.nodes.data(), info.count, X0);
+      for (int k = 0; k < info.count; ++k)
+        for (int c = 0; c < 3; ++c) X1[3 * k + c] = X0[3 * k + c] + p[3 * info.nodes[k] + c];
+      t = std::min(t, contact_pair_time_of_impact(kind, X0, X1, plane_point(info), plane_normal(info), 1.0));
+      return true;
+    });
+  }
   stats_.ccd_seconds += MPI_Wtime() - start;
   // IPC starts the line search at a fraction of the time of impact, so that the new state
   // keeps a positive distance even before the barrier pushes back.
@@ -537,14 +540,7 @@ double ContactForm::max_step(const double* x, const double* p) {
 }
 
 double ContactForm::squared_distance(const PairInfo& info, const double* X) {
-  if (info.kind == 0)
-    return contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
-                                            contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
-  if (info.kind == 1)
-    return contact::edge_edge_distance(X, X + 3, X + 6, X + 9, contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
-  double s = 0;
-  for (int c = 0; c < 3; ++c) s += (X[c] - info.plane->point[c]) * info.plane->normal[c];
-  return s * s;
+  return contact_pair_squared_distance(info.kind, X, plane_point(info), plane_normal(info));
 }
 
 double ContactForm::min_distance(const double* x) const {
@@ -564,7 +560,7 @@ std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) 
   for_each_pair([&](int kind, std::size_t i) {
     const PairInfo info = describe(kind, i);
     bool active;
-    PairTerms t;
+    ContactPairTerms t;
     terms(info, x, false, false, &active, &t);
     if (active) out.push_back({info, global_node(info.nodes[0])});
     return true;

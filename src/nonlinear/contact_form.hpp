@@ -14,6 +14,17 @@
 // Weights w_k: vertex–triangle and vertex–plane pairs use the vertex's rest area (⅓ of its
 // incident rest triangle areas), edge–edge pairs the mean rest area of the edge's end vertices,
 // so κ does not depend on the mesh resolution (area-weighted barrier as in IPC Toolkit).
+//
+// Memory space. On the host (the default) every evaluation loops over the pairs on the CPU. On
+// the device the broad phase and the hooks stay on the host, prepare_segment uploads the
+// candidate pairs and update_pattern the pattern's pairs (when they change), and value,
+// gradient, hessian and max_step run the CUDA kernels of cuda/contact_kernels.hpp on device
+// arrays; both call the point functions of contact_pair_terms.hpp. Queries that take host
+// arrays (min_distance, active_pairs, count_intersections) stay on the CPU in both spaces.
+// Both spaces search every pair's time of impact on [0, 1] and take the minimum, so the step
+// bound is the same bit for bit on the host and the device, and does not depend on the order
+// of the pairs (which differs between rank counts). Searching up to the running minimum
+// instead would end some searches sooner, but the bound would then depend on that order.
 #pragma once
 #include <mpi.h>
 
@@ -23,12 +34,15 @@
 #include <unordered_map>
 #include <vector>
 
-#include "nonlinear/form.hpp"
 #include "nonlinear/contact_parameters.hpp"
+#include "nonlinear/cuda/contact_kernels.hpp"
+#include "nonlinear/form.hpp"
 #include "partition/contact_surface.hpp"
 #include "partition/distributed_mesh.hpp"
 
 namespace dipc {
+
+struct ContactPairTerms;
 
 // Per-step contact timings (this rank's; the caller reduces).
 struct ContactStats {
@@ -36,12 +50,16 @@ struct ContactStats {
   double ccd_seconds = 0;
   double barrier_seconds = 0;     // value/gradient/Hessian of the barrier
   double exchange_seconds = 0;    // ghost-surface exchange
+  double transfer_seconds = 0;    // device space: pair lists copied to the device
 };
 
 class ContactForm : public Form {
  public:
-  ContactForm(const DistributedMesh& mesh, ContactParameters parameters);
+  // space: where value, gradient, hessian and max_step run (and where their arrays live).
+  // MemorySpace::device throws device::DeviceError when no CUDA device is available.
+  ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space = MemorySpace::host);
   std::string name() const override { return "contact barrier"; }
+  MemorySpace memory_space() const override { return space_; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
@@ -86,13 +104,6 @@ class ContactForm : public Form {
   std::vector<ActivePair> active_pairs(const double* x) const;
   // Squared distance of a pair whose stacked node positions are X (3 per node of info.nodes).
   static double squared_distance(const PairInfo& info, const double* X);
-  // Contributions of one pair: energy, gradient and (PSD-projected) Hessian of κ w m b(d),
-  // m the edge–edge mollifier (1 otherwise); 12 or 3 dofs.
-  struct PairTerms {
-    double energy = 0;
-    double g[12] = {};
-    double H[144] = {};
-  };
   std::int64_t global_node(std::int32_t ext_local) const;
   // Local id (mesh or extra) of a global node, −1 if it is not known on this rank.
   std::int32_t local_node(std::int64_t global) const {
@@ -123,12 +134,15 @@ class ContactForm : public Form {
   bool for_each_pair(F&& f) const;
   PairInfo describe(int kind, std::size_t i) const;
   bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
-             PairTerms* t) const;
+             ContactPairTerms* t) const;
+  void append(device::ContactPairList* list, const PairInfo& info) const;
+  device::BarrierConstants barrier_constants() const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   const DistributedMesh& mesh_;
   ContactParameters parameters_;
+  MemorySpace space_;
   ContactSurface surface_;
   std::vector<double> vertex_area_;   // per owned surface vertex (rest)
   std::unordered_map<std::int32_t, double> node_area_;  // mesh-local node -> rest vertex area
@@ -148,6 +162,12 @@ class ContactForm : public Form {
   std::vector<PatternEntry> pattern_pairs_;
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
   long pattern_version_ = 0;
+  // Device space: the candidates, the pattern's pairs (and the host copy they were uploaded
+  // from, to upload only changes), the planes, and the reducer that brings scalars back.
+  device::DeviceContactPairs device_candidates_, device_pattern_;
+  device::ContactPairList uploaded_pattern_;
+  device::DeviceContactPlanes device_planes_;
+  device::Reducer reducer_;
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;
   ContactStats stats_;

@@ -8,6 +8,13 @@
 //
 // A form carries its own scale (h² for elastic and body terms in implicit Euler), so the
 // potential is the plain sum of its forms.
+//
+// Memory spaces. A form evaluates either on the host or on the CUDA device (memory_space()).
+// The evaluations — value, gradient, hessian, is_valid, max_step — receive x, p, g and the
+// Hessian values in the form's own space; the potential copies a local array across at most
+// once per evaluation, whatever the number of forms. The hooks (begin_step, begin_iteration,
+// update_extra_nodes, prepare_segment, update_pattern), called once per step or Newton
+// iteration, always receive host arrays.
 #pragma once
 #include <petscsys.h>
 
@@ -17,10 +24,13 @@
 
 namespace dipc {
 
+enum class MemorySpace { host, device };
+
 class Form {
  public:
   virtual ~Form() = default;
   virtual std::string name() const = 0;
+  virtual MemorySpace memory_space() const { return MemorySpace::host; }
 
   // This rank's contribution to E at x. Returns false if x is not admissible for this
   // form (an inverted element), in which case E(x) = +inf.

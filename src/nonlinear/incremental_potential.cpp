@@ -1,6 +1,7 @@
 #include "nonlinear/incremental_potential.hpp"
 
 #include <algorithm>
+#include <tuple>
 #include <unordered_set>
 
 namespace dipc {
@@ -46,6 +47,7 @@ IncrementalPotential::~IncrementalPotential() {
   VecDestroy(&g_local_);
   VecDestroy(&p_local_);
   VecDestroy(&dirichlet_global_);
+  VecDestroy(&dirichlet_keep_);
 }
 
 PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
@@ -54,6 +56,8 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   comm_ = mesh.comm;
   mesh_ = &mesh;
   forms_ = std::move(forms);
+  for (const auto& form : forms_)
+    (form->memory_space() == MemorySpace::device ? any_device_ : any_host_) = true;
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
   local_to_global_ = mesh.local_to_global;
@@ -64,6 +68,11 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   PetscCall(VecGetArray(dirichlet_global_, &d));
   for (int k = 0; k < num_owned_dofs_; ++k) d[k] = dirichlet_dof_[k] ? 1.0 : 0.0;
   PetscCall(VecRestoreArray(dirichlet_global_, &d));
+  // Gradient rows of prescribed dofs are zeroed by a pointwise product, which runs wherever the
+  // gradient Vec lives.
+  PetscCall(VecDuplicate(dirichlet_global_, &dirichlet_keep_));
+  PetscCall(VecSet(dirichlet_keep_, 1.0));
+  PetscCall(VecAXPY(dirichlet_keep_, -1.0, dirichlet_global_));
   PetscCall(exchange_.create_local_vec(&x_local_));
   PetscCall(VecDuplicate(x_local_, &g_local_));
   PetscCall(VecDuplicate(x_local_, &p_local_));
@@ -127,6 +136,10 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
       cols_.push_back(dof);
     }
   values_.assign(rows_.size(), 0.0);
+  if (any_device_) {
+    d_values_.resize(values_.size());
+    d_eliminated_.upload(eliminated_);
+  }
   if (J_) {
     // MatSetPreallocationCOO may reorder the index arrays it is given: pass copies.
     const double start = MPI_Wtime();
@@ -174,13 +187,13 @@ PetscErrorCode IncrementalPotential::objective(Vec x, PetscReal* energy) {
 PetscErrorCode IncrementalPotential::form_values(Vec x, std::vector<double>* values) {
   PetscFunctionBeginUser;
   PetscCall(gather(x));
-  const PetscScalar* xl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
+  PetscCall(x_views_.begin(x_local_));
   const std::size_t nf = forms_.size();
   std::vector<double> local(nf + 1, 0.0), total(nf + 1);
-  for (std::size_t f = 0; f < nf; ++f)
-    if (!forms_[f]->value(xl, &local[f])) local[nf] = 1.0;
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
+  const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
+  if (!local_values(xh, xd, local.data())) local[nf] = 1.0;
+  PetscCall(x_views_.end());
   PetscCallMPI(MPI_Allreduce(local.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
   values->assign(total.begin(), total.begin() + nf);
   if (total[nf] > 0)
@@ -192,23 +205,53 @@ PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::f
   PetscFunctionBeginUser;
   PetscCall(gather(x));
   PetscCall(VecZeroEntries(g_local_));
-  const PetscScalar* xl;
+  PetscCall(x_views_.begin(x_local_));
   PetscScalar* gl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  PetscCall(VecGetArray(g_local_, &gl));
+  PetscMemType g_type;
+  PetscCall(VecGetArrayAndMemType(g_local_, &gl, &g_type));
+  const MemorySpace g_space = PetscMemTypeHost(g_type) ? MemorySpace::host : MemorySpace::device;
+  const std::size_t n = x_views_.size();
+  // Forms in the other space than the gradient Vec add into a zeroed scratch array there,
+  // which is then added into the Vec once.
+  double* g_in[2] = {nullptr, nullptr};  // indexed by MemorySpace
+  bool other_used = false;
+  for (MemorySpace space : {MemorySpace::host, MemorySpace::device}) {
+    if (!uses(space)) continue;
+    if (space == g_space) {
+      g_in[static_cast<int>(space)] = gl;
+    } else if (space == MemorySpace::host) {
+      g_host_.assign(n, 0.0);
+      g_in[0] = g_host_.data();
+      other_used = true;
+    } else {
+      g_device_.resize(n);
+      g_device_.set_zero();
+      g_in[1] = g_device_.data();
+      other_used = true;
+    }
+  }
   bool ok = true;
   for (auto& form : forms_)
-    if (!include || include(*form)) ok = form->gradient(xl, gl) && ok;
-  PetscCall(VecRestoreArray(g_local_, &gl));
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+    if (!include || include(*form)) {
+      const MemorySpace space = form->memory_space();
+      ok = form->gradient(x_views_.in(space), g_in[static_cast<int>(space)]) && ok;
+    }
+  if (other_used) {
+    if (g_space == MemorySpace::host) {
+      g_host_.resize(n);
+      g_device_.download(g_host_.data());
+      for (std::size_t k = 0; k < n; ++k) gl[k] += g_host_[k];
+    } else {
+      g_device_.upload(g_host_);
+      device::add_scaled(gl, 1.0, g_device_.data(), n);
+    }
+  }
+  PetscCall(VecRestoreArrayAndMemType(g_local_, &gl));
+  PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "gradient requested at an inverted state");
   PetscCall(VecZeroEntries(g));
   PetscCall(exchange_.add_to_global(g_local_, g));
-  PetscScalar* ga;
-  PetscCall(VecGetArray(g, &ga));
-  for (int k = 0; k < num_owned_dofs_; ++k)
-    if (dirichlet_dof_[k]) ga[k] = 0;
-  PetscCall(VecRestoreArray(g, &ga));
+  PetscCall(VecPointwiseMult(g, g, dirichlet_keep_));
   PetscFunctionReturn(0);
 }
 
@@ -224,32 +267,53 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   ScopedEvent timer(events().hessian, &times_.hessian);
   PetscCheck(J == J_, comm_, PETSC_ERR_ARG_WRONG, "hessian() needs the matrix made by create_matrix()");
   PetscCall(gather(x));
-  const PetscScalar* xl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  for (auto& form : forms_) form->update_pattern(xl);
+  PetscCall(x_views_.begin(x_local_));
+  for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
   int changed = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
   if (any) PetscCall(rebuild_pattern());
-  bool ok = true;
-  for (std::size_t f = 0; f < forms_.size(); ++f)
-    ok = forms_[f]->hessian(xl, values_.data() + form_offset_[f]) && ok;
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  // Values go to the device only where both the matrix (CUSPARSE) and some forms are there.
+  PetscBool device_matrix = PETSC_FALSE;
+  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(J), &device_matrix, MATAIJCUSPARSE,
+                                      MATSEQAIJCUSPARSE, MATMPIAIJCUSPARSE, ""));
+  const bool on_device = device_matrix && any_device_;
+  const bool ok = assemble_values(x_views_, on_device);
+  PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
-  for (std::size_t k : eliminated_) values_[k] = 0;
-  for (std::size_t k = dirichlet_diagonal_begin_; k < values_.size(); ++k) values_[k] = 1;
   const double insert_start = MPI_Wtime();
-  PetscCall(MatSetValuesCOO(J, values_.data(), INSERT_VALUES));
+  PetscCall(MatSetValuesCOO(J, on_device ? d_values_.data() : values_.data(), INSERT_VALUES));
   times_.coo_insert += MPI_Wtime() - insert_start;
   PetscFunctionReturn(0);
+}
+
+bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
+  const MemorySpace target = on_device ? MemorySpace::device : MemorySpace::host;
+  double* values[2] = {values_.data(), d_values_.data()};  // indexed by MemorySpace
+  bool ok = true;
+  for (std::size_t f = 0; f < forms_.size(); ++f) {
+    const MemorySpace space = forms_[f]->memory_space();
+    const std::size_t begin = form_offset_[f], count = form_offset_[f + 1] - begin;
+    double* own = values[static_cast<int>(space)] + begin;
+    ok = forms_[f]->hessian(x.in(space), own) && ok;
+    // One copy per form block that was evaluated away from the matrix.
+    if (space != target) copy_between(target, values[static_cast<int>(target)] + begin, space, own, count);
+  }
+  if (on_device) {
+    device::eliminate(d_values_.data(), d_eliminated_.data(), eliminated_.size(), dirichlet_diagonal_begin_,
+                      values_.size());
+  } else {
+    for (std::size_t k : eliminated_) values_[k] = 0;
+    for (std::size_t k = dirichlet_diagonal_begin_; k < values_.size(); ++k) values_[k] = 1;
+  }
+  return ok;
 }
 
 PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {
   PetscFunctionBeginUser;
   PetscCall(gather(x));
-  const PetscScalar* xl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  for (auto& form : forms_) form->update_pattern(xl);
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  PetscCall(x_views_.begin(x_local_));
+  for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
+  PetscCall(x_views_.end());
   int local = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm_));
   *changed = any ? PETSC_TRUE : PETSC_FALSE;
@@ -261,11 +325,11 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
   PetscFunctionBeginUser;
   ScopedEvent timer(events().validity, &times_.validity);
   PetscCall(gather(x));
-  const PetscScalar* xl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  int ok = 1;
-  for (auto& form : forms_) ok = ok && form->is_valid(xl);
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  PetscCall(x_views_.begin(x_local_));
+  const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
+  const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
+  int ok = local_valid(xh, xd) ? 1 : 0;
+  PetscCall(x_views_.end());
   int all = 0;
   PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_));
   *valid = all ? PETSC_TRUE : PETSC_FALSE;
@@ -301,6 +365,23 @@ PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
   for (auto& form : forms_) form->prepare_segment(xl, pl);
   PetscCall(VecRestoreArrayRead(p_local_, &pl));
   PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  // Keep the segment in every space the forms use: trial states are built from these copies.
+  PetscInt n;
+  PetscCall(VecGetLocalSize(x_local_, &n));
+  for (auto [vec, host, dev] : {std::make_tuple(x_local_, &seg_x_host_, &seg_x_device_),
+                                std::make_tuple(p_local_, &seg_p_host_, &seg_p_device_)}) {
+    LocalViews views;
+    PetscCall(views.begin(vec));
+    if (uses(MemorySpace::host)) host->assign(views.in(MemorySpace::host), views.in(MemorySpace::host) + n);
+    if (uses(MemorySpace::device)) {
+      dev->resize(static_cast<std::size_t>(n));
+      copy_between(MemorySpace::device, dev->data(), MemorySpace::device, views.in(MemorySpace::device),
+                   static_cast<std::size_t>(n));
+    }
+    PetscCall(views.end());
+  }
+  seg_w_host_.resize(uses(MemorySpace::host) ? static_cast<std::size_t>(n) : 0);
+  if (uses(MemorySpace::device)) seg_w_device_.resize(static_cast<std::size_t>(n));
   times_.neighbourhood += MPI_Wtime() - start;
   PetscFunctionReturn(0);
 }
@@ -319,15 +400,59 @@ PetscErrorCode IncrementalPotential::max_step(Vec x, Vec p, PetscReal* alpha) {
   PetscFunctionBeginUser;
   PetscCall(prepare_segment(x, p));
   const double start = MPI_Wtime();
-  const PetscScalar *xl, *pl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  PetscCall(VecGetArrayRead(p_local_, &pl));
   double a = 1.0;
-  for (auto& form : forms_) a = std::min(a, form->max_step(xl, pl));
-  PetscCall(VecRestoreArrayRead(p_local_, &pl));
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
+  for (auto& form : forms_) {
+    const bool dev = form->memory_space() == MemorySpace::device;
+    a = std::min(a, dev ? form->max_step(seg_x_device_.data(), seg_p_device_.data())
+                        : form->max_step(seg_x_host_.data(), seg_p_host_.data()));
+  }
   PetscCallMPI(MPI_Allreduce(&a, alpha, 1, MPI_DOUBLE, MPI_MIN, comm_));
   times_.max_step += MPI_Wtime() - start;
+  PetscFunctionReturn(0);
+}
+
+bool IncrementalPotential::local_values(const double* x_host, const double* x_device, double* values) {
+  bool ok = true;
+  for (std::size_t f = 0; f < forms_.size(); ++f)
+    ok = forms_[f]->value(forms_[f]->memory_space() == MemorySpace::device ? x_device : x_host, &values[f]) && ok;
+  return ok;
+}
+
+bool IncrementalPotential::local_valid(const double* x_host, const double* x_device) {
+  for (auto& form : forms_)
+    if (!form->is_valid(form->memory_space() == MemorySpace::device ? x_device : x_host)) return false;
+  return true;
+}
+
+void IncrementalPotential::segment_point(PetscReal alpha) {
+  // Rounded as VecWAXPY rounds w = αp + x: one product, one sum, no fused multiply-add.
+  for (std::size_t k = 0; k < seg_w_host_.size(); ++k) seg_w_host_[k] = alpha * seg_p_host_[k] + seg_x_host_[k];
+  if (uses(MemorySpace::device))
+    device::axpy_into(seg_w_device_.data(), seg_x_device_.data(), alpha, seg_p_device_.data(),
+                      seg_w_device_.size());
+}
+
+PetscErrorCode IncrementalPotential::segment_objective(PetscReal alpha, PetscReal* energy) {
+  PetscFunctionBeginUser;
+  ScopedEvent timer(events().energy, &times_.energy);
+  segment_point(alpha);
+  const std::size_t nf = forms_.size();
+  std::vector<double> local(nf + 1, 0.0), total(nf + 1);
+  if (!local_values(seg_w_host_.data(), seg_w_device_.data(), local.data())) local[nf] = 1.0;
+  PetscCallMPI(MPI_Allreduce(local.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
+  double sum = 0;
+  for (std::size_t f = 0; f < nf; ++f) sum += total[f];
+  *energy = total[nf] > 0 ? PETSC_INFINITY : sum;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::segment_is_valid(PetscReal alpha, PetscBool* valid) {
+  PetscFunctionBeginUser;
+  ScopedEvent timer(events().validity, &times_.validity);
+  segment_point(alpha);
+  int ok = local_valid(seg_w_host_.data(), seg_w_device_.data()) ? 1 : 0, all = 0;
+  PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_));
+  *valid = all ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 

@@ -8,6 +8,13 @@
 // MatSetValuesCOO on the concatenated COO patterns of all forms, preallocated again only when a
 // form's pattern changes (the contact active set), never per iteration otherwise.
 //
+// Forms evaluate in their own memory space (form.hpp): the potential hands each the local
+// arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
+// device gradients into host ones (or the reverse) once, and assembles Hessian values where
+// the matrix lives: on the device for a CUSPARSE matrix when device forms exist, else on the
+// host. Along a line-search segment x + αp the start x and direction p are kept in both spaces,
+// so a trial evaluation moves only α and scalars (segment_objective, segment_is_valid).
+//
 // Dirichlet dofs are eliminated symmetrically: their gradient entries are zero, their Hessian
 // rows and columns are zero with a unit diagonal, so Newton never moves them and CG sees an
 // SPD matrix. The time integrator sets their prescribed values in x before each solve.
@@ -18,7 +25,9 @@
 #include <memory>
 #include <vector>
 
+#include "device/device_runtime.hpp"
 #include "nonlinear/form.hpp"
+#include "nonlinear/local_views.hpp"
 #include "partition/ghost_exchange.hpp"
 
 namespace dipc {
@@ -66,6 +75,11 @@ class IncrementalPotential {
   // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then
   // returns min over forms and ranks of the admissible step fraction along p.
   PetscErrorCode max_step(Vec x, Vec p, PetscReal* alpha);
+  // E(x + αp) and is_valid(x + αp) on the segment of the last max_step(x, p); the trial state
+  // is built in each form's memory space from the kept x and p, entry by entry as VecWAXPY
+  // builds it, so it equals the state the caller then forms with VecWAXPY.
+  PetscErrorCode segment_objective(PetscReal alpha, PetscReal* energy);
+  PetscErrorCode segment_is_valid(PetscReal alpha, PetscBool* valid);
   // Prepares the forms for evaluations at x alone (start of a step).
   PetscErrorCode prepare_point(Vec x);
   // Passes the predicted positions x̂ (distributed) to every form.
@@ -84,6 +98,14 @@ class IncrementalPotential {
 
  private:
   PetscErrorCode gather(Vec x);                    // x -> x_local_
+  bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
+  // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
+  bool local_values(const double* x_host, const double* x_device, double* values);
+  bool local_valid(const double* x_host, const double* x_device);
+  // Builds w = x + αp of the kept segment in every space the forms use.
+  void segment_point(PetscReal alpha);
+  // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix).
+  bool assemble_values(LocalViews& x, bool on_device);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
   PetscErrorCode rebuild_pattern();                // combined COO pattern and Dirichlet elimination
@@ -105,6 +127,17 @@ class IncrementalPotential {
   std::vector<std::size_t> eliminated_;        // entries in a Dirichlet row or column
   std::size_t dirichlet_diagonal_begin_ = 0;
   std::vector<PetscScalar> values_;
+  bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
+  LocalViews x_views_;
+  Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
+  std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)
+  device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
+  device::Array<double> d_values_{"Hessian COO values"};
+  device::Array<std::size_t> d_eliminated_{"Dirichlet COO entries"};
+  // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
+  std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;
+  device::Array<double> seg_x_device_{"segment start"}, seg_p_device_{"segment direction"},
+      seg_w_device_{"trial state"};
   EvaluationTimes times_;
 };
 

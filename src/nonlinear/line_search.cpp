@@ -24,12 +24,14 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   PetscCall(VecNorm(Y, NORM_INFINITY, &ctx->direction_inf_norm));
 
   PetscReal E0, slope;
-  PetscCall(ctx->potential->objective(X, &E0));
   PetscCall(VecDot(F, Y, &slope));
   slope = -slope;  // d/dα E(X − αY) at α = 0
   PetscCall(VecScale(Y, -1.0));  // Y := p, the descent direction (restored below)
   PetscReal alpha;
+  // max_step also keeps X and p where the forms evaluate, so every trial below moves only α
+  // and scalars between host and device.
   PetscCall(ctx->potential->max_step(X, Y, &alpha));
+  PetscCall(ctx->potential->segment_objective(0.0, &E0));
   alpha = std::min<PetscReal>(1.0, alpha);
   const PetscReal alpha_ccd = alpha;
   ctx->min_alpha_ccd = std::min<double>(ctx->min_alpha_ccd, alpha);
@@ -38,11 +40,10 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   bool accepted = false;
   PetscReal E = E0;
   for (int halvings = 0; halvings < 60 && alpha > 0; ++halvings, alpha *= 0.5) {
-    PetscCall(VecWAXPY(W, alpha, Y, X));
     PetscBool valid;
-    PetscCall(ctx->potential->is_valid(W, &valid));
+    PetscCall(ctx->potential->segment_is_valid(alpha, &valid));
     if (!valid) continue;
-    PetscCall(ctx->potential->objective(W, &E));
+    PetscCall(ctx->potential->segment_objective(alpha, &E));
     if (!std::isfinite(E)) continue;
     const bool armijo = E <= E0 + ctx->armijo * alpha * slope;
     const bool unresolvable = std::abs(alpha * slope) < roundoff && E <= E0 + roundoff;
@@ -60,6 +61,8 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   ctx->min_alpha = std::min<double>(ctx->min_alpha, alpha);
   PetscCall(PetscInfo(snes, "IPC line search: alpha %g (collision-free bound %g), E %.12g -> %.12g, |p|_inf %g\n",
                       (double)alpha, (double)alpha_ccd, (double)E0, (double)E, (double)ctx->direction_inf_norm));
+  // The accepted trial state X + αp, p = −Y, bit for bit as segment_objective built it.
+  PetscCall(VecWAXPY(W, -alpha, Y, X));
   PetscCall(VecCopy(W, X));
   PetscCall(SNESComputeFunction(snes, X, F));
   PetscCall(VecScale(Y, alpha));  // Y := the step actually taken, for PETSc's step norms

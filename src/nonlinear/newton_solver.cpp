@@ -2,6 +2,8 @@
 
 #include <petscversion.h>
 
+#include <cstring>
+
 #include "nonlinear/log_stages.hpp"
 
 namespace dipc {
@@ -94,7 +96,14 @@ PetscErrorCode NewtonSolver::set_default_options() {
   // Aggressive coarsening is off: with it BoomerAMG turned indefinite on contact Hessians on
   // 4 ranks (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
-  PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", "HMIS"));
+  // A device matrix (CUSPARSE) runs BoomerAMG on the GPU, where hypre sets up only PMIS
+  // coarsening and smooths only with Jacobi-type relaxation (hypre's GPU documentation).
+  char mat_type[64] = "";
+  PetscBool mat_set = PETSC_FALSE;
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-mat_type", mat_type, sizeof mat_type, &mat_set));
+  const bool device_matrix = mat_set && std::strstr(mat_type, "cusparse") != nullptr;
+  if (device_matrix) PetscCall(default_option("-pc_hypre_boomeramg_relax_type_all", "l1scaled-Jacobi"));
+  PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
   PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
   PetscCall(default_option("-snes_max_it", "100"));

@@ -6,6 +6,7 @@
 
 #include "assembly/hex8_mass.hpp"
 #include "nonlinear/body_force_form.hpp"
+#include "nonlinear/device_forms.hpp"
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
@@ -58,7 +59,7 @@ TimeIntegrator::~TimeIntegrator() {
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
-                                     double velocity_tol, bool check_invariants) {
+                                     double velocity_tol, bool check_invariants, MemorySpace space) {
   PetscFunctionBeginUser;
   check_invariants_ = check_invariants;
   mesh_ = &mesh;
@@ -75,18 +76,35 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   // Only the terms this problem needs (DESIGN.md: "model only what a scene requires").
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
-  if (inertia && problem.lumped_mass)
-    forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
-  else if (inertia)
-    forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_));
+  const bool on_device = space == MemorySpace::device;
+  if (inertia && problem.lumped_mass) {
+    if (on_device)
+      forms.push_back(std::make_unique<DeviceLumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
+    else
+      forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
+  } else if (inertia) {
+    if (on_device)
+      forms.push_back(std::make_unique<DeviceConsistentInertiaForm>(*elements_));
+    else
+      forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_));
+  }
   // Kinematic bodies (every node prescribed) need no elastic energy.
   bool any_kinematic = false;
   for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
   if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
-  forms.push_back(std::make_unique<ElasticForm>(any_kinematic ? *deformable_elements_ : *elements_, h2));
-  if (gravity) forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
+  const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
+  if (on_device)
+    forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
+  else
+    forms.push_back(std::make_unique<ElasticForm>(deformable, h2));
+  if (gravity) {
+    if (on_device)
+      forms.push_back(std::make_unique<DeviceBodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
+    else
+      forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
+  }
   if (problem.contact) {
-    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters);
+    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space);
     // κ bounds from the average nodal mass (IPC supplement).
     double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
     for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];

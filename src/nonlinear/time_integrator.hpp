@@ -47,8 +47,9 @@ class TimeIntegrator {
   // intersection and a positive minimum distance (a violated invariant fails the step).
   // With contact, an initial state whose surfaces intersect or touch is an error (thrown as
   // std::runtime_error with the bodies and nodes).
+  // space: where the element and nodal forms (and contact, where ported) evaluate.
   PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, double velocity_tol,
-                       bool check_invariants = false);
+                       bool check_invariants = false, MemorySpace space = MemorySpace::host);
   // Takes one time step (or one static load step). A step that cannot be taken (Newton
   // diverged, prescribed motion inverts an element) is reported in StepReport::failure and
   // leaves the state at the previous step.

@@ -39,7 +39,9 @@ TEST(FeatureOff, ContactFarAwayChangesNothing) {
   EXPECT_EQ(b.max_contact_pairs, 0);
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank == 0) EXPECT_LE(max_difference(a.positions, b.positions), 1e-12);
+  if (rank == 0) {
+    EXPECT_LE(max_difference(a.positions, b.positions), 1e-12);
+  }
 }
 
 TEST(FeatureOff, ZeroFrictionEqualsNoFriction) {
@@ -55,7 +57,9 @@ TEST(FeatureOff, ZeroFrictionEqualsNoFriction) {
   EXPECT_GT(a.max_contact_pairs, 0);
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank == 0) EXPECT_LE(max_difference(a.positions, b.positions), 1e-12);
+  if (rank == 0) {
+    EXPECT_LE(max_difference(a.positions, b.positions), 1e-12);
+  }
 }
 
 }  // namespace

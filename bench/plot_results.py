@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""Draws the benchmark CSVs of bench/ as PNG plots (Debian: apt-get install python3-matplotlib).
+
+  bench/plot_results.py --assembly bench/results/assembly_throughput_h200.csv \
+      --breakdown bench/results/newton_breakdown_h200.csv \
+      --crossover bench/results/crossover_h200.csv \
+      --weak bench/results/weak_scaling_h200.csv --out bench/results
+
+--assembly: bench_assembly_throughput CSV -> elements/s against elements, GPU and CPU.
+--breakdown, --crossover, --weak: bench_step_breakdown CSVs (several concatenated are fine):
+  per-Newton-iteration phases as stacked bars per configuration; seconds per Newton iteration
+  against elements per backend; per-phase time against GPU count.
+"""
+import argparse
+import csv
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+PHASES = [("assembly_s", "assembly (minus COO insert)"), ("coo_insert_s", "COO insert"),
+          ("line_search_s", "line search"), ("contact_s", "contact (CCD, broad phase)"),
+          ("amg_setup_s", "AMG setup"), ("ksp_solve_s", "KSP solve")]
+
+
+def rows(paths):
+    out = []
+    for path in paths:
+        with open(path) as f:
+            out += [r for r in csv.DictReader(f) if r and not r[list(r)[0]].startswith("#")]
+    return out
+
+
+def per_newton(r, key):
+    its = max(1.0, float(r["newton_its"]))
+    v = float(r[key])
+    if key == "assembly_s":
+        v -= float(r["coo_insert_s"])
+    return v / its
+
+
+def config(r):
+    return f'{r["backend"]} / {r["mat_type"]} / {r["ranks"]} rank{"s" if r["ranks"] != "1" else ""}'
+
+
+def plot_assembly(path, out):
+    data = rows([path])
+    n = [float(r["elements"]) for r in data]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.loglog(n, [float(r["gpu_elements_per_s"]) for r in data], "o-", label="GPU (one device)")
+    ax.loglog(n, [float(r["cpu_elements_per_s"]) for r in data], "s-",
+              label=f'CPU ({data[0]["cpu_ranks"]} MPI ranks)')
+    ax.set_xlabel("elements")
+    ax.set_ylabel("elements / s (value + gradient + PSD Hessian into COO)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    ax.set_title("neo-Hookean hex8 assembly throughput")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "assembly_throughput.png"), dpi=120)
+
+
+def plot_breakdown(paths, out):
+    data = rows(paths)
+    labels = [f'{config(r)}\n{int(r["elements"]):,} el.' for r in data]
+    fig, ax = plt.subplots(figsize=(max(6, 1.6 * len(data)), 4.5))
+    bottom = [0.0] * len(data)
+    for key, name in PHASES:
+        vals = [per_newton(r, key) for r in data]
+        ax.bar(range(len(data)), vals, bottom=bottom, label=name)
+        bottom = [b + v for b, v in zip(bottom, vals)]
+    ax.set_xticks(range(len(data)))
+    ax.set_xticklabels(labels, fontsize=7)
+    ax.set_ylabel("seconds per Newton iteration")
+    ax.set_yscale("log")
+    ax.legend(fontsize=7)
+    ax.set_title("Newton iteration breakdown")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "newton_breakdown.png"), dpi=120)
+
+
+def plot_crossover(paths, out):
+    data = rows(paths)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for c in sorted({config(r) for r in data}):
+        pts = sorted((int(r["elements"]), float(r["per_newton_s"])) for r in data if config(r) == c)
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=c)
+    ax.set_xlabel("elements per rank")
+    ax.set_ylabel("seconds per Newton iteration")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("CPU against GPU backend (auto's crossover)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "crossover.png"), dpi=120)
+
+
+def plot_weak(paths, out):
+    data = sorted(rows(paths), key=lambda r: int(r["ranks"]))
+    gpus = [int(r["ranks"]) for r in data]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for key, name in PHASES:
+        ax.plot(gpus, [per_newton(r, key) for r in data], "o-", label=name)
+    ax.plot(gpus, [float(r["per_newton_s"]) for r in data], "k*-", label="total per Newton iteration")
+    ax.set_xticks(gpus)
+    ax.set_xlabel("GPUs (one rank each)")
+    ax.set_ylabel("seconds per Newton iteration")
+    ax.set_yscale("log")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title(f'weak scaling, {int(data[0]["elements"]) // max(1, gpus[0]):,} elements per GPU')
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "weak_scaling.png"), dpi=120)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--assembly")
+    p.add_argument("--breakdown", nargs="*", default=[])
+    p.add_argument("--crossover", nargs="*", default=[])
+    p.add_argument("--weak", nargs="*", default=[])
+    p.add_argument("--out", default=".")
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    if a.assembly:
+        plot_assembly(a.assembly, a.out)
+    if a.breakdown:
+        plot_breakdown(a.breakdown, a.out)
+    if a.crossover:
+        plot_crossover(a.crossover, a.out)
+    if a.weak:
+        plot_weak(a.weak, a.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,96 @@
+#include "app/backend.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "assembly/element_loops.hpp"
+#include "device/device_runtime.hpp"
+
+namespace dipc {
+
+namespace {
+
+int node_local_rank(MPI_Comm comm) {
+  MPI_Comm node;
+  int rank;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+  int local;
+  MPI_Comm_rank(node, &local);
+  MPI_Comm_free(&node);
+  return local;
+}
+
+}  // namespace
+
+BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long elements, long auto_min_elements) {
+  if (requested != "cpu" && requested != "cuda" && requested != "auto")
+    throw std::runtime_error("-dipc_backend: unknown backend '" + requested + "' (use cpu, cuda or auto)");
+  BackendChoice choice;
+  if (requested == "cpu") {
+    choice.description = "cpu (requested)";
+    return choice;
+  }
+  const int devices = device::device_count();
+  int min_devices = devices;
+  MPI_Allreduce(&devices, &min_devices, 1, MPI_INT, MPI_MIN, comm);
+  long total = 0;
+  int size;
+  MPI_Comm_size(comm, &size);
+  MPI_Allreduce(&elements, &total, 1, MPI_LONG, MPI_SUM, comm);
+  const long per_rank = total / size;
+  if (min_devices == 0) {
+    if (requested == "cuda")
+      throw std::runtime_error(device::built_with_cuda()
+                                   ? "-dipc_backend cuda: no CUDA device visible on at least one rank"
+                                   : "-dipc_backend cuda: dipc was built without CUDA (configure with -DDIPC_WITH_CUDA=ON)");
+    choice.description = device::built_with_cuda() ? "cpu (auto: no CUDA device)" : "cpu (auto: built without CUDA)";
+    return choice;
+  }
+  char why[160];
+  if (requested == "auto" && per_rank < auto_min_elements) {
+    std::snprintf(why, sizeof why, "cpu (auto: %ld elements/rank < %ld)", per_rank, auto_min_elements);
+    choice.description = why;
+    return choice;
+  }
+  choice.space = MemorySpace::device;
+  choice.device = node_local_rank(comm) % devices;
+  device::select(choice.device);
+  if (requested == "auto")
+    std::snprintf(why, sizeof why, "cuda (auto: %ld elements/rank >= %ld)", per_rank, auto_min_elements);
+  else
+    std::snprintf(why, sizeof why, "cuda (requested)");
+  choice.description = why;
+  return choice;
+}
+
+std::size_t device_bytes_per_element(bool matrix_on_device) {
+  // A hex mesh has about one node per element (3 dofs). Per element: connectivity, λ, μ and
+  // the 576 elastic COO values (8 B each) plus the 192 of a consistent mass; per node: the
+  // reference coordinates and 11 mirrored or scratch arrays of 3 doubles (x, gradient, segment
+  // x/p/w, inertia x̂ and mass, body force, ...). A device matrix holds each of the ~81
+  // nonzeros of a row once (value + column index), 3 rows per node, twice over for the
+  // preconditioner setup's copy.
+  std::size_t bytes = 8 * 4 + 2 * 8 + (kElasticCooPerElement + kMassCooPerElement) * 8 + 3 * 8 + 11 * 3 * 8;
+  if (matrix_on_device) bytes += 2 * 3 * 81 * (8 + 4);
+  return bytes;
+}
+
+void check_device_memory(MPI_Comm comm, long elements, bool matrix_on_device) {
+  const device::MemoryInfo info = device::memory_info();
+  const double need = static_cast<double>(elements) * device_bytes_per_element(matrix_on_device);
+  const int short_here = need > static_cast<double>(info.free_bytes) ? 1 : 0;
+  int any = 0;
+  MPI_Allreduce(&short_here, &any, 1, MPI_INT, MPI_MAX, comm);
+  if (!any) return;
+  double worst[2] = {short_here ? need : 0.0, short_here ? static_cast<double>(info.free_bytes) : 0.0}, w[2];
+  MPI_Allreduce(worst, w, 2, MPI_DOUBLE, MPI_MAX, comm);
+  char msg[320];
+  std::snprintf(msg, sizeof msg,
+                "the scene does not fit on the GPU: a rank needs about %.2f GiB of device memory (%zu bytes per "
+                "element) but its device has %.2f GiB free; run on more GPUs (mpirun -n), or with -dipc_backend cpu",
+                w[0] / 1073741824.0, device_bytes_per_element(matrix_on_device), w[1] / 1073741824.0);
+  throw std::runtime_error(msg);
+}
+
+}  // namespace dipc

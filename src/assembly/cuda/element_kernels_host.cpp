@@ -1,0 +1,24 @@
+// element_kernels.hpp for builds without CUDA: every kernel throws, naming the build option.
+#include "assembly/cuda/element_kernels.hpp"
+
+namespace dipc::device {
+
+namespace {
+[[noreturn]] void no_cuda() {
+  throw DeviceError("element kernels: dipc was built without CUDA (configure with -DDIPC_WITH_CUDA=ON)");
+}
+}  // namespace
+
+bool elastic_evaluate(const ElementBlock&, const double*, double, double*, double*, double*, Reducer&) { no_cuda(); }
+double min_volume_ratio(const ElementBlock&, const double*, Reducer&) { no_cuda(); }
+double lumped_inertia_energy(const double*, const double*, const double*, std::size_t, Reducer&) { no_cuda(); }
+void lumped_inertia_gradient(const double*, const double*, const double*, std::size_t, double*) { no_cuda(); }
+double consistent_inertia_energy(const ElementBlock&, const double*, const double*, const double*, Reducer&) {
+  no_cuda();
+}
+void consistent_inertia_gradient(const ElementBlock&, const double*, const double*, const double*, double*) {
+  no_cuda();
+}
+double dot(const double*, const double*, std::size_t, Reducer&) { no_cuda(); }
+
+}  // namespace dipc::device

@@ -1,0 +1,196 @@
+// device_runtime.hpp on the CUDA runtime.
+#include <cstdio>
+
+#include "device/cuda_check.cuh"
+
+namespace dipc::device {
+
+bool built_with_cuda() { return true; }
+
+int device_count() {
+  int n = 0;
+  // No driver or no device is not an error here: the caller falls back to the CPU.
+  if (cudaGetDeviceCount(&n) != cudaSuccess) {
+    cudaGetLastError();
+    return 0;
+  }
+  return n;
+}
+
+void select(int index) { DIPC_CUDA_CHECK(cudaSetDevice(index)); }
+
+int current() {
+  int d = -1;
+  DIPC_CUDA_CHECK(cudaGetDevice(&d));
+  return d;
+}
+
+std::string name(int index) {
+  cudaDeviceProp prop;
+  DIPC_CUDA_CHECK(cudaGetDeviceProperties(&prop, index));
+  return prop.name;
+}
+
+MemoryInfo memory_info() {
+  MemoryInfo m;
+  DIPC_CUDA_CHECK(cudaMemGetInfo(&m.free_bytes, &m.total_bytes));
+  return m;
+}
+
+void* allocate(std::size_t bytes, const char* what) {
+  if (bytes == 0) return nullptr;
+  void* p = nullptr;
+  const cudaError_t status = cudaMalloc(&p, bytes);
+  if (status != cudaSuccess) {
+    cudaGetLastError();
+    std::size_t free_bytes = 0, total = 0;
+    cudaMemGetInfo(&free_bytes, &total);
+    char msg[256];
+    std::snprintf(msg, sizeof msg, "device allocation of %.1f MiB for %s failed (%s; %.1f of %.1f MiB free)",
+                  bytes / 1048576.0, what, cudaGetErrorString(status), free_bytes / 1048576.0, total / 1048576.0);
+    throw DeviceError(msg);
+  }
+  return p;
+}
+
+void release(void* p) noexcept {
+  if (p) cudaFree(p);
+}
+
+void copy_to_device(void* dst, const void* src, std::size_t bytes) {
+  DIPC_CUDA_CHECK(cudaMemcpy(dst, src, bytes, cudaMemcpyHostToDevice));
+}
+void copy_to_host(void* dst, const void* src, std::size_t bytes) {
+  DIPC_CUDA_CHECK(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToHost));
+}
+void copy_on_device(void* dst, const void* src, std::size_t bytes) {
+  DIPC_CUDA_CHECK(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToDevice));
+}
+void zero(void* p, std::size_t bytes) { DIPC_CUDA_CHECK(cudaMemset(p, 0, bytes)); }
+void synchronize() { DIPC_CUDA_CHECK(cudaDeviceSynchronize()); }
+
+namespace {
+
+unsigned blocks_for(std::size_t n, int threads) {
+  return static_cast<unsigned>((n + threads - 1) / threads);
+}
+
+template <bool Min>
+__global__ void reduce_kernel(const double* values, std::size_t n, double* out) {
+  __shared__ double scratch[kReduceThreads];
+  double v = Min ? 1e300 : 0.0;
+  // Grid-stride accumulation in a fixed order per thread, then a fixed-shape tree.
+  for (std::size_t i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x)
+    v = Min ? fmin(v, values[i]) : v + values[i];
+  const double r = Min ? block_min(v, scratch) : block_sum(v, scratch);
+  if (threadIdx.x == 0) out[blockIdx.x] = r;
+}
+
+__global__ void axpy_into_kernel(double* w, const double* x, double alpha, const double* p, std::size_t n) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i < n) w[i] = __dadd_rn(__dmul_rn(alpha, p[i]), x[i]);
+}
+
+__global__ void add_scaled_kernel(double* y, double s, const double* x, std::size_t n) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i < n) y[i] += s * x[i];
+}
+
+__global__ void zero_at_kernel(double* values, const std::size_t* index, std::size_t count) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k < count) values[index[k]] = 0.0;
+}
+
+__global__ void fill_kernel(double* values, std::size_t n, double v) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k < n) values[k] = v;
+}
+
+}  // namespace
+
+// Two passes: at most 1024 blocks of partials, then one block over those.
+template <bool Min>
+static double reduce(const double* values, std::size_t n, Array<double>& partials, Array<double>& result) {
+  if (n == 0) return Min ? 1e300 : 0.0;
+  const unsigned blocks = std::min<unsigned>(1024, blocks_for(n, kReduceThreads));
+  partials.resize(blocks);
+  result.resize(1);
+  reduce_kernel<Min><<<blocks, kReduceThreads>>>(values, n, partials.data());
+  DIPC_CUDA_CHECK_LAUNCH();
+  reduce_kernel<Min><<<1, kReduceThreads>>>(partials.data(), blocks, result.data());
+  DIPC_CUDA_CHECK_LAUNCH();
+  double r;
+  result.download(&r);
+  return r;
+}
+
+double Reducer::sum(const double* values, std::size_t n) { return reduce<false>(values, n, partials_, result_); }
+double Reducer::min(const double* values, std::size_t n) { return reduce<true>(values, n, partials_, result_); }
+
+double* Reducer::partials(std::size_t num_blocks) {
+  partials_.resize(num_blocks);
+  return partials_.data();
+}
+
+double Reducer::sum_partials(std::size_t num_blocks) {
+  result_.resize(1);
+  if (num_blocks == 0) return 0.0;
+  reduce_kernel<false><<<1, kReduceThreads>>>(partials_.data(), num_blocks, result_.data());
+  DIPC_CUDA_CHECK_LAUNCH();
+  double r;
+  result_.download(&r);
+  return r;
+}
+
+double Reducer::min_partials(std::size_t num_blocks) {
+  result_.resize(1);
+  if (num_blocks == 0) return 1e300;
+  reduce_kernel<true><<<1, kReduceThreads>>>(partials_.data(), num_blocks, result_.data());
+  DIPC_CUDA_CHECK_LAUNCH();
+  double r;
+  result_.download(&r);
+  return r;
+}
+
+int* Reducer::flag() {
+  if (flag_.size() == 0) {
+    flag_.resize(1);
+    flag_.set_zero();
+  }
+  return flag_.data();
+}
+void Reducer::reset_flag() {
+  flag();
+  flag_.set_zero();
+}
+bool Reducer::flag_set() {
+  int f = 0;
+  flag();
+  flag_.download(&f);
+  return f != 0;
+}
+
+void axpy_into(double* w, const double* x, double alpha, const double* p, std::size_t n) {
+  if (!n) return;
+  axpy_into_kernel<<<blocks_for(n, 256), 256>>>(w, x, alpha, p, n);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void add_scaled(double* y, double s, const double* x, std::size_t n) {
+  if (!n) return;
+  add_scaled_kernel<<<blocks_for(n, 256), 256>>>(y, s, x, n);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void eliminate(double* values, const std::size_t* index, std::size_t count, std::size_t first, std::size_t last) {
+  if (count) {
+    zero_at_kernel<<<blocks_for(count, 256), 256>>>(values, index, count);
+    DIPC_CUDA_CHECK_LAUNCH();
+  }
+  if (last > first) {
+    fill_kernel<<<blocks_for(last - first, 256), 256>>>(values + first, last - first, 1.0);
+    DIPC_CUDA_CHECK_LAUNCH();
+  }
+}
+
+}  // namespace dipc::device

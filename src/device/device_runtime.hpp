@@ -1,0 +1,125 @@
+// The CUDA runtime as dipc uses it, behind a plain C++ interface so that host code (and builds
+// without CUDA) never includes CUDA headers: device count and selection, memory, typed device
+// arrays and the reductions that bring one scalar back. With DIPC_WITH_CUDA=OFF the same
+// functions exist (device_runtime_host.cpp): device_count() is 0 and anything that would touch
+// a device throws DeviceError, so callers choose the CPU path by asking, never by #ifdef.
+#pragma once
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dipc::device {
+
+// A CUDA call failed, a device was asked for where none exists, or an allocation would not fit.
+class DeviceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// True when this build contains the CUDA kernels.
+bool built_with_cuda();
+// Number of usable CUDA devices (0 without a driver, a device or CUDA support).
+int device_count();
+// Makes `index` the current device of this process (cudaSetDevice).
+void select(int index);
+int current();
+std::string name(int index);
+
+struct MemoryInfo {
+  std::size_t free_bytes = 0, total_bytes = 0;
+};
+MemoryInfo memory_info();
+
+// Raw device allocation (cudaMalloc), bytes copied both ways, and memset to zero; `what` names
+// the buffer in the error message of a failed allocation.
+void* allocate(std::size_t bytes, const char* what);
+void release(void* p) noexcept;
+void copy_to_device(void* dst, const void* src, std::size_t bytes);
+void copy_to_host(void* dst, const void* src, std::size_t bytes);
+void copy_on_device(void* dst, const void* src, std::size_t bytes);
+void zero(void* p, std::size_t bytes);
+void synchronize();
+
+// Owning device array of trivially copyable T. resize() discards contents; growing reallocates,
+// shrinking keeps the allocation.
+template <class T>
+class Array {
+ public:
+  Array() = default;
+  explicit Array(const char* what) : what_(what) {}
+  Array(const Array&) = delete;
+  Array& operator=(const Array&) = delete;
+  Array(Array&& o) noexcept : data_(o.data_), size_(o.size_), capacity_(o.capacity_), what_(o.what_) {
+    o.data_ = nullptr, o.size_ = o.capacity_ = 0;
+  }
+  ~Array() { release(data_); }
+
+  void resize(std::size_t n) {
+    if (n > capacity_) {
+      release(data_);
+      data_ = nullptr, capacity_ = 0;
+      data_ = static_cast<T*>(allocate(n * sizeof(T), what_));
+      capacity_ = n;
+    }
+    size_ = n;
+  }
+  void upload(const T* host, std::size_t n) {
+    resize(n);
+    if (n) copy_to_device(data_, host, n * sizeof(T));
+  }
+  void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  void download(T* host) const {
+    if (size_) copy_to_host(host, data_, size_ * sizeof(T));
+  }
+  std::vector<T> to_host() const {
+    std::vector<T> h(size_);
+    download(h.data());
+    return h;
+  }
+  void set_zero() {
+    if (size_) zero(data_, size_ * sizeof(T));
+  }
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  std::size_t size() const { return size_; }
+  std::size_t bytes() const { return capacity_ * sizeof(T); }
+
+ private:
+  T* data_ = nullptr;
+  std::size_t size_ = 0, capacity_ = 0;
+  const char* what_ = "device array";
+};
+
+// Scalars reduced on the device: one kernel pass writes per-block partials into the scratch
+// array, a second reduces those in a fixed order, so the result does not depend on thread
+// scheduling (the line search compares energies to 1e-12).
+class Reducer {
+ public:
+  // Sum / min of n doubles in device memory.
+  double sum(const double* values, std::size_t n);
+  double min(const double* values, std::size_t n);
+  // Partial results of a kernel that wrote one value per block into partials(num_blocks).
+  double* partials(std::size_t num_blocks);
+  double sum_partials(std::size_t num_blocks);
+  double min_partials(std::size_t num_blocks);
+  // A device int that kernels set to 1 on failure (an inverted element); reset() zeroes it.
+  int* flag();
+  void reset_flag();
+  bool flag_set();
+
+ private:
+  Array<double> partials_{"reduction partials"};
+  Array<double> result_{"reduction result"};
+  Array<int> flag_{"failure flag"};
+};
+
+// w = x + alpha * p, entry by entry, rounded as the CPU rounds it (no fused multiply-add), so
+// that a trial state built on the device equals the one PETSc's VecWAXPY builds on the host.
+void axpy_into(double* w, const double* x, double alpha, const double* p, std::size_t n);
+// y += s * x.
+void add_scaled(double* y, double s, const double* x, std::size_t n);
+// values[index[k]] = 0 for every k, then values[first..last) = 1 (Dirichlet elimination in COO).
+void eliminate(double* values, const std::size_t* index, std::size_t count, std::size_t first, std::size_t last);
+
+}  // namespace dipc::device

@@ -1,0 +1,100 @@
+// The contact barrier and its CCD on the CUDA device: a pair list in device memory (structure
+// of arrays) and the passes over it — energy, gradient, Hessian values in COO order, active
+// flags, minimum distance, minimum time of impact — each calling the point functions of
+// nonlinear/contact_pair_terms.hpp that ContactForm's CPU loops call.
+//
+// Plain C++: host code includes this header. The passes live in contact_kernels.cu, or, in
+// builds without CUDA, in contact_kernels_host.cpp, where they throw dipc::device::DeviceError;
+// the host lists and uploads in contact_pair_list.cpp. Node positions x, directions p,
+// gradients g and Hessian values are device pointers (3 values per ext-local node, as
+// ContactForm numbers them); pair lists and planes are uploaded from the host.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "device/device_runtime.hpp"
+
+namespace dipc::device {
+
+// A contact pair list on the host, in the order the device list keeps: pair i has kind[i]
+// (0 vertex–triangle, 1 edge–edge, 2 vertex–plane, as contact_pair_terms.hpp), ext-local
+// nodes nodes[4i..4i+3] (unused slots −1), weight w_i, mollifier threshold eps_x[i] (edge–edge)
+// and plane[i] (vertex–plane: index into the planes, −1 otherwise).
+struct ContactPairList {
+  std::vector<std::int32_t> kind;
+  std::vector<std::int32_t> nodes;
+  std::vector<double> weight, eps_x;
+  std::vector<std::int32_t> plane;
+
+  std::size_t size() const { return kind.size(); }
+  void clear();
+  void add(int pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x, int pair_plane);
+  bool operator==(const ContactPairList& o) const;
+  bool operator!=(const ContactPairList& o) const { return !(*this == o); }
+};
+
+// The same list in device memory. Nodes are stored slot-major (node k of pair i at
+// nodes[k·n + i]) so that neighbouring threads read neighbouring words. hessian_offset[i] is
+// the first COO value of pair i when the list is a Hessian pattern: pairs take 144 values, or
+// 9 for vertex–plane pairs, one after the other.
+struct DeviceContactPairs {
+  Array<std::int32_t> kind{"contact pair kinds"};
+  Array<std::int32_t> nodes{"contact pair nodes"};
+  Array<double> weight{"contact pair weights"};
+  Array<double> eps_x{"contact pair mollifier thresholds"};
+  Array<std::int32_t> plane{"contact pair planes"};
+  Array<std::size_t> hessian_offset{"contact Hessian offsets"};
+  std::size_t count = 0;
+  std::size_t hessian_values = 0;  // total number of COO values of the list
+
+  void upload(const ContactPairList& pairs);
+};
+
+// Half-space obstacles: 3 doubles of point and of unit normal per plane.
+struct DeviceContactPlanes {
+  Array<double> point{"contact plane points"};
+  Array<double> normal{"contact plane normals"};
+
+  void upload(const std::vector<double>& points, const std::vector<double>& normals);
+};
+
+// The barrier's constants: squared activation distance d̂², stiffness κ, and whether pair
+// Hessians are projected onto the PSD cone.
+struct BarrierConstants {
+  double dhat2 = 0;
+  double kappa = 0;
+  bool project = true;
+};
+
+// Σ_i κ w_i m_i b(d_i) at x, summed per block and then over blocks in a fixed order (the
+// result does not depend on scheduling). Returns false if a pair is not admissible (d ≤ 0 or
+// a vertex on or behind its plane); such pairs add nothing, as on the CPU.
+bool contact_barrier_energy(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+                            const BarrierConstants& c, const double* x, Reducer& reducer, double* energy);
+// Adds the barrier gradient into g (atomics). Returns false as contact_barrier_energy.
+bool add_contact_barrier_gradient(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+                                  const BarrierConstants& c, const double* x, double* g, Reducer& reducer);
+// Writes every pair's Hessian (PSD-projected when c.project) at values + hessian_offset[i];
+// inactive and inadmissible pairs write zeros. Returns false as contact_barrier_energy.
+bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+                             const BarrierConstants& c, const double* x, double* values, Reducer& reducer);
+// active[i] = 1 if pair i is active at x (0 < d < d̂²), else 0 (active: device array, one per
+// pair). Returns false as contact_barrier_energy.
+bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const BarrierConstants& c,
+                          const double* x, std::int32_t* active, Reducer& reducer);
+// Smallest squared distance over the pairs at x (contact_pair_squared_distance); +∞ without
+// pairs.
+double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+                                    Reducer& reducer);
+// toi[i] = time of impact of pair i along x + t p, searched on [0, t_max]
+// (contact_pair_time_of_impact, bit-identical to the CPU: no fused multiply-add); toi is a
+// device array with one entry per pair.
+void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+                             const double* p, double t_max, double* toi);
+// Smallest time of impact over the pairs along x + t p, t ∈ [0, t_max], each pair searched on
+// [0, t_max] as contact_times_of_impact; t_max without pairs.
+double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+                                  const double* p, double t_max, Reducer& reducer);
+
+}  // namespace dipc::device

@@ -1,0 +1,46 @@
+// The host side of contact_kernels.hpp shared by CUDA and CPU-only builds: the host pair list
+// and the uploads of pair lists and planes (plain Array copies).
+#include "nonlinear/cuda/contact_kernels.hpp"
+
+namespace dipc::device {
+
+void ContactPairList::clear() { kind.clear(), nodes.clear(), weight.clear(), eps_x.clear(), plane.clear(); }
+
+void ContactPairList::add(int pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x,
+                          int pair_plane) {
+  kind.push_back(pair_kind);
+  nodes.insert(nodes.end(), pair_nodes, pair_nodes + 4);
+  weight.push_back(pair_weight);
+  eps_x.push_back(pair_eps_x);
+  plane.push_back(pair_plane);
+}
+
+bool ContactPairList::operator==(const ContactPairList& o) const {
+  return kind == o.kind && nodes == o.nodes && weight == o.weight && eps_x == o.eps_x && plane == o.plane;
+}
+
+void DeviceContactPairs::upload(const ContactPairList& pairs) {
+  count = pairs.size();
+  // Slot-major nodes, and the COO offsets of the pairs taken as a Hessian pattern.
+  std::vector<std::int32_t> slot_major(4 * count);
+  std::vector<std::size_t> offset(count);
+  hessian_values = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int k = 0; k < 4; ++k) slot_major[k * count + i] = pairs.nodes[4 * i + k];
+    offset[i] = hessian_values;
+    hessian_values += pairs.kind[i] == 2 ? 9 : 144;
+  }
+  kind.upload(pairs.kind);
+  nodes.upload(slot_major);
+  weight.upload(pairs.weight);
+  eps_x.upload(pairs.eps_x);
+  plane.upload(pairs.plane);
+  hessian_offset.upload(offset);
+}
+
+void DeviceContactPlanes::upload(const std::vector<double>& points, const std::vector<double>& normals) {
+  point.upload(points);
+  normal.upload(normals);
+}
+
+}  // namespace dipc::device

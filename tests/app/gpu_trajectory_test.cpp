@@ -1,0 +1,63 @@
+// The same scene on the GPU and on the CPU gives the same trajectory: relative difference of
+// the displacements ≤ 1e-8 after 20 steps of each contact scene, on the ranks of the test's
+// communicator (CTest runs it on 1 and 2 ranks; both ranks share the one GPU of the lent
+// machine when it has one). Skips where no GPU is present.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "app/simulation.hpp"
+#include "device/device_runtime.hpp"
+
+namespace dipc {
+namespace {
+
+class GpuTrajectory : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  const std::string name = GetParam();
+  const Scene scene = name == "default" ? default_scene()
+                                        : parse_scene_file(std::string(DIPC_SOURCE_DIR) + "/scenes/" + name + ".json");
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
+  PetscOptionsSetValue(nullptr, "-ksp_max_it", "5000");
+  RunOptions options;
+  options.steps = 20;
+  options.write_output = false;
+  options.quiet = true;
+  options.report = false;
+  options.check_invariants = true;
+  options.velocity_tol_rel = 1e-9;  // Newton converged far below the compared difference
+
+  RunResult cpu, gpu, rest;
+  options.backend = "cpu";
+  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, options, &cpu), 0);
+  ASSERT_TRUE(cpu.failure.empty()) << cpu.failure;
+  options.backend = "cuda";
+  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, options, &gpu), 0);
+  ASSERT_TRUE(gpu.failure.empty()) << gpu.failure;
+  RunOptions zero = options;
+  zero.setup_only = true;
+  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, zero, &rest), 0);
+
+  double diff = 0, norm = 0;
+  for (std::size_t i = 0; i < cpu.positions.size(); ++i) {
+    const double uc = cpu.positions[i] - rest.positions[i], ug = gpu.positions[i] - rest.positions[i];
+    diff = std::max(diff, std::abs(uc - ug));
+    norm = std::max(norm, std::abs(uc));
+  }
+  std::printf("%s: GPU vs CPU after 20 steps: max |u_gpu - u_cpu| = %.3e, max |u| = %.3e, relative %.3e; "
+              "Newton iterations %lld (CPU) / %lld (GPU), max contact pairs %ld\n",
+              name.c_str(), diff, norm, diff / norm, cpu.newton_iterations, gpu.newton_iterations, cpu.max_contact_pairs);
+  EXPECT_GT(norm, 0.0);
+  EXPECT_LE(diff / norm, 1e-8);
+  for (const char* o : {"-ksp_rtol", "-ksp_max_it"}) PetscOptionsClearValue(nullptr, o);
+}
+
+INSTANTIATE_TEST_SUITE_P(ContactScenes, GpuTrajectory,
+                         ::testing::Values("default", "boxes_drop", "fast_impact", "friction_stack", "roller_squeeze"),
+                         [](const auto& info) { return info.param; });
+
+}  // namespace
+}  // namespace dipc
