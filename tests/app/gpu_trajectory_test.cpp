@@ -2,6 +2,11 @@
 // the displacements ≤ 1e-8 after 20 steps of each contact scene, on the ranks of the test's
 // communicator (CTest runs it on 1 and 2 ranks; both ranks share the one GPU of the lent
 // machine when it has one). Skips where no GPU is present.
+//
+// fast_impact is not in the list: its impact step (25 m/s, α_CCD = 0.047) has several local
+// minimisers of the incremental potential within reach, and rounding picks one. The CPU alone
+// shows it: 1 and 2 ranks already differ in the 6th digit of E and in the contact count (211
+// vs 226) after step 2 (README, "GPU"), so no backend can match another to 1e-8 there.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,7 +61,7 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ContactScenes, GpuTrajectory,
-                         ::testing::Values("default", "boxes_drop", "fast_impact", "friction_stack", "roller_squeeze"),
+                         ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace
