@@ -24,9 +24,12 @@ gpus=$(nvidia-smi -L | wc -l)
 case "${1:-}" in
   tests)
     for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests; do
-      run mpirun -n 1 "$bin/$t" 2>&1 | grep -E "^\[  (PASSED|FAILED|  OK) |FAILED|Failure" | tail -12
+      run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | grep -E "^\[  (PASSED|FAILED|  OK) |FAILED|Failure" | tail -12
     done
-    for n in 1 2; do run mpirun -n $n "$bin/app_gpu_trajectory_tests" 2>&1 | grep -E "relative|OK|FAIL|PASSED|SKIP"; done ;;
+    for n in 1 2; do
+      run mpirun -n $n "$bin/app_gpu_trajectory_tests" --gtest_color=no 2>&1 | grep -E "relative|OK|FAIL|PASSED|SKIP|another rank"
+      echo "app_gpu_trajectory_tests on $n ranks: exit ${PIPESTATUS[0]}"
+    done ;;
   assembly)
     run mpirun -n 16 "$bin/bench_assembly_throughput" -sizes 10000,100000,1000000,4000000 -repeat 5 \
       -csv "$out/assembly_throughput.csv" ;;
