@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
-#include <cstring>
 #include <memory>
 
 #include "app/backend.hpp"
@@ -151,13 +150,6 @@ struct DeviceUse {
   std::size_t free_before = 0, free_after = 0;
 };
 
-bool matrix_type_is_device() {
-  char type[64] = "";
-  PetscBool set = PETSC_FALSE;
-  PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set);
-  return set && std::strstr(type, "cusparse") != nullptr;
-}
-
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
                             TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
                             const BackendChoice& backend, const DeviceUse& device_use) {
@@ -229,7 +221,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
   DeviceUse device_use;
   if (backend.space == MemorySpace::device) {
-    device_use.matrix_on_device = matrix_type_is_device();
+    device_use.matrix_on_device = device_matrix_requested();
     check_device_memory(comm, mesh.num_elements(), device_use.matrix_on_device);
     device_use.free_before = device::memory_info().free_bytes;
   }

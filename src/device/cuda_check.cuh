@@ -3,6 +3,7 @@
 #pragma once
 #include <cuda_runtime.h>
 
+#include <cstddef>
 #include <string>
 
 #include "device/device_runtime.hpp"
@@ -17,6 +18,11 @@ inline void check(cudaError_t status, const char* call, const char* file, int li
 
 // Threads per block of the reduction kernels; kernels that write partials use the same.
 constexpr int kReduceThreads = 256;
+
+// Blocks of `per_block` threads (or items) that cover n.
+inline unsigned blocks_for(std::size_t n, int per_block) {
+  return static_cast<unsigned>((n + per_block - 1) / per_block);
+}
 
 // Block sum / min of one value per thread; the result is valid in thread 0. `scratch` holds
 // blockDim.x doubles; blockDim.x must be a power of two.

@@ -71,10 +71,6 @@ void synchronize() { DIPC_CUDA_CHECK(cudaDeviceSynchronize()); }
 
 namespace {
 
-unsigned blocks_for(std::size_t n, int threads) {
-  return static_cast<unsigned>((n + threads - 1) / threads);
-}
-
 template <bool Min>
 __global__ void reduce_kernel(const double* values, std::size_t n, double* out) {
   __shared__ double scratch[kReduceThreads];

@@ -2,6 +2,7 @@
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_mass.hpp"
+#include "nonlinear/inertia_form.hpp"
 
 namespace dipc {
 
@@ -40,10 +41,7 @@ bool DeviceElasticForm::gradient(const double* x, double* g) {
 }
 
 void DeviceElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  std::vector<std::int32_t> r, c;
-  elastic_coo_pattern(elements_.block(), elements_.local_to_global.data(), &r, &c);
-  rows->assign(r.begin(), r.end());
-  cols->assign(c.begin(), c.end());
+  elements_.elastic_pattern(rows, cols);
 }
 
 bool DeviceElasticForm::hessian(const double* x, double* values) {
@@ -79,9 +77,7 @@ bool DeviceLumpedInertiaForm::gradient(const double* x, double* g) {
 }
 
 void DeviceLumpedInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  rows->resize(num_dofs_);
-  for (std::size_t k = 0; k < num_dofs_; ++k) (*rows)[k] = static_cast<PetscInt>(3 * node_offset_ + k);
-  *cols = *rows;
+  owned_diagonal_pattern(num_dofs_, node_offset_, rows, cols);
 }
 
 bool DeviceLumpedInertiaForm::hessian(const double*, double* values) {
@@ -121,10 +117,7 @@ bool DeviceConsistentInertiaForm::gradient(const double* x, double* g) {
 }
 
 void DeviceConsistentInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  std::vector<std::int32_t> r, c;
-  consistent_mass_coo_pattern(elements_.block(), elements_.local_to_global.data(), &r, &c);
-  rows->assign(r.begin(), r.end());
-  cols->assign(c.begin(), c.end());
+  elements_.consistent_mass_pattern(rows, cols);
 }
 
 bool DeviceConsistentInertiaForm::hessian(const double*, double* values) {

@@ -19,10 +19,7 @@ bool ElasticForm::gradient(const double* x, double* g) {
 }
 
 void ElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  std::vector<std::int32_t> r, c;
-  elastic_coo_pattern(elements_.block(), elements_.local_to_global.data(), &r, &c);
-  rows->assign(r.begin(), r.end());
-  cols->assign(c.begin(), c.end());
+  elements_.elastic_pattern(rows, cols);
 }
 
 bool ElasticForm::hessian(const double* x, double* values) {

@@ -26,6 +26,26 @@ void ElementData::gather_reference(int e, double X[24]) const {
     for (int i = 0; i < 3; ++i) X[3 * a + i] = reference[3 * nodes[8 * static_cast<std::size_t>(e) + a] + i];
 }
 
+namespace {
+void to_petsc(const std::vector<std::int32_t>& r, const std::vector<std::int32_t>& c, std::vector<PetscInt>* rows,
+              std::vector<PetscInt>* cols) {
+  rows->assign(r.begin(), r.end());
+  cols->assign(c.begin(), c.end());
+}
+}  // namespace
+
+void ElementData::elastic_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
+  std::vector<std::int32_t> r, c;
+  elastic_coo_pattern(block(), local_to_global.data(), &r, &c);
+  to_petsc(r, c, rows, cols);
+}
+
+void ElementData::consistent_mass_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
+  std::vector<std::int32_t> r, c;
+  consistent_mass_coo_pattern(block(), local_to_global.data(), &r, &c);
+  to_petsc(r, c, rows, cols);
+}
+
 ElementBlock ElementData::block() const {
   ElementBlock b;
   b.num_elements = num_elements();

@@ -2,6 +2,8 @@
 // reference coordinates, per-element material), owned storage behind the non-owning
 // assembly::ElementBlock view that the element loops (and later the CUDA kernels) take.
 #pragma once
+#include <petscsys.h>
+
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +27,11 @@ struct ElementData {
   // Reference coordinates of element e's nodes, X[3a + i].
   void gather_reference(int e, double X[24]) const;
   int num_elements() const { return static_cast<int>(lambda.size()); }
+  // COO patterns (global dof ids) of the elastic Hessian (576 per element) and of the
+  // consistent mass (192 per element), in the orders of element_loops.hpp; the host and the
+  // device forms share them.
+  void elastic_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  void consistent_mass_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
 };
 
 }  // namespace dipc

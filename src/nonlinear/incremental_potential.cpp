@@ -188,16 +188,33 @@ PetscErrorCode IncrementalPotential::form_values(Vec x, std::vector<double>* val
   PetscFunctionBeginUser;
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
-  const std::size_t nf = forms_.size();
-  std::vector<double> local(nf + 1, 0.0), total(nf + 1);
+  std::vector<double> local(forms_.size(), 0.0);
   const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
   const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
-  if (!local_values(xh, xd, local.data())) local[nf] = 1.0;
+  const bool ok = local_values(xh, xd, local.data());
   PetscCall(x_views_.end());
-  PetscCallMPI(MPI_Allreduce(local.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
+  PetscCall(reduce_values(local, ok, values));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::reduce_values(const std::vector<double>& local, bool ok,
+                                                   std::vector<double>* values) {
+  PetscFunctionBeginUser;
+  const std::size_t nf = local.size();
+  std::vector<double> send(local), total(nf + 1);
+  send.push_back(ok ? 0.0 : 1.0);
+  PetscCallMPI(MPI_Allreduce(send.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
   values->assign(total.begin(), total.begin() + nf);
   if (total[nf] > 0)
     for (double& v : *values) v = PETSC_INFINITY;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::all_ranks(bool ok, PetscBool* all) {
+  PetscFunctionBeginUser;
+  int mine = ok ? 1 : 0, every = 0;
+  PetscCallMPI(MPI_Allreduce(&mine, &every, 1, MPI_INT, MPI_MIN, comm_));
+  *all = every ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -328,11 +345,9 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
   PetscCall(x_views_.begin(x_local_));
   const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
   const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
-  int ok = local_valid(xh, xd) ? 1 : 0;
+  const bool ok = local_valid(xh, xd);
   PetscCall(x_views_.end());
-  int all = 0;
-  PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_));
-  *valid = all ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(all_ranks(ok, valid));
   PetscFunctionReturn(0);
 }
 
@@ -436,13 +451,12 @@ PetscErrorCode IncrementalPotential::segment_objective(PetscReal alpha, PetscRea
   PetscFunctionBeginUser;
   ScopedEvent timer(events().energy, &times_.energy);
   segment_point(alpha);
-  const std::size_t nf = forms_.size();
-  std::vector<double> local(nf + 1, 0.0), total(nf + 1);
-  if (!local_values(seg_w_host_.data(), seg_w_device_.data(), local.data())) local[nf] = 1.0;
-  PetscCallMPI(MPI_Allreduce(local.data(), total.data(), static_cast<int>(nf + 1), MPI_DOUBLE, MPI_SUM, comm_));
+  std::vector<double> local(forms_.size(), 0.0), values;
+  const bool ok = local_values(seg_w_host_.data(), seg_w_device_.data(), local.data());
+  PetscCall(reduce_values(local, ok, &values));
   double sum = 0;
-  for (std::size_t f = 0; f < nf; ++f) sum += total[f];
-  *energy = total[nf] > 0 ? PETSC_INFINITY : sum;
+  for (double v : values) sum += v;
+  *energy = sum;
   PetscFunctionReturn(0);
 }
 
@@ -450,9 +464,7 @@ PetscErrorCode IncrementalPotential::segment_is_valid(PetscReal alpha, PetscBool
   PetscFunctionBeginUser;
   ScopedEvent timer(events().validity, &times_.validity);
   segment_point(alpha);
-  int ok = local_valid(seg_w_host_.data(), seg_w_device_.data()) ? 1 : 0, all = 0;
-  PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm_));
-  *valid = all ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(all_ranks(local_valid(seg_w_host_.data(), seg_w_device_.data()), valid));
   PetscFunctionReturn(0);
 }
 

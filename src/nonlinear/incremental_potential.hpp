@@ -102,6 +102,11 @@ class IncrementalPotential {
   // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
   bool local_values(const double* x_host, const double* x_device, double* values);
   bool local_valid(const double* x_host, const double* x_device);
+  // Sums the forms' local values (and a rejection anywhere) over the ranks: values[f] per form,
+  // all +inf when any rank rejected its state.
+  PetscErrorCode reduce_values(const std::vector<double>& local, bool ok, std::vector<double>* values);
+  // *all = ok on every rank.
+  PetscErrorCode all_ranks(bool ok, PetscBool* all);
   // Builds w = x + αp of the kept segment in every space the forms use.
   void segment_point(PetscReal alpha);
   // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix).

@@ -30,10 +30,15 @@ bool LumpedInertiaForm::gradient(const double* x, double* g) {
   return true;
 }
 
-void LumpedInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  rows->resize(3 * static_cast<std::size_t>(num_owned_));
-  for (int k = 0; k < 3 * num_owned_; ++k) (*rows)[k] = static_cast<PetscInt>(3 * node_offset_ + k);
+void owned_diagonal_pattern(std::size_t num_owned_dofs, std::int64_t node_offset, std::vector<PetscInt>* rows,
+                            std::vector<PetscInt>* cols) {
+  rows->resize(num_owned_dofs);
+  for (std::size_t k = 0; k < num_owned_dofs; ++k) (*rows)[k] = static_cast<PetscInt>(3 * node_offset + k);
   *cols = *rows;
+}
+
+void LumpedInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  owned_diagonal_pattern(3 * static_cast<std::size_t>(num_owned_), node_offset_, rows, cols);
 }
 
 bool LumpedInertiaForm::hessian(const double*, double* values) {
@@ -87,19 +92,7 @@ bool ConsistentInertiaForm::gradient(const double* x, double* g) {
 // Pattern: per element, the 8×8 scalar block expanded to the three components,
 // entry (a, b, c) -> row 3·global(a)+c, col 3·global(b)+c, in the order a, b, c.
 void ConsistentInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  const auto& l2g = elements_.local_to_global;
-  rows->clear(), cols->clear();
-  rows->reserve(192 * static_cast<std::size_t>(elements_.num_elements()));
-  cols->reserve(rows->capacity());
-  for (int el = 0; el < elements_.num_elements(); ++el) {
-    const std::int32_t* n = &elements_.nodes[8 * static_cast<std::size_t>(el)];
-    for (int a = 0; a < 8; ++a)
-      for (int b = 0; b < 8; ++b)
-        for (int c = 0; c < 3; ++c) {
-          rows->push_back(static_cast<PetscInt>(3 * l2g[n[a]] + c));
-          cols->push_back(static_cast<PetscInt>(3 * l2g[n[b]] + c));
-        }
-  }
+  elements_.consistent_mass_pattern(rows, cols);
 }
 
 bool ConsistentInertiaForm::hessian(const double*, double* values) {

@@ -7,6 +7,11 @@
 
 namespace dipc {
 
+// The diagonal pattern (3·node_offset + k, same) of this rank's num_owned_dofs owned dofs: the
+// lumped mass's Hessian.
+void owned_diagonal_pattern(std::size_t num_owned_dofs, std::int64_t node_offset, std::vector<PetscInt>* rows,
+                            std::vector<PetscInt>* cols);
+
 class LumpedInertiaForm : public Form {
  public:
   // node_mass: complete lumped mass of every local node (contributions of all ranks summed).

@@ -80,6 +80,13 @@ NewtonSolver::~NewtonSolver() {
   VecDestroy(&r_);
 }
 
+bool device_matrix_requested() {
+  char type[64] = "";
+  PetscBool set = PETSC_FALSE;
+  PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set);
+  return set && std::strstr(type, "cusparse") != nullptr;
+}
+
 PetscErrorCode NewtonSolver::set_default_options() {
   PetscFunctionBeginUser;
   PetscCall(default_option("-ksp_type", "cg"));
@@ -98,10 +105,7 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
   // A device matrix (CUSPARSE) runs BoomerAMG on the GPU, where hypre sets up only PMIS
   // coarsening and smooths only with Jacobi-type relaxation (hypre's GPU documentation).
-  char mat_type[64] = "";
-  PetscBool mat_set = PETSC_FALSE;
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-mat_type", mat_type, sizeof mat_type, &mat_set));
-  const bool device_matrix = mat_set && std::strstr(mat_type, "cusparse") != nullptr;
+  const bool device_matrix = device_matrix_requested();
   if (device_matrix) PetscCall(default_option("-pc_hypre_boomeramg_relax_type_all", "l1scaled-Jacobi"));
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));

@@ -60,6 +60,10 @@ class NewtonSolver {
   LineSearchContext ls_;
 };
 
+// True when the options database asks for a device (CUSPARSE) matrix with -mat_type, so that
+// assembly and BoomerAMG run on the GPU.
+bool device_matrix_requested();
+
 // The line search and convergence test installed by NewtonSolver (line_search.cpp).
 PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx);
 PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,

@@ -216,8 +216,6 @@ __global__ void consistent_inertia_kernel(ElementBlock block, const double* __re
   }
 }
 
-unsigned blocks_for(std::size_t n, int per_block) { return static_cast<unsigned>((n + per_block - 1) / per_block); }
-
 }  // namespace
 
 bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy,

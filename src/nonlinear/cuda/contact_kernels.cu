@@ -36,8 +36,6 @@ PairView view(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes
           pairs.eps_x.data(), pairs.plane.data(), planes.point.data(), planes.normal.data()};
 }
 
-unsigned blocks_for(std::size_t n, int threads) { return static_cast<unsigned>((n + threads - 1) / threads); }
-
 // One pair read from the list: kind, node count, ext-local nodes, stacked positions at x and
 // plane (nullptr unless a vertex–plane pair).
 struct Pair {
