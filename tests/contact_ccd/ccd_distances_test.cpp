@@ -125,6 +125,29 @@ TEST(CcdDistances, EdgeEdgeEveryCase) {
   EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {2, 0, 0}, {0, 0, 0}), 0.0);     // same edge
 }
 
+// Nearly parallel edges crossing over each other at a known gap g (closest points interior):
+// the distance must be g to the stated bound (about 5e-11 of the edge length) at every angle,
+// including those where the textbook normal equations lose all digits. The frame is rotated
+// so that no coordinate is exact.
+TEST(CcdDistances, NearlyParallelCrossingIsAccurate) {
+  const double c = std::cos(0.7), s = std::sin(0.7), c2 = std::cos(0.3), s2 = std::sin(0.3);
+  auto rotate = [&](const Vec3& p) {  // about z by 0.7 rad, then about x by 0.3 rad
+    const Vec3 q{c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
+    return Vec3{q[0], c2 * q[1] - s2 * q[2], s2 * q[1] + c2 * q[2]};
+  };
+  for (double angle : {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 0.0})
+    for (double gap : {1e-3, 1e-7, 1e-10, 0.0}) {
+      // Edge a along x through the origin; edge b at height gap, turned by `angle` in the
+      // plane z = gap, crossing over a at x = 0.1.
+      const Vec3 a0 = rotate({-0.6, 0, 0}), a1 = rotate({0.5, 0, 0});
+      const double ca = std::cos(angle), sa = std::sin(angle);
+      const Vec3 b0 = rotate({0.1 - 0.7 * ca, -0.7 * sa, gap}), b1 = rotate({0.1 + 0.4 * ca, 0.4 * sa, gap});
+      const double d = std::sqrt(ee(a0, a1, b0, b1));
+      EXPECT_NEAR(d, gap, 5e-11) << "angle " << angle << " gap " << gap;
+      EXPECT_LE(d, gap + 5e-11) << "an overestimate would let the CCD step over the contact";
+    }
+}
+
 // Random configurations of unit size in several families that stress the case decisions.
 TEST(CcdDistances, RandomAgainstPatternSearchReference) {
   std::mt19937_64 rng(20240611);

@@ -1,6 +1,6 @@
 // Randomized conformance of the point-triangle and edge-edge CCD: 10^5 random linear
 // trajectories per pair type (general, coplanar, parallel, starting close, forced crossings,
-// degenerate primitives; lengths from 1e-4 to 1e4), each compared with a dense sampling of
+// degenerate primitives, grazing crossings; lengths from 1e-4 to 1e4), each compared with a dense sampling of
 // the distance along the trajectory. Sampling can miss a contact, but a sampled distance
 // <= min_separation at time tau is a contact, so t* <= tau is required, and so is t* <= the
 // crossing time built into the "crossing" family: zero false negatives. False positives
@@ -49,6 +49,9 @@ class TrajectoryGenerator {
         break;
       case 4:  // forced crossing at a random time in (0, 1)
         known_contact = make_crossing(a, b);
+        break;
+      case 6:  // grazing crossing: nearly parallel edges / a point skimming the face
+        known_contact = make_grazing_crossing(a, b);
         break;
       case 5:  // degenerate: collinear triangle / zero-length edge
         for (int k = 0; k < 3; ++k) {
@@ -136,14 +139,74 @@ class TrajectoryGenerator {
     return tau;
   }
 
+  Vec3 unit_vector() {
+    Vec3 v{u(), u(), u()};
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& c : v) c /= len;
+    return v;
+  }
+
+  // The primitives meet at tau in an interior point q at an angle of 1e-9 to 1e-1 rad: edge b
+  // nearly parallel to edge a, or the point moving nearly parallel to the triangle's plane.
+  // Such crossings are where the distance evaluation is ill-conditioned (the closest points
+  // of nearly parallel lines, ccd_distances.hpp), so they test its error bound.
+  double make_grazing_crossing(Stack& a, Stack& b) {
+    const double tau = 0.5 + 0.5 * u();
+    const double angle = std::pow(10.0, -5.0 + 4.0 * u());
+    const Vec3 d = unit_vector(), r = unit_vector();
+    Vec3 n{d[1] * r[2] - d[2] * r[1], d[2] * r[0] - d[0] * r[2], d[0] * r[1] - d[1] * r[0]};
+    const double nl = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& c : n) c /= nl;
+    const Vec3 w{d[1] * n[2] - d[2] * n[1], d[2] * n[0] - d[0] * n[2], d[0] * n[1] - d[1] * n[0]};
+    const Vec3 q{u(), u(), u()}, common{0.1 * u(), 0.1 * u(), 0.1 * u()};
+    Stack at_tau{};  // positions at tau; the first primitive then moves by `common`
+    Vec3 relative;   // extra velocity of the moving part (edge b / the point)
+    const double speed = std::pow(10.0, -2.0 + 2.0 * u()) * (u() < 0 ? -1.0 : 1.0);
+    if (kind_ == PairKind::edge_edge) {
+      const double la = 0.5 + 0.5 * u(), lb = 0.5 + 0.5 * u(), sa = 0.5 + 0.4 * u(), sb = 0.5 + 0.4 * u();
+      for (int k = 0; k < 3; ++k) {
+        const double db = std::cos(angle) * d[k] + std::sin(angle) * w[k];
+        at_tau[k] = q[k] - sa * la * d[k];
+        at_tau[3 + k] = q[k] + (1 - sa) * la * d[k];
+        at_tau[6 + k] = q[k] - sb * lb * db;
+        at_tau[9 + k] = q[k] + (1 - sb) * lb * db;
+        relative[k] = speed * n[k];
+      }
+    } else {
+      // Triangle in the plane spanned by d and w around q; the point passes through q.
+      const double b0 = 0.2 + 0.1 * u(), b1 = 0.2 + 0.1 * u();
+      const Vec3 e1{d[0] + 0.3 * w[0], d[1] + 0.3 * w[1], d[2] + 0.3 * w[2]};
+      const Vec3 e2{-0.2 * d[0] + w[0], -0.2 * d[1] + w[1], -0.2 * d[2] + w[2]};
+      for (int k = 0; k < 3; ++k) {
+        const double t0 = q[k] - b0 * e1[k] - b1 * e2[k];  // q = t0 + b0 e1 + b1 e2
+        at_tau[3 + k] = t0;
+        at_tau[6 + k] = t0 + e1[k];
+        at_tau[9 + k] = t0 + e2[k];
+        at_tau[k] = q[k];
+        relative[k] = speed * (std::cos(angle) * d[k] + std::sin(angle) * n[k]);
+      }
+    }
+    const int first_moving = kind_ == PairKind::edge_edge ? 2 : 0;
+    const int last_moving = kind_ == PairKind::edge_edge ? 4 : 1;
+    for (int v = 0; v < 4; ++v) {
+      const bool moving = v >= first_moving && v < last_moving;
+      for (int k = 0; k < 3; ++k) {
+        const double velocity = common[k] + (moving ? relative[k] : 0.0);
+        a[3 * v + k] = at_tau[3 * v + k] - tau * velocity;
+        b[3 * v + k] = a[3 * v + k] + velocity;
+      }
+    }
+    return tau;
+  }
+
   PairKind kind_;
   std::mt19937_64 rng_;
   std::uniform_real_distribution<double> dist_{-1.0, 1.0};
 };
 
-constexpr int kFamilies = 6;
-const char* const kFamilyNames[kFamilies] = {"general", "coplanar", "parallel",
-                                             "close start", "crossing", "degenerate"};
+constexpr int kFamilies = 7;
+const char* const kFamilyNames[kFamilies] = {"general", "coplanar", "parallel",   "close start",
+                                             "crossing", "degenerate", "grazing crossing"};
 
 struct Tally {
   long trajectories = 0, sampled_contacts = 0, false_negatives = 0, starts_touching = 0;

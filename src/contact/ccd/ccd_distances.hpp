@@ -69,13 +69,32 @@ DIPC_HD double point_triangle_distance_squared(const double p[3], const double t
 
 // Segment-segment distance. The squared distance |w + s u - t v|^2 (u = a1 - a0,
 // v = b1 - b0, w = a0 - b0) is a convex quadratic over the square (s, t) in [0, 1]^2: its
-// minimum is the stationary point of the infinite lines when that lies in the square
-// (normal equations, e.g. Ericson sec. 5.1.9), and otherwise on the square's boundary, where
-// each side is a point-segment distance from an endpoint. Parallel lines (det = 0) have a
-// line of minimisers that reaches the boundary whenever it meets the square, so the
-// boundary candidates alone are exact there. For nearly parallel segments the stationary
-// point is ill-conditioned; the error it can cause is bounded by the flat curvature of the
-// quadratic along the lines, about machine epsilon times the squared edge length.
+// minimum is the stationary point of the infinite lines when that lies in the square, and
+// otherwise on the square's boundary, where each side is a point-segment distance from an
+// endpoint. Parallel lines have a line of minimisers that reaches the boundary whenever it
+// meets the square, so the boundary candidates alone are exact there.
+//
+// Nearly parallel lines (angle theta small) are where rounding matters. The textbook normal
+// equations (Ericson sec. 5.1.9) divide by uu vv - uv^2, which cancels to a relative error of
+// eps / theta^2; the stationary point then lands up to (eps / theta^2) |u| away along the
+// lines, and |w + s u - t v|^2 there overestimates the distance (a missed contact for the
+// CCD). Instead:
+//  - det = |u x v|^2 and the numerators are the Lagrange identities
+//      uv vw - vv uw = (u x v).(v x w),  uu vw - uv uw = (u x v).(u x w),
+//    whose cross products carry a relative error of only eps / theta;
+//  - the interior candidate is the line-line distance (r.n)^2 / |n|^2 (n = u x v), measured
+//    from the computed near-closest points r = w + s u - t v. It never exceeds the segment
+//    distance (a lower bound) and equals it when the minimiser is interior. The stationary
+//    point is off by (eps / theta) |u| along the lines, and n's direction by eps / theta, so
+//    r.n / |n| is off by about (eps / theta)^2 |u| (plus a few ulps).
+// An error in the inside/outside decision moves the stationary point by (eps / theta) |u|
+// along the lines, which changes the distance at the boundary by about theta times that,
+// eps |u|. Below sin^2 theta = kNearlyParallelSin2 (theta ~ 3e-11) the lines count as
+// parallel and only the boundary candidates are used; for lines that do cross inside the
+// square they overestimate by at most theta max(|u|, |v|). Both errors stay below about
+// 5e-11 of the edge length, the bound the CCD contract (time_of_impact.hpp) states.
+constexpr double kNearlyParallelSin2 = 1e-21;
+
 DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3],
                                           const double b0[3], const double b1[3]) {
   double best = point_segment_distance_squared(a0, b0, b1);
@@ -86,21 +105,24 @@ DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3]
   best = c2 < best ? c2 : best;
   best = c3 < best ? c3 : best;
 
-  double u[3], v[3], w[3];
+  double u[3], v[3], w[3], n[3];
   sub3(a1, a0, u);
   sub3(b1, b0, v);
   sub3(a0, b0, w);
-  const double uu = dot3(u, u), vv = dot3(v, v), uv = dot3(u, v);
-  const double uw = dot3(u, w), vw = dot3(v, w);
-  const double det = uu * vv - uv * uv;
-  if (!(det > 0.0)) return best;
-  // Normal equations of min |w + s u - t v|^2: [uu -uv; -uv vv] [s; t] = [-uw; vw].
-  const double s = (uv * vw - vv * uw) / det;
-  const double t = (uu * vw - uv * uw) / det;
+  cross3(u, v, n);
+  const double nn = dot3(n, n);
+  if (!(nn > kNearlyParallelSin2 * dot3(u, u) * dot3(v, v))) return best;
+  double vw[3], uw[3];
+  cross3(v, w, vw);
+  cross3(u, w, uw);
+  // Stationary point of |w + s u - t v|^2 (normal equations, numerators as above).
+  const double s = dot3(n, vw) / nn;
+  const double t = dot3(n, uw) / nn;
   if (s < 0.0 || s > 1.0 || t < 0.0 || t > 1.0) return best;
   const double r[3] = {w[0] + s * u[0] - t * v[0], w[1] + s * u[1] - t * v[1],
                        w[2] + s * u[2] - t * v[2]};
-  const double interior = dot3(r, r);
+  const double h = dot3(r, n);
+  const double interior = h * h / nn;
   return interior < best ? interior : best;
 }
 

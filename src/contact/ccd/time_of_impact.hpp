@@ -8,8 +8,8 @@
 // of sqrt(d_hat) to keep a safety margin). The return value t* lies in [0, t_max] and
 //   - is conservative: the primitives' unsigned distance stays > xi for all t in [0, t*]
 //     (exact-arithmetic guarantee; in floating point the limit is the distance evaluation
-//     error: a few ulps of the coordinates, up to about 1e-8 of the edge length for nearly
-//     parallel edges, see ccd_distances.hpp).
+//     error: a few ulps of the coordinates, and for nearly parallel edges up to about 5e-11
+//     of the edge length, see ccd_distances.hpp).
 //     There are no false negatives: if contact (distance <= xi) happens at tau <= t_max,
 //     then t* < tau;
 //   - is t_max when the distance never gets down to the stopping gap before t_max, in
