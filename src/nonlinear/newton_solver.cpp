@@ -94,8 +94,7 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_type", "hypre"));
   PetscCall(default_option("-pc_hypre_type", "boomeramg"));
   // BoomerAMG: HMIS coarsening, extended+i interpolation truncated to 4 entries per row,
-  // hypre's strength threshold for 3D problems; matrix block size 3 and the rigid-body modes
-  // attached as near-null space. Measured on a 97,556-hex box (bench_step_breakdown, 2 ranks,
+  // hypre's strength threshold for 3D problems, matrix block size 3. Measured on a 97,556-hex box (bench_step_breakdown, 2 ranks,
   // README "Benchmarks"): plain unknown-based coarsening needed 4.1 s per Newton iteration,
   // nodal coarsening (-pc_hypre_boomeramg_nodal_coarsen 6) 14.1 s and nodal coarsening with
   // vector interpolation of the rigid-body modes (…_vec_interp_variant 3) 35 s, so the nodal
@@ -143,10 +142,29 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscFunctionReturn(0);
 }
 
-// Rigid-body modes at the configuration x: the near-null space BoomerAMG's vector
-// interpolation (and GAMG, if chosen) uses.
+// Rigid-body modes at the configuration x, attached as near-null space only where the
+// preconditioner reads it: GAMG builds its coarse spaces from it, BoomerAMG only with vector
+// interpolation (-pc_hypre_boomeramg_vec_interp_variant > 0). Attaching it otherwise is not
+// just wasted work: with a CUSPARSE matrix, PETSc 3.22.5 copies the modes into hypre 2.32 IJ
+// vectors, and that copy fails on the device ("CUDA ERROR ... memory.c", then invalid device
+// ordinal; measured on an H200 with a 27,000-node Laplacian, which BoomerAMG solves on the
+// device without the modes), so that combination is refused with a message instead.
 PetscErrorCode NewtonSolver::attach_near_null_space(Vec x) {
   PetscFunctionBeginUser;
+  KSP ksp;
+  PC pc;
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscBool gamg, hypre;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg));
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCHYPRE, &hypre));
+  PetscInt variant = 0;
+  if (hypre) PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-pc_hypre_boomeramg_vec_interp_variant", &variant, nullptr));
+  if (!gamg && variant <= 0) PetscFunctionReturn(0);
+  PetscCheck(!(hypre && device_matrix_requested()), PetscObjectComm(reinterpret_cast<PetscObject>(x)),
+             PETSC_ERR_SUP,
+             "-pc_hypre_boomeramg_vec_interp_variant needs the rigid-body modes in hypre, which fails with a "
+             "device matrix (PETSc 3.22 + hypre 2.32 on CUDA); drop the option or use -pc_type gamg");
   MatNullSpace rigid;
   PetscCall(MatNullSpaceCreateRigidBody(x, &rigid));
   PetscCall(MatSetNearNullSpace(J_, rigid));
