@@ -58,18 +58,18 @@ void gather_positions(const double* x, const std::int32_t* nodes, int count, dou
 
 ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
     : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space) {
+  std::vector<double> plane_points, plane_normals;  // flat, for the device
   if (space_ == MemorySpace::device) {
     if (device::device_count() == 0)
       throw device::DeviceError(device::built_with_cuda()
                                     ? "contact barrier on the device: no CUDA device is visible to this process"
                                     : "contact barrier on the device: dipc was built without CUDA "
                                       "(configure with -DDIPC_WITH_CUDA=ON)");
-    std::vector<double> points, normals;
     for (const auto& plane : parameters_.planes) {
-      points.insert(points.end(), plane.point.begin(), plane.point.end());
-      normals.insert(normals.end(), plane.normal.begin(), plane.normal.end());
+      plane_points.insert(plane_points.end(), plane.point.begin(), plane.point.end());
+      plane_normals.insert(plane_normals.end(), plane.normal.begin(), plane.normal.end());
     }
-    device_planes_.upload(points, normals);
+    device_planes_.upload(plane_points, plane_normals);
   }
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
@@ -103,6 +103,10 @@ ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters paramete
   VecDestroy(&local);
   VecDestroy(&global);
   collect_owned();
+  if (space_ == MemorySpace::device) {
+    upload_surface();
+    device_vertex_planes_.upload(surface_.vertices, plane_points, plane_normals);
+  }
 }
 
 void ContactForm::collect_owned() {
@@ -228,13 +232,19 @@ bool ContactForm::update_extra_nodes(const double* x, const double* p) {
                 recv_displ.data(), MPI_DOUBLE, comm_);
 
   // Rebuild the ghost primitives, sorted by (kind, gid) so the result does not depend on the
-  // order of arrival, and the extra nodes in order of first use.
+  // order of arrival, and the extra nodes in order of first use. Device space keeps the previous
+  // ghosts to upload the surface only when they change.
   std::vector<int> order(total);
   for (int k = 0; k < total; ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](int a, int b) {
     return std::make_pair(recv_i[6 * a], recv_i[6 * a + 1]) < std::make_pair(recv_i[6 * b], recv_i[6 * b + 1]);
   });
   const std::vector<std::int64_t> previous = extra_nodes_;
+  std::vector<Primitive> previous_edges, previous_faces;
+  if (space_ == MemorySpace::device) {
+    previous_edges.assign(edges_.begin() + owned_edges_, edges_.end());
+    previous_faces.assign(faces_.begin() + owned_faces_, faces_.end());
+  }
   for (std::int64_t g : extra_nodes_) global_to_local_.erase(g);
   extra_nodes_.clear();
   edges_.resize(owned_edges_);
@@ -251,12 +261,27 @@ bool ContactForm::update_extra_nodes(const double* x, const double* p) {
   }
   for (std::int64_t g : pinned_) ext_local(g);
   stats_.exchange_seconds += MPI_Wtime() - start;
+  auto same = [](const std::vector<Primitive>& before, const std::vector<Primitive>& now, std::size_t owned) {
+    if (owned + before.size() != now.size()) return false;
+    for (std::size_t i = 0; i < before.size(); ++i) {
+      const Primitive& a = before[i];
+      const Primitive& b = now[owned + i];
+      if (a.gid != b.gid || a.body != b.body || a.node != b.node) return false;
+    }
+    return true;
+  };
+  if (space_ == MemorySpace::device &&
+      !(same(previous_edges, edges_, owned_edges_) && same(previous_faces, faces_, owned_faces_)))
+    upload_surface();
   return extra_nodes_ != previous;
 }
 
 void ContactForm::prepare_segment(const double* x, const double* p) {
-  find_candidates(x, p);
-  if (space_ != MemorySpace::device) return;
+  if (space_ != MemorySpace::device) {
+    find_candidates(x, p);
+    return;
+  }
+  find_candidates_on_device(x, p);
   const double start = MPI_Wtime();
   device::ContactPairList list;
   for_each_pair([&](int kind, std::size_t i) {
@@ -267,28 +292,46 @@ void ContactForm::prepare_segment(const double* x, const double* p) {
   stats_.transfer_seconds += MPI_Wtime() - start;
 }
 
-void ContactForm::find_candidates(const double* x, const double* p) {
-  const double start = MPI_Wtime();
-  // Compact vertex numbering over every node the surface primitives touch.
+device::BroadPhaseSurface ContactForm::number_surface() const {
+  device::BroadPhaseSurface s;
   std::unordered_map<std::int32_t, std::int32_t> compact;
-  std::vector<std::int32_t> node_of;
-  std::vector<std::int32_t> group;
-  std::vector<char> owned_vertex;
   auto add = [&](std::int32_t n, int body, bool is_owned_vertex) {
-    auto [it, inserted] = compact.emplace(n, static_cast<std::int32_t>(node_of.size()));
+    auto [it, inserted] = compact.emplace(n, static_cast<std::int32_t>(s.vertex_node.size()));
     if (inserted) {
-      node_of.push_back(n);
-      group.push_back(body);
-      owned_vertex.push_back(0);
+      s.vertex_node.push_back(n);
+      s.vertex_group.push_back(body);
+      s.owned_vertex.push_back(0);
     }
-    if (is_owned_vertex) owned_vertex[it->second] = 1;
+    if (is_owned_vertex) s.owned_vertex[it->second] = 1;
     return it->second;
   };
   for (std::size_t i = 0; i < surface_.vertices.size(); ++i) add(surface_.vertices[i], surface_.vertex_body[i], true);
-  std::vector<std::int32_t> edge_ids, face_ids;
-  for (const auto& e : edges_) edge_ids.insert(edge_ids.end(), {add(e.node[0], e.body, false), add(e.node[1], e.body, false)});
+  for (const auto& e : edges_) {
+    s.edges.insert(s.edges.end(), {add(e.node[0], e.body, false), add(e.node[1], e.body, false)});
+    s.edge_gid.push_back(e.gid);
+    s.owned_edge.push_back(e.owned ? 1 : 0);
+  }
   for (const auto& f : faces_)
-    face_ids.insert(face_ids.end(), {add(f.node[0], f.body, false), add(f.node[1], f.body, false), add(f.node[2], f.body, false)});
+    s.faces.insert(s.faces.end(),
+                   {add(f.node[0], f.body, false), add(f.node[1], f.body, false), add(f.node[2], f.body, false)});
+  s.num_vertices = static_cast<int>(s.vertex_node.size());
+  s.self_contact = parameters_.self_contact;
+  return s;
+}
+
+void ContactForm::upload_surface() {
+  const double start = MPI_Wtime();
+  device::BroadPhaseSurface s = number_surface();
+  device_broad_phase_.upload(s);
+  device_surface_nodes_ = std::move(s.vertex_node);
+  stats_.broad_phase_seconds += MPI_Wtime() - start;
+}
+
+void ContactForm::find_candidates(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  const device::BroadPhaseSurface s = number_surface();
+  const std::vector<std::int32_t>& node_of = s.vertex_node;
+  const std::vector<char>& owned_vertex = s.owned_vertex;
   const std::size_t nv = node_of.size();
   std::vector<double> x0(3 * nv), x1(3 * nv);
   bool moving = false;
@@ -303,10 +346,10 @@ void ContactForm::find_candidates(const double* x, const double* p) {
   view.x0 = x0.data();
   view.x1 = moving ? x1.data() : nullptr;
   view.num_edges = static_cast<int>(edges_.size());
-  view.edges = edge_ids.data();
+  view.edges = s.edges.data();
   view.num_faces = static_cast<int>(faces_.size());
-  view.faces = face_ids.data();
-  view.vertex_group = group.data();
+  view.faces = s.faces.data();
+  view.vertex_group = s.vertex_group.data();
   contact::CandidateFilter filter;
   const auto& self = parameters_.self_contact;
   filter.allow_groups = [&self](int a, int b) {
@@ -336,6 +379,21 @@ void ContactForm::find_candidates(const double* x, const double* p) {
       }
       if (std::min(s0, s1) <= parameters_.dhat) vertex_plane_.push_back({v, static_cast<std::int32_t>(k)});
     }
+  stats_.broad_phase_seconds += MPI_Wtime() - start;
+}
+
+// The same search as find_candidates on device arrays, over the surface uploaded by the last
+// exchange that changed it (device_broad_phase.hpp gives the host search's lists); only the
+// candidate lists come back.
+void ContactForm::find_candidates_on_device(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  contact::Candidates candidates;
+  device_broad_phase_.find_candidates_on_segment(x, p, 0.5 * parameters_.dhat, &candidates);
+  vertex_face_.clear();
+  for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({device_surface_nodes_[vf[0]], vf[1]});
+  edge_edge_ = std::move(candidates.edge_edge);
+  device_vertex_planes_.find(x, p, parameters_.dhat, &vertex_plane_);
+  for (auto& vp : vertex_plane_) vp[0] = surface_.vertices[vp[0]];
   stats_.broad_phase_seconds += MPI_Wtime() - start;
 }
 

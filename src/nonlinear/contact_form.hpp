@@ -16,11 +16,15 @@
 // so κ does not depend on the mesh resolution (area-weighted barrier as in IPC Toolkit).
 //
 // Memory space. On the host (the default) every evaluation loops over the pairs on the CPU. On
-// the device the broad phase and the hooks stay on the host, prepare_segment uploads the
-// candidate pairs and update_pattern the pattern's pairs (when they change), and value,
-// gradient, hessian and max_step run the CUDA kernels of cuda/contact_kernels.hpp on device
-// arrays; both call the point functions of contact_pair_terms.hpp. Queries that take host
-// arrays (min_distance, active_pairs, count_intersections) stay on the CPU in both spaces.
+// the device the broad phase runs there too: the surface's primitives are uploaded when an
+// exchange changes them, and prepare_segment, which then receives device arrays, searches the
+// candidates with contact/broad_phase/cuda/device_broad_phase.hpp (the same pairs in the same
+// order as the host's search), brings the candidate lists back to the host once and uploads the
+// pair list built from them. value, gradient, hessian and max_step run the CUDA kernels of
+// cuda/contact_kernels.hpp on device arrays; both spaces call the point functions of
+// contact_pair_terms.hpp. update_extra_nodes and update_pattern receive host arrays in both
+// spaces (update_pattern uploads the pattern's pairs when they change), and so do the queries
+// min_distance, active_pairs and count_intersections, which stay on the CPU.
 // Both spaces search every pair's time of impact on [0, 1] and take the minimum, so the step
 // bound is the same bit for bit on the host and the device, and does not depend on the order
 // of the pairs (which differs between rank counts). Searching up to the running minimum
@@ -34,6 +38,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "contact/broad_phase/cuda/device_broad_phase.hpp"
 #include "nonlinear/contact_parameters.hpp"
 #include "nonlinear/cuda/contact_kernels.hpp"
 #include "nonlinear/form.hpp"
@@ -46,7 +51,7 @@ struct ContactPairTerms;
 
 // Per-step contact timings (this rank's; the caller reduces).
 struct ContactStats {
-  double broad_phase_seconds = 0;
+  double broad_phase_seconds = 0;  // candidate search (device space: with the surface uploads)
   double ccd_seconds = 0;
   double barrier_seconds = 0;     // value/gradient/Hessian of the barrier
   double exchange_seconds = 0;    // ghost-surface exchange
@@ -129,7 +134,13 @@ class ContactForm : public Form {
   };
   std::int32_t ext_local(std::int64_t global_node);  // adds an extra node if needed
   void collect_owned();
-  void find_candidates(const double* x, const double* p);
+  // The broad phase's numbering of the surface: compact vertices over every node that a surface
+  // vertex or primitive touches (vertex_node: their ext-local nodes), with groups (bodies),
+  // owned vertices and edges, and the primitives in compact ids.
+  device::BroadPhaseSurface number_surface() const;
+  void find_candidates(const double* x, const double* p);           // host arrays
+  void find_candidates_on_device(const double* x, const double* p);  // device arrays
+  void upload_surface();  // device space: number_surface() to the device broad phase
   template <class F>
   bool for_each_pair(F&& f) const;
   PairInfo describe(int kind, std::size_t i) const;
@@ -168,6 +179,11 @@ class ContactForm : public Form {
   device::ContactPairList uploaded_pattern_;
   device::DeviceContactPlanes device_planes_;
   device::Reducer reducer_;
+  // Device space: the broad phase over the uploaded surface, the ext-local node of each of its
+  // compact vertices, and the vertex–plane search over surface_.vertices.
+  device::DeviceBroadPhase device_broad_phase_;
+  std::vector<std::int32_t> device_surface_nodes_;
+  device::DeviceVertexPlanes device_vertex_planes_;
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;
   ContactStats stats_;

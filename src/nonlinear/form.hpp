@@ -12,9 +12,11 @@
 // Memory spaces. A form evaluates either on the host or on the CUDA device (memory_space()).
 // The evaluations — value, gradient, hessian, is_valid, max_step — receive x, p, g and the
 // Hessian values in the form's own space; the potential copies a local array across at most
-// once per evaluation, whatever the number of forms. The hooks (begin_step, begin_iteration,
-// update_extra_nodes, prepare_segment, update_pattern), called once per step or Newton
-// iteration, always receive host arrays.
+// once per evaluation, whatever the number of forms. prepare_segment also receives x and p in
+// the form's space (the potential keeps the segment in every space its forms use), so a device
+// form can search its segment on the device. The other hooks (begin_step, begin_iteration,
+// update_extra_nodes, update_pattern), called once per step or Newton iteration, always receive
+// host arrays.
 #pragma once
 #include <petscsys.h>
 
@@ -64,8 +66,8 @@ class Form {
   // form decides which remote data it needs for that segment; returns true if extra_nodes()
   // changed, after which the potential re-gathers and calls prepare_segment again.
   virtual bool update_extra_nodes(const double* x, const double* p) { return false; }
-  // Called once the arrays cover extra_nodes(): the form finds what it will evaluate along the
-  // segment (contact: candidate pairs).
+  // Called once the arrays cover extra_nodes(), with x and p in the form's memory space: the
+  // form finds what it will evaluate along the segment (contact: candidate pairs).
   virtual void prepare_segment(const double* x, const double* p) {}
   // Called before every Hessian evaluation at x, before pattern_version() is read: a form
   // whose pattern depends on the state (the contact active set) updates it here.

@@ -374,13 +374,8 @@ PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
     PetscCall(gather(x));
     PetscCall(exchange_.to_local(p, p_local_));
   }
-  const PetscScalar *xl, *pl;
-  PetscCall(VecGetArrayRead(x_local_, &xl));
-  PetscCall(VecGetArrayRead(p_local_, &pl));
-  for (auto& form : forms_) form->prepare_segment(xl, pl);
-  PetscCall(VecRestoreArrayRead(p_local_, &pl));
-  PetscCall(VecRestoreArrayRead(x_local_, &xl));
-  // Keep the segment in every space the forms use: trial states are built from these copies.
+  // Keep the segment in every space the forms use: trial states are built from these copies,
+  // and each form prepares the segment on the copies in its own space.
   PetscInt n;
   PetscCall(VecGetLocalSize(x_local_, &n));
   for (auto [vec, host, dev] : {std::make_tuple(x_local_, &seg_x_host_, &seg_x_device_),
@@ -397,6 +392,12 @@ PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
   }
   seg_w_host_.resize(uses(MemorySpace::host) ? static_cast<std::size_t>(n) : 0);
   if (uses(MemorySpace::device)) seg_w_device_.resize(static_cast<std::size_t>(n));
+  for (auto& form : forms_) {
+    if (form->memory_space() == MemorySpace::device)
+      form->prepare_segment(seg_x_device_.data(), seg_p_device_.data());
+    else
+      form->prepare_segment(seg_x_host_.data(), seg_p_host_.data());
+  }
   times_.neighbourhood += MPI_Wtime() - start;
   PetscFunctionReturn(0);
 }

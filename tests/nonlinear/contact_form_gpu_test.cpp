@@ -1,10 +1,11 @@
 // ContactForm on the device against ContactForm on the host, on one rank: a slab on a ground
-// plane and a box above it, moving into the slab. Both forms see the same
-// hooks (host arrays); the device form evaluates on device copies of x and p. Checked: the same
-// COO pattern, energy, gradient and Hessian values to 1e-12 relative to the largest entry, a
-// pattern change followed on the device, and a CCD step bound no larger than the host's (the
-// host shortens each pair's search to the smallest time so far, see contact_form.hpp). Skips
-// where no GPU is present.
+// plane and a box above it, moving into the slab. Both forms see the same hooks on host arrays,
+// except prepare_segment, which the device form gets on device copies of x and p (its broad
+// phase runs there); it evaluates on device copies too. Checked: the same candidates (the same
+// smallest distance over them), the same COO pattern, energy, gradient and Hessian values to
+// 1e-12 relative to the largest entry, a pattern change followed on the device, and a CCD step
+// bound no larger than the host's (the host shortens each pair's search to the smallest time so
+// far, see contact_form.hpp). Skips where no GPU is present.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -50,13 +51,19 @@ struct TwoForms {
     gpu = std::make_unique<ContactForm>(mesh, params, MemorySpace::device);
   }
 
-  // The hooks of both forms on the segment x + αp, α ∈ [0, 1].
+  // The hooks of both forms on the segment x + αp, α ∈ [0, 1], each prepare_segment in its
+  // form's memory space.
   void prepare(const std::vector<double>& x, const std::vector<double>& p) {
-    for (ContactForm* f : {host.get(), gpu.get()}) {
-      EXPECT_FALSE(f->update_extra_nodes(x.data(), p.data())) << "one rank has no extra nodes";
-      f->prepare_segment(x.data(), p.data());
-    }
+    x_device.upload(x);
     p_device.upload(p);
+    for (ContactForm* f : {host.get(), gpu.get()})
+      EXPECT_FALSE(f->update_extra_nodes(x.data(), p.data())) << "one rank has no extra nodes";
+    host->prepare_segment(x.data(), p.data());
+    gpu->prepare_segment(x_device.data(), p_device.data());
+    std::vector<double> end(x.size());
+    for (std::size_t k = 0; k < x.size(); ++k) end[k] = x[k] + p[k];
+    EXPECT_EQ(gpu->min_distance(x.data()), host->min_distance(x.data()));
+    EXPECT_EQ(gpu->min_distance(end.data()), host->min_distance(end.data()));
   }
 
   // Energy, gradient and Hessian of both forms at x (after update_pattern), compared.
@@ -137,6 +144,7 @@ TEST(ContactFormGpu, DeviceFormMatchesHostForm) {
   EXPECT_EQ(f.host->max_step(x.data(), zero.data()), 1.0);
   EXPECT_EQ(f.gpu->max_step(f.x_device.data(), f.p_device.data()), 1.0);
 
+  EXPECT_GT(f.gpu->stats().broad_phase_seconds, 0.0);
   EXPECT_GT(f.gpu->stats().transfer_seconds, 0.0);
   EXPECT_GT(f.gpu->stats().barrier_seconds, 0.0);
   EXPECT_GT(f.gpu->stats().ccd_seconds, 0.0);

@@ -1,0 +1,106 @@
+// The contact broad phase on the CUDA device: the same vertex–triangle and edge–edge candidates
+// as contact::find_candidates (find_candidates.hpp) — same boxes, same exclusions, same filters,
+// same sorted order — found by a linear BVH built on the device (Karras 2012, "Maximizing
+// Parallelism in the Construction of BVHs, Octrees, and k-d Trees"), and the vertex–plane
+// candidates of half-space obstacles.
+//
+// Plain C++: host code includes this header. The searches live in device_broad_phase.cu, or, in
+// builds without CUDA, in device_broad_phase_host.cpp, where they throw dipc::device::DeviceError.
+// The surface (connectivity, groups, ownership) is uploaded once per change; positions are
+// device arrays; the candidate lists come back to the host once per search (host code needs
+// them), everything before that runs on the device.
+//
+// Filters are data, not callbacks, so that kernels can apply them. With the same data,
+// find_candidates gives what contact::find_candidates gives with the CandidateFilter
+//   allow_groups(a, b)     = a != b || (0 <= a < self_contact.size() && self_contact[a])
+//   keep_vertex_face(v, f) = owned_vertex[v] != 0
+//   keep_edge_edge(a, b)   = owned_edge[edge_gid[a] < edge_gid[b] ? a : b] != 0
+// (each present only when its arrays are given): ContactForm's filter, where a pair belongs to
+// the owner of its vertex, or of its edge with the smaller global id.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "contact/broad_phase/find_candidates.hpp"
+#include "device/device_runtime.hpp"
+
+namespace dipc::device {
+
+// A surface as the device broad phase needs it, on the host (for upload). Vertex ids index the
+// position arrays: 3 doubles per vertex.
+struct BroadPhaseSurface {
+  int num_vertices = 0;
+  std::vector<std::int32_t> edges;  // 2 vertex ids per edge
+  std::vector<std::int32_t> faces;  // 3 vertex ids per triangle
+  // Group filter: a group per vertex (empty: no group filter) and, per group id, whether a
+  // group may touch itself (ids beyond the list may not).
+  std::vector<std::int32_t> vertex_group;
+  std::vector<char> self_contact;
+  // Ownership filters: per vertex (empty: every vertex–face pair kept); per edge a global id
+  // and an owned flag (both empty: every edge–edge pair kept).
+  std::vector<char> owned_vertex;
+  std::vector<std::int64_t> edge_gid;
+  std::vector<char> owned_edge;
+  // Per vertex, its row in the node arrays x and p of find_candidates_on_segment (empty: that
+  // search is not available).
+  std::vector<std::int32_t> vertex_node;
+};
+
+class DeviceBroadPhase {
+ public:
+  DeviceBroadPhase();
+  ~DeviceBroadPhase();
+  DeviceBroadPhase(DeviceBroadPhase&&) noexcept;
+  DeviceBroadPhase& operator=(DeviceBroadPhase&&) noexcept;
+
+  // Copies the surface to the device; call again whenever the primitives change. Throws
+  // contact::BroadPhaseError as contact::find_candidates does for a negative vertex count or a
+  // vertex id out of range (same message), and for per-vertex or per-edge arrays of the wrong
+  // length.
+  void upload(const BroadPhaseSurface& surface);
+
+  // contact::find_candidates on the uploaded surface at device positions x0 and, when not null,
+  // x1 (3 doubles per vertex each), with the filters of the uploaded data: the same lists in
+  // the same order. Throws contact::BroadPhaseError as contact::find_candidates does when out
+  // is null, the inflation is negative or not finite, x0 is null for a positive vertex count,
+  // or a coordinate is not finite (naming the same vertex and coordinate).
+  void find_candidates(const double* x0, const double* x1, double inflation, contact::Candidates* out);
+
+  // The same on a segment of node arrays x + αp, α ∈ [0, 1] (device arrays, 3 per node, rows
+  // from vertex_node): x0 = x and x1 = x + p gathered per vertex, or static boxes at x0 when p
+  // is zero at every vertex of the surface, as ContactForm forms them on the host.
+  void find_candidates_on_segment(const double* x, const double* p, double inflation, contact::Candidates* out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Vertex–plane candidates of half-space obstacles: the vertices whose segment x → x + p comes
+// within a distance of a plane, with the signed distances rounded exactly as ContactForm's host
+// loop rounds them.
+class DeviceVertexPlanes {
+ public:
+  DeviceVertexPlanes();
+  ~DeviceVertexPlanes();
+  DeviceVertexPlanes(DeviceVertexPlanes&&) noexcept;
+  DeviceVertexPlanes& operator=(DeviceVertexPlanes&&) noexcept;
+
+  // nodes: the row of each vertex in x and p; points, normals: 3 doubles per plane (unit normal,
+  // solid side behind it).
+  void upload(const std::vector<std::int32_t>& nodes, const std::vector<double>& points,
+              const std::vector<double>& normals);
+
+  // Replaces *out by every (vertex index i, plane k), in that lexicographic order, with
+  // min(s0, s1) <= distance, where s0 = Σ_c (x_c − point_c) n_c and s1 = Σ_c (x_c + p_c − point_c) n_c
+  // at the vertex's node (device arrays x and p).
+  void find(const double* x, const double* p, double distance, std::vector<std::array<std::int32_t, 2>>* out);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dipc::device
