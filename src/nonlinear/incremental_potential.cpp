@@ -4,6 +4,8 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "nonlinear/device_matrix.hpp"
+
 namespace dipc {
 
 namespace {
@@ -289,11 +291,8 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   int changed = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
   if (any) PetscCall(rebuild_pattern());
-  // Values go to the device only where both the matrix (CUSPARSE) and some forms are there.
-  PetscBool device_matrix = PETSC_FALSE;
-  PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(J), &device_matrix, MATAIJCUSPARSE,
-                                      MATSEQAIJCUSPARSE, MATMPIAIJCUSPARSE, ""));
-  const bool on_device = device_matrix && any_device_;
+  // Values go to the device only where both the matrix and some forms are there.
+  const bool on_device = matrix_on_device(J) && any_device_;
   const bool ok = assemble_values(x_views_, on_device);
   PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");

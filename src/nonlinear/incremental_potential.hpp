@@ -11,8 +11,8 @@
 // Forms evaluate in their own memory space (form.hpp): the potential hands each the local
 // arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
 // device gradients into host ones (or the reverse) once, and assembles Hessian values where
-// the matrix lives: on the device for a CUSPARSE matrix when device forms exist, else on the
-// host. Along a line-search segment x + αp the start x and direction p are kept in both spaces,
+// the matrix lives: on the device for a device matrix (device_matrix.hpp) when device forms
+// exist, else on the host. Along a line-search segment x + αp the start x and direction p are kept in both spaces,
 // so a trial evaluation moves only α and scalars (segment_objective, segment_is_valid).
 //
 // Dirichlet dofs are eliminated symmetrically: their gradient entries are zero, their Hessian

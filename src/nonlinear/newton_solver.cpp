@@ -80,13 +80,6 @@ NewtonSolver::~NewtonSolver() {
   VecDestroy(&r_);
 }
 
-bool device_matrix_requested() {
-  char type[64] = "";
-  PetscBool set = PETSC_FALSE;
-  PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set);
-  return set && std::strstr(type, "cusparse") != nullptr;
-}
-
 PetscErrorCode NewtonSolver::set_default_options() {
   PetscFunctionBeginUser;
   PetscCall(default_option("-ksp_type", "cg"));
@@ -102,7 +95,7 @@ PetscErrorCode NewtonSolver::set_default_options() {
   // Aggressive coarsening is off: with it BoomerAMG turned indefinite on contact Hessians on
   // 4 ranks (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
-  // A device matrix (CUSPARSE) runs BoomerAMG on the GPU, where hypre sets up only PMIS
+  // A device matrix (CUSPARSE, or MATHYPRE with a GPU hypre) runs BoomerAMG on the GPU, where hypre sets up only PMIS
   // coarsening and smooths only with Jacobi-type relaxation (hypre's GPU documentation).
   const bool device_matrix = device_matrix_requested();
   if (device_matrix) PetscCall(default_option("-pc_hypre_boomeramg_relax_type_all", "l1scaled-Jacobi"));

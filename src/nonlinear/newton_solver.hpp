@@ -9,6 +9,7 @@
 #pragma once
 #include <petscsnes.h>
 
+#include "nonlinear/device_matrix.hpp"
 #include "nonlinear/incremental_potential.hpp"
 
 namespace dipc {
@@ -60,9 +61,7 @@ class NewtonSolver {
   LineSearchContext ls_;
 };
 
-// True when the options database asks for a device (CUSPARSE) matrix with -mat_type, so that
-// assembly and BoomerAMG run on the GPU.
-bool device_matrix_requested();
+
 
 // The line search and convergence test installed by NewtonSolver (line_search.cpp).
 PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx);
