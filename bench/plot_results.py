@@ -4,12 +4,14 @@
   bench/plot_results.py --assembly bench/results/assembly_throughput_h200.csv \
       --breakdown bench/results/newton_breakdown_h200.csv \
       --crossover bench/results/crossover_h200.csv \
-      --weak bench/results/weak_scaling_h200.csv --out bench/results
+      --weak bench/results/weak_scaling_h200.csv \
+      --broad-phase bench/results/broad_phase_h100.csv --out bench/results
 
 --assembly: bench_assembly_throughput CSV -> elements/s against elements, GPU and CPU.
 --breakdown, --crossover, --weak: bench_step_breakdown CSVs (several concatenated are fine):
   per-Newton-iteration phases as stacked bars per configuration; seconds per Newton iteration
   against elements per backend; per-phase time against GPU count.
+--broad-phase: bench_broad_phase CSV -> seconds per search against triangles, CPU and GPU.
 """
 import argparse
 import csv
@@ -113,12 +115,28 @@ def plot_weak(paths, out):
     fig.savefig(os.path.join(out, "weak_scaling.png"), dpi=120)
 
 
+def plot_broad_phase(path, out):
+    data = rows([path])
+    n = [int(r["triangles"]) for r in data]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.loglog(n, [float(r["cpu_seconds"]) for r in data], "s-", label="CPU (one core, BVH)")
+    ax.loglog(n, [float(r["gpu_seconds"]) for r in data], "o-", label="GPU (linear BVH, lists back on the host)")
+    ax.set_xlabel("surface triangles")
+    ax.set_ylabel("seconds per search (swept boxes)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("contact broad phase")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "broad_phase.png"), dpi=120)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--assembly")
     p.add_argument("--breakdown", nargs="*", default=[])
     p.add_argument("--crossover", nargs="*", default=[])
     p.add_argument("--weak", nargs="*", default=[])
+    p.add_argument("--broad-phase")
     p.add_argument("--out", default=".")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -130,6 +148,8 @@ def main():
         plot_crossover(a.crossover, a.out)
     if a.weak:
         plot_weak(a.weak, a.out)
+    if a.broad_phase:
+        plot_broad_phase(a.broad_phase, a.out)
 
 
 if __name__ == "__main__":
