@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "app/backend.hpp"
 #include "app/problem_builder.hpp"
@@ -14,6 +16,7 @@
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
 #include "mesh/mesh_checks.hpp"
+#include "nonlinear/device_matrix.hpp"
 #include "nonlinear/log_stages.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
@@ -176,9 +179,15 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
     // Measured on each rank as the drop in free device memory over the setup; the largest shown.
     double used = static_cast<double>(device_use.free_before) - static_cast<double>(device_use.free_after), max_used;
     MPI_Allreduce(&used, &max_used, 1, MPI_DOUBLE, MPI_MAX, comm);
-    PetscCall(PetscPrintf(comm, "  GPU %s (device %d on rank 0) | setup used %.1f MiB on the fullest rank, %.0f B/element "
+    // Which device each rank took (node-local rank order): the first 16 ranks.
+    std::vector<int> devices(size);
+    MPI_Gather(&backend.device, 1, MPI_INT, devices.data(), 1, MPI_INT, 0, comm);
+    std::string per_rank;
+    for (int r = 0; r < std::min(size, 16); ++r) per_rank += (r ? "," : "") + std::to_string(devices[r]);
+    if (size > 16) per_rank += ",…";
+    PetscCall(PetscPrintf(comm, "  GPU %s (devices by rank: %s) | setup used %.1f MiB on the fullest rank, %.0f B/element "
                           "(dipc's estimate %zu B/element before the matrix and preconditioner)\n",
-                          device::name(backend.device).c_str(), backend.device, max_used / 1048576.0,
+                          device::name(backend.device).c_str(), per_rank.c_str(), max_used / 1048576.0,
                           max_used / std::max(1, ne_max), device_bytes_per_element(false)));
   }
   PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
@@ -200,6 +209,11 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   const double t_start = MPI_Wtime();
   *result = RunResult{};
   const LogStages& stages = log_stages();
+  PetscBool device_types;
+  PetscCall(default_types_for_device_hypre(&device_types));
+  if (device_types)
+    PetscCall(PetscPrintf(comm, "dipc: this PETSc's hypre runs on the GPU only, so BoomerAMG gets -vec_type cuda "
+                                "-mat_type hypre (give -vec_type/-mat_type or another -pc_type to choose)\n"));
 
   // Mesh and partition: rank 0 builds the whole mesh, METIS splits it, each rank gets its part.
   DistributedMesh mesh;

@@ -1,5 +1,7 @@
 #include "nonlinear/device_matrix.hpp"
 
+#include <petscpc.h>
+
 #include <cstring>
 
 namespace dipc {
@@ -18,6 +20,22 @@ bool matrix_on_device(Mat J) {
                             MATMPIAIJCUSPARSE, "");
   PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATHYPRE, &hypre);
   return cusparse || (PetscDefined(HAVE_HYPRE_DEVICE) && hypre);
+}
+
+PetscErrorCode default_types_for_device_hypre(PetscBool* changed) {
+  PetscFunctionBeginUser;
+  *changed = PETSC_FALSE;
+  if (!(PetscDefined(HAVE_HYPRE_DEVICE) && PetscDefined(HAVE_CUDA))) PetscFunctionReturn(0);
+  char pc[64] = "";
+  PetscBool pc_set, vec_set, mat_set;
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-pc_type", pc, sizeof pc, &pc_set));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-vec_type", &vec_set));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mat_type", &mat_set));
+  if ((pc_set && std::strcmp(pc, PCHYPRE) != 0) || vec_set || mat_set) PetscFunctionReturn(0);
+  PetscCall(PetscOptionsSetValue(nullptr, "-vec_type", "cuda"));
+  PetscCall(PetscOptionsSetValue(nullptr, "-mat_type", MATHYPRE));
+  *changed = PETSC_TRUE;
+  PetscFunctionReturn(0);
 }
 
 }  // namespace dipc
