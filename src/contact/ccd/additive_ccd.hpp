@@ -25,7 +25,7 @@
 
 #include "contact/ccd/ccd_distances.hpp"
 #include "contact/ccd/ccd_parameters.hpp"
-#include "contact/ccd/ccd_vec3.hpp"
+#include "contact/geometry/vector3.hpp"
 #include "host_device.hpp"
 
 namespace dipc::contact::ccd {
@@ -45,7 +45,7 @@ struct PointTrianglePair {
     double worst = 0.0;
     for (int j = 1; j < 4; ++j) {
       double r[3];
-      sub3(dx, dx + 3 * j, r);
+      subtract3(dx, dx + 3 * j, r);
       const double rr = dot3(r, r);
       worst = rr > worst ? rr : worst;
     }
@@ -63,7 +63,7 @@ struct EdgeEdgePair {
     for (int i = 0; i < 2; ++i)
       for (int j = 2; j < 4; ++j) {
         double r[3];
-        sub3(dx + 3 * i, dx + 3 * j, r);
+        subtract3(dx + 3 * i, dx + 3 * j, r);
         const double rr = dot3(r, r);
         worst = rr > worst ? rr : worst;
       }

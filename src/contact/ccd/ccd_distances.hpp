@@ -3,7 +3,7 @@
 // points (interior, edge or vertex). The CCD only needs values, not derivatives, so these are
 // written for robustness rather than smoothness (src/contact/geometry/ has the
 // differentiable versions used by the barrier; the narrow phase deliberately does not depend
-// on them).
+// on them; the only shared header is geometry/vector3.hpp).
 //
 // Robustness rule used throughout: every candidate is either the squared length of a vector
 // between two points that lie on the primitives (an upper bound of the true distance up to
@@ -12,7 +12,7 @@
 // not) can only lower the value near the decision boundary, where the candidates agree —
 // which for CCD means an earlier stop, never a missed contact.
 #pragma once
-#include "contact/ccd/ccd_vec3.hpp"
+#include "contact/geometry/vector3.hpp"
 #include "host_device.hpp"
 
 namespace dipc::contact::ccd {
@@ -22,8 +22,8 @@ namespace dipc::contact::ccd {
 DIPC_HD double point_segment_distance_squared(const double p[3], const double a[3],
                                               const double b[3]) {
   double e[3], w[3];
-  sub3(b, a, e);
-  sub3(p, a, w);
+  subtract3(b, a, e);
+  subtract3(p, a, w);
   const double ee = dot3(e, e);
   const double s = ee > 0.0 ? clamp01(dot3(w, e) / ee) : 0.0;
   const double r[3] = {w[0] - s * e[0], w[1] - s * e[1], w[2] - s * e[2]};
@@ -44,8 +44,8 @@ DIPC_HD double point_triangle_distance_squared(const double p[3], const double t
   best = d20 < best ? d20 : best;
 
   double e0[3], e1[3], n[3];
-  sub3(t1, t0, e0);
-  sub3(t2, t0, e1);
+  subtract3(t1, t0, e0);
+  subtract3(t2, t0, e1);
   cross3(e0, e1, n);
   const double nn = dot3(n, n);
   if (!(nn > 0.0)) return best;
@@ -55,13 +55,13 @@ DIPC_HD double point_triangle_distance_squared(const double p[3], const double t
   const double* v[3] = {t0, t1, t2};
   for (int i = 0; i < 3; ++i) {
     double edge[3], w[3], c[3];
-    sub3(v[(i + 1) % 3], v[i], edge);
-    sub3(p, v[i], w);
+    subtract3(v[(i + 1) % 3], v[i], edge);
+    subtract3(p, v[i], w);
     cross3(edge, w, c);
     if (dot3(c, n) < 0.0) return best;
   }
   double w[3];
-  sub3(p, t0, w);
+  subtract3(p, t0, w);
   const double h = dot3(n, w);
   const double plane = h * h / nn;
   return plane < best ? plane : best;
@@ -106,9 +106,9 @@ DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3]
   best = c3 < best ? c3 : best;
 
   double u[3], v[3], w[3], n[3];
-  sub3(a1, a0, u);
-  sub3(b1, b0, v);
-  sub3(a0, b0, w);
+  subtract3(a1, a0, u);
+  subtract3(b1, b0, v);
+  subtract3(a0, b0, w);
   cross3(u, v, n);
   const double nn = dot3(n, n);
   if (!(nn > kNearlyParallelSin2 * dot3(u, u) * dot3(v, v))) return best;

@@ -37,7 +37,7 @@
 
 #include "contact/ccd/additive_ccd.hpp"
 #include "contact/ccd/ccd_parameters.hpp"
-#include "contact/ccd/ccd_vec3.hpp"
+#include "contact/geometry/vector3.hpp"
 #include "host_device.hpp"
 
 namespace dipc::contact {
@@ -115,14 +115,14 @@ DIPC_HD double point_plane_time_of_impact(const double p_t0[3], const double p_t
                                           double t_max) {
   constexpr double eps = ccd_defaults::machine_epsilon;
   if (!(t_max > 0.0)) return 0.0;
-  const double nn = ccd::dot3(plane_normal, plane_normal);
+  const double nn = dot3(plane_normal, plane_normal);
   if (!(nn > 0.0)) return 0.0;
   const double inv_norm = 1.0 / sqrt(nn);
   double w0[3], w1[3];
-  ccd::sub3(p_t0, plane_origin, w0);
-  ccd::sub3(p_t1, plane_origin, w1);
-  double s0 = ccd::dot3(plane_normal, w0) * inv_norm;
-  double s1 = ccd::dot3(plane_normal, w1) * inv_norm;
+  subtract3(p_t0, plane_origin, w0);
+  subtract3(p_t1, plane_origin, w1);
+  double s0 = dot3(plane_normal, w0) * inv_norm;
+  double s1 = dot3(plane_normal, w1) * inv_norm;
   double a0 = 0.0, a1 = 0.0;
   for (int k = 0; k < 3; ++k) {
     a0 += fabs(plane_normal[k] * w0[k]);

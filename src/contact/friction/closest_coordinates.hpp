@@ -11,7 +11,7 @@
 #pragma once
 #include <cmath>
 
-#include "contact/friction/friction_vector3.hpp"
+#include "contact/geometry/vector3.hpp"
 #include "host_device.hpp"
 
 namespace dipc::contact {
@@ -24,10 +24,9 @@ enum class TriangleFeature : int { kFace, kEdge01, kEdge12, kEdge20, kVertex0, k
 // segment): the unconstrained minimiser ((p-a).(b-a))/|b-a|^2 of the convex quadratic,
 // clamped.
 DIPC_HD double point_segment_closest_parameter(const double p[3], const double a[3], const double b[3]) {
-  using namespace friction_detail;
   double ab[3], ap[3];
-  sub3(b, a, ab);
-  sub3(p, a, ap);
+  subtract3(b, a, ab);
+  subtract3(p, a, ap);
   const double len2 = dot3(ab, ab);
   if (!(len2 > 0.0)) return 0.0;
   return clamp01(dot3(ap, ab) / len2);
@@ -41,12 +40,11 @@ DIPC_HD double point_segment_closest_parameter(const double p[3], const double a
 DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], const double t0[3],
                                                            const double t1[3], const double t2[3],
                                                            double beta[2]) {
-  using namespace friction_detail;
   double ab[3], ac[3], ap[3], bc[3], normal[3];
-  sub3(t1, t0, ab);
-  sub3(t2, t0, ac);
-  sub3(t2, t1, bc);
-  sub3(p, t0, ap);
+  subtract3(t1, t0, ab);
+  subtract3(t2, t0, ac);
+  subtract3(t2, t1, bc);
+  subtract3(p, t0, ap);
   cross3(ab, ac, normal);
   const double area2 = dot3(normal, normal);
   const double scale2 = dot3(ab, ab) * dot3(ac, ac);
@@ -63,7 +61,7 @@ DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], co
     for (int e = 0; e < 3; ++e) {
       double c[3], d[3];
       for (int i = 0; i < 3; ++i) c[i] = ends[e][0][i] + s[e] * (ends[e][1][i] - ends[e][0][i]);
-      sub3(p, c, d);
+      subtract3(p, c, d);
       const double dist2 = dot3(d, d);
       if (edge < 0 || dist2 < best) {
         best = dist2;
@@ -91,7 +89,7 @@ DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], co
     return TriangleFeature::kVertex0;
   }
   double bp[3];
-  sub3(p, t1, bp);
+  subtract3(p, t1, bp);
   const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
   if (d3 >= 0.0 && d4 <= d3) {
     beta[0] = 1.0;
@@ -105,7 +103,7 @@ DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], co
     return TriangleFeature::kEdge01;
   }
   double cp[3];
-  sub3(p, t2, cp);
+  subtract3(p, t2, cp);
   const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
   if (d6 >= 0.0 && d5 <= d6) {
     beta[0] = 0.0;
@@ -141,11 +139,10 @@ DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], co
 // reduce to point-segment.
 DIPC_HD void edge_edge_closest_coordinates(const double ea0[3], const double ea1[3], const double eb0[3],
                                            const double eb1[3], double* alpha, double* beta) {
-  using namespace friction_detail;
   double ea[3], eb[3], r[3];
-  sub3(ea1, ea0, ea);
-  sub3(eb1, eb0, eb);
-  sub3(ea0, eb0, r);
+  subtract3(ea1, ea0, ea);
+  subtract3(eb1, eb0, eb);
+  subtract3(ea0, eb0, r);
   const double a = dot3(ea, ea), e = dot3(eb, eb), f = dot3(eb, r);
   if (!(a > 0.0) && !(e > 0.0)) {
     *alpha = *beta = 0.0;
@@ -182,9 +179,8 @@ DIPC_HD void edge_edge_closest_coordinates(const double ea0[3], const double ea1
 // positive on the side n points to (the free side of an obstacle half-space).
 DIPC_HD double point_plane_closest_point(const double p[3], const double origin[3], const double n[3],
                                          double c[3]) {
-  using namespace friction_detail;
   double op[3];
-  sub3(p, origin, op);
+  subtract3(p, origin, op);
   const double n2 = dot3(n, n);
   const double s = dot3(op, n) / n2;
   for (int i = 0; i < 3; ++i) c[i] = p[i] - s * n[i];

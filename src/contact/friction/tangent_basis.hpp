@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "contact/friction/closest_coordinates.hpp"
-#include "contact/friction/friction_vector3.hpp"
+#include "contact/geometry/vector3.hpp"
 #include "host_device.hpp"
 
 namespace dipc::contact {
@@ -22,7 +22,6 @@ namespace dipc::contact {
 // n_hat x column 0, so P is orthonormal and right-handed with n. When reference is (nearly)
 // parallel to n or zero, the coordinate axis least aligned with n is used instead.
 DIPC_HD void tangent_basis_with_reference(const double n[3], const double reference[3], double P[6]) {
-  using namespace friction_detail;
   const double nn = sqrt(dot3(n, n));
   const double nh[3] = {n[0] / nn, n[1] / nn, n[2] / nn};
   double t[3];
@@ -62,15 +61,14 @@ DIPC_HD void tangent_basis_from_normal(const double n[3], double P[6]) {
 DIPC_HD void point_triangle_tangent_basis(const double p[3], const double t0[3], const double t1[3],
                                           const double t2[3], TriangleFeature feature, const double beta[2],
                                           double P[6]) {
-  using namespace friction_detail;
   double e01[3], e02[3], e12[3], face_normal[3];
-  sub3(t1, t0, e01);
-  sub3(t2, t0, e02);
-  sub3(t2, t1, e12);
+  subtract3(t1, t0, e01);
+  subtract3(t2, t0, e02);
+  subtract3(t2, t1, e12);
   cross3(e01, e02, face_normal);
   double c[3], pc[3];
   for (int i = 0; i < 3; ++i) c[i] = t0[i] + beta[0] * e01[i] + beta[1] * e02[i];
-  sub3(p, c, pc);
+  subtract3(p, c, pc);
   const double scale2 = dot3(e01, e01) + dot3(e02, e02) + dot3(e12, e12);
   // Distance below 1e-12 of the triangle's size: the direction p - c is rounding noise.
   const bool separated = dot3(pc, pc) > 1e-24 * scale2;
@@ -103,10 +101,9 @@ DIPC_HD void point_triangle_tangent_basis(const double p[3], const double t0[3],
 // a plane containing ea.
 DIPC_HD void edge_edge_tangent_basis(const double ea0[3], const double ea1[3], const double eb0[3],
                                      const double eb1[3], double alpha, double beta, double P[6]) {
-  using namespace friction_detail;
   double ea[3], eb[3], d[3];
-  sub3(ea1, ea0, ea);
-  sub3(eb1, eb0, eb);
+  subtract3(ea1, ea0, ea);
+  subtract3(eb1, eb0, eb);
   for (int i = 0; i < 3; ++i) d[i] = (ea0[i] + alpha * ea[i]) - (eb0[i] + beta * eb[i]);
   const double* reference = (alpha > 0.0 && alpha < 1.0) || !(beta > 0.0 && beta < 1.0) ? ea : eb;
   const double scale2 = dot3(ea, ea) + dot3(eb, eb);

@@ -1,6 +1,8 @@
-// Tiny 3-vector and 3x3 helpers for the contact point functions: plain double arrays
-// (matrices row-major, A[3*i + j] = A_ij) so the same code runs on the host and in CUDA
-// kernels. Kept inside contact/ because contact must not depend on assembly/ (DESIGN.md §2).
+// Tiny 3-vector and 3x3 helpers for every contact point function (geometry, CCD, friction):
+// plain double arrays (matrices row-major, A[3*i + j] = A_ij) so the same code runs on the host
+// and in CUDA kernels. Kept inside contact/ because contact must not depend on assembly/
+// (DESIGN.md §2). The CCD relies on host and device rounding alike: keep these free of
+// fused operations the compiler could form differently (its kernels build with --fmad=false).
 #pragma once
 #include "host_device.hpp"
 
@@ -21,6 +23,8 @@ DIPC_HD void cross3(const double a[3], const double b[3], double c[3]) {
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
+
+DIPC_HD double clamp01(double s) { return s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s); }
 
 // [a]_x, the matrix with [a]_x v = a x v.
 DIPC_HD void cross_matrix3(const double a[3], double A[9]) {
