@@ -53,6 +53,13 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt) {
     Mat J;
     PetscCall(potential->create_matrix(&J));
     PetscCall(SNESSetJacobian(snes, J, J, hessian_callback, potential));
+    // A lagged preconditioner (-snes_lag_preconditioner) would otherwise be kept across the
+    // new pattern, holding on to the old matrix; start it afresh instead.
+    KSP ksp;
+    PC pc;
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCReset(pc));
     PetscCall(MatDestroy(&self->J_));
     self->J_ = J;
     PetscCall(self->attach_near_null_space(x));
