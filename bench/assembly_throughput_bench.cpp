@@ -15,10 +15,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/element_loops.hpp"
 #include "device/device_runtime.hpp"
@@ -83,26 +83,15 @@ int main(int argc, char** argv) {
   int rank, ranks;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  std::vector<long> sizes = {10000, 100000, 1000000, 4000000};
-  int repeat = 5;
-  std::string csv_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-sizes" && i + 1 < argc) {
-      sizes.clear();
-      std::stringstream list(argv[++i]);
-      std::string item;
-      while (std::getline(list, item, ',')) sizes.push_back(std::stol(item));
-    } else if (a == "-repeat" && i + 1 < argc) {
-      repeat = std::max(1, std::atoi(argv[++i]));
-    } else if (a == "-csv" && i + 1 < argc) {
-      csv_path = argv[++i];
-    } else {
-      if (rank == 0) std::fprintf(stderr, "usage: bench_assembly_throughput [-sizes N,...] [-repeat R] [-csv PATH]\n");
-      MPI_Finalize();
-      return 2;
-    }
+  dipc::bench::SweepArgs args{{10000, 100000, 1000000, 4000000}, 5, ""};
+  if (!dipc::bench::parse_sweep_args(argc, argv, "-sizes", &args)) {
+    if (rank == 0) std::fprintf(stderr, "usage: bench_assembly_throughput [-sizes N,...] [-repeat R] [-csv PATH]\n");
+    MPI_Finalize();
+    return 2;
   }
+  const std::vector<long>& sizes = args.sizes;
+  const int repeat = args.repeat;
+  const std::string& csv_path = args.csv_path;
   const bool gpu = rank == 0 && dipc::device::device_count() > 0;
   double copy_bandwidth = 0;  // bytes read + written per second by cudaMemcpy device-to-device
   if (gpu) {

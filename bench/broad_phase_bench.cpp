@@ -13,10 +13,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "contact/broad_phase/cuda/device_broad_phase.hpp"
 #include "contact/broad_phase/find_candidates.hpp"
 #include "device/device_runtime.hpp"
@@ -93,25 +93,14 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<long> sizes = {10000, 100000, 1000000};
-  int repeat = 3;
-  std::string csv_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-triangles" && i + 1 < argc) {
-      sizes.clear();
-      std::stringstream list(argv[++i]);
-      std::string item;
-      while (std::getline(list, item, ',')) sizes.push_back(std::stol(item));
-    } else if (a == "-repeat" && i + 1 < argc) {
-      repeat = std::max(1, std::atoi(argv[++i]));
-    } else if (a == "-csv" && i + 1 < argc) {
-      csv_path = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: bench_broad_phase [-triangles N,...] [-repeat R] [-csv PATH]\n");
-      return 2;
-    }
+  dipc::bench::SweepArgs args{{10000, 100000, 1000000}, 3, ""};
+  if (!dipc::bench::parse_sweep_args(argc, argv, "-triangles", &args)) {
+    std::fprintf(stderr, "usage: bench_broad_phase [-triangles N,...] [-repeat R] [-csv PATH]\n");
+    return 2;
   }
+  const std::vector<long>& sizes = args.sizes;
+  const int repeat = args.repeat;
+  const std::string& csv_path = args.csv_path;
   const bool gpu = dipc::device::device_count() > 0;
   if (gpu) std::printf("GPU %s\n", dipc::device::name(0).c_str());
   FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");

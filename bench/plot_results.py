@@ -47,20 +47,27 @@ def config(r):
     return f'{r["backend"]} / {r["mat_type"]} / {r["ranks"]} rank{"s" if r["ranks"] != "1" else ""}'
 
 
+def save_loglog(out, name, title, xlabel, ylabel, series):
+    """One log-log figure of (x, y, style, label) series, saved as out/name."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for x, y, style, label in series:
+        ax.loglog(x, y, style, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, name), dpi=120)
+
+
 def plot_assembly(path, out):
     data = rows([path])
     n = [float(r["elements"]) for r in data]
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.loglog(n, [float(r["gpu_elements_per_s"]) for r in data], "o-", label="GPU (one device)")
-    ax.loglog(n, [float(r["cpu_elements_per_s"]) for r in data], "s-",
-              label=f'CPU ({data[0]["cpu_ranks"]} MPI ranks)')
-    ax.set_xlabel("elements")
-    ax.set_ylabel("elements / s (value + gradient + PSD Hessian into COO)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    ax.set_title("neo-Hookean hex8 assembly throughput")
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "assembly_throughput.png"), dpi=120)
+    save_loglog(out, "assembly_throughput.png", "neo-Hookean hex8 assembly throughput", "elements",
+                "elements / s (value + gradient + PSD Hessian into COO)",
+                [(n, [float(r["gpu_elements_per_s"]) for r in data], "o-", "GPU (one device)"),
+                 (n, [float(r["cpu_elements_per_s"]) for r in data], "s-", f'CPU ({data[0]["cpu_ranks"]} MPI ranks)')])
 
 
 def plot_breakdown(paths, out):
@@ -84,17 +91,12 @@ def plot_breakdown(paths, out):
 
 def plot_crossover(paths, out):
     data = rows(paths)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    series = []
     for c in sorted({config(r) for r in data}):
         pts = sorted((int(r["elements"]), float(r["per_newton_s"])) for r in data if config(r) == c)
-        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=c)
-    ax.set_xlabel("elements per rank")
-    ax.set_ylabel("seconds per Newton iteration")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title("CPU against GPU backend (auto's crossover)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "crossover.png"), dpi=120)
+        series.append(([p[0] for p in pts], [p[1] for p in pts], "o-", c))
+    save_loglog(out, "crossover.png", "CPU against GPU backend (auto's crossover)", "elements per rank",
+                "seconds per Newton iteration", series)
 
 
 def plot_weak(paths, out):
@@ -118,16 +120,10 @@ def plot_weak(paths, out):
 def plot_broad_phase(path, out):
     data = rows([path])
     n = [int(r["triangles"]) for r in data]
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.loglog(n, [float(r["cpu_seconds"]) for r in data], "s-", label="CPU (one core, BVH)")
-    ax.loglog(n, [float(r["gpu_seconds"]) for r in data], "o-", label="GPU (linear BVH, lists back on the host)")
-    ax.set_xlabel("surface triangles")
-    ax.set_ylabel("seconds per search (swept boxes)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title("contact broad phase")
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "broad_phase.png"), dpi=120)
+    save_loglog(out, "broad_phase.png", "contact broad phase", "surface triangles",
+                "seconds per search (swept boxes)",
+                [(n, [float(r["cpu_seconds"]) for r in data], "s-", "CPU (one core, BVH)"),
+                 (n, [float(r["gpu_seconds"]) for r in data], "o-", "GPU (linear BVH, lists back on the host)")])
 
 
 def main():
