@@ -10,6 +10,7 @@
 #   bench/gpu_runs.sh host16       Newton breakdown on 16 ranks: CPU, and GPU assembly with host PETSc
 #   bench/gpu_runs.sh device       Newton breakdown device-resident (needs the CUDA PETSc build)
 #   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build)
+#   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -59,5 +60,10 @@ case "${1:-}" in
       run mpirun -n $n "$bin/bench_step_breakdown" -elements $((n * 1000000)) -steps 2 -dipc_backend cuda \
         -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -csv "$out/weak_$n.csv" | tail -2
     done ;;
-  *) sed -n '2,14p' "$0"; exit 2 ;;
+  mission)
+    for r in 1 2; do
+      run mpirun -n 1 "$bin/dipc" scenes/block_on_plane.json -dipc_refine $r -dipc_backend cuda -vec_type cuda \
+        -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -dipc_no_output | tail -26
+    done ;;
+  *) sed -n '2,15p' "$0"; exit 2 ;;
 esac
