@@ -30,7 +30,8 @@ TEST_P(SceneInvariants, EveryStepKeepsTheInvariants) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, SceneInvariants,
-                         ::testing::Values("default", "boxes_drop", "roller_squeeze", "fast_impact", "friction_stack"),
+                         ::testing::Values("default", "boxes_drop", "roller_squeeze", "fast_impact", "friction_stack",
+                                           "block_on_plane"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace
