@@ -58,13 +58,13 @@ void gather_positions(const double* x, const std::int32_t* nodes, int count, dou
 
 ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
     : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space) {
-  std::vector<double> plane_points, plane_normals;  // flat, for the device
   if (space_ == MemorySpace::device) {
     if (device::device_count() == 0)
       throw device::DeviceError(device::built_with_cuda()
                                     ? "contact barrier on the device: no CUDA device is visible to this process"
                                     : "contact barrier on the device: dipc was built without CUDA "
                                       "(configure with -DDIPC_WITH_CUDA=ON)");
+    std::vector<double> plane_points, plane_normals;  // flat, for the device
     for (const auto& plane : parameters_.planes) {
       plane_points.insert(plane_points.end(), plane.point.begin(), plane.point.end());
       plane_normals.insert(plane_normals.end(), plane.normal.begin(), plane.normal.end());
@@ -103,10 +103,12 @@ ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters paramete
   VecDestroy(&local);
   VecDestroy(&global);
   collect_owned();
-  if (space_ == MemorySpace::device) {
-    upload_surface();
-    device_vertex_planes_.upload(surface_.vertices, plane_points, plane_normals);
-  }
+  // Half-space obstacles: every owned surface vertex against every plane, for the whole run
+  // (see the header: such pairs never change the matrix pattern).
+  for (std::int32_t v : surface_.vertices)
+    for (std::size_t k = 0; k < parameters_.planes.size(); ++k)
+      vertex_plane_.push_back({v, static_cast<std::int32_t>(k)});
+  if (space_ == MemorySpace::device) upload_surface();
 }
 
 void ContactForm::collect_owned() {
@@ -366,19 +368,6 @@ void ContactForm::find_candidates(const double* x, const double* p) {
   vertex_face_.clear();
   for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({node_of[vf[0]], vf[1]});
   edge_edge_ = candidates.edge_edge;
-
-  // Half-space obstacles: owned vertices whose segment comes within d̂ of a plane.
-  vertex_plane_.clear();
-  for (std::int32_t v : surface_.vertices)
-    for (std::size_t k = 0; k < parameters_.planes.size(); ++k) {
-      const auto& pl = parameters_.planes[k];
-      double s0 = 0, s1 = 0;
-      for (int c = 0; c < 3; ++c) {
-        s0 += (x[3 * v + c] - pl.point[c]) * pl.normal[c];
-        s1 += (x[3 * v + c] + p[3 * v + c] - pl.point[c]) * pl.normal[c];
-      }
-      if (std::min(s0, s1) <= parameters_.dhat) vertex_plane_.push_back({v, static_cast<std::int32_t>(k)});
-    }
   stats_.broad_phase_seconds += MPI_Wtime() - start;
 }
 
@@ -392,8 +381,6 @@ void ContactForm::find_candidates_on_device(const double* x, const double* p) {
   vertex_face_.clear();
   for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({device_surface_nodes_[vf[0]], vf[1]});
   edge_edge_ = std::move(candidates.edge_edge);
-  device_vertex_planes_.find(x, p, parameters_.dhat, &vertex_plane_);
-  for (auto& vp : vertex_plane_) vp[0] = surface_.vertices[vp[0]];
   stats_.broad_phase_seconds += MPI_Wtime() - start;
 }
 
@@ -507,7 +494,7 @@ void ContactForm::update_pattern(const double* x) {
     bool active;
     ContactPairTerms t;
     terms(describe(kind, i), x, false, false, &active, &t);
-    if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)});
+    if (active || kind == 2) active_now.push_back({kind, static_cast<std::int32_t>(i)});
     return true;
   });
   // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.

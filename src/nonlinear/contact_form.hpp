@@ -15,6 +15,16 @@
 // incident rest triangle areas), edge–edge pairs the mean rest area of the edge's end vertices,
 // so κ does not depend on the mesh resolution (area-weighted barrier as in IPC Toolkit).
 //
+// Matrix pattern. The Hessian's COO pattern holds the pairs active at the last update_pattern,
+// and a change of that set means a new matrix (rebuilt COO preallocation of the whole
+// potential: 1.6 s at 64,000 hexes on 2 cores, far more on one GPU at 1M). Vertex–plane pairs
+// are exempt: every owned surface vertex is paired with every plane for the whole run, and all
+// those pairs stay in the pattern, writing zeros while inactive. Their 3×3 blocks lie on their
+// vertex's diagonal block, which the elastic pattern already holds, so the matrix's nonzeros are
+// the same and only vertex–triangle and edge–edge contacts change the pattern. An inactive
+// pair's barrier is exactly zero, so values are unchanged; the cost is evaluating
+// surface vertices × planes pairs, a small part of the broad phase's work.
+//
 // Memory space. On the host (the default) every evaluation loops over the pairs on the CPU. On
 // the device the broad phase runs there too: the surface's primitives are uploaded when an
 // exchange changes them, and prepare_segment, which then receives device arrays, searches the
@@ -164,7 +174,7 @@ class ContactForm : public Form {
   std::unordered_map<std::int64_t, std::int32_t> global_to_local_;
   // Candidate pairs this rank evaluates: (vertex node, face index), (edge index, edge index).
   std::vector<std::array<std::int32_t, 2>> vertex_face_, edge_edge_;
-  std::vector<std::array<std::int32_t, 2>> vertex_plane_;  // (vertex node, plane)
+  std::vector<std::array<std::int32_t, 2>> vertex_plane_;  // (vertex node, plane), all of them, fixed
   // Active pairs at the last update_pattern (their order defines the COO pattern).
   struct PatternEntry {
     int kind;  // 0 vertex–face, 1 edge–edge, 2 vertex–plane
@@ -179,11 +189,10 @@ class ContactForm : public Form {
   device::ContactPairList uploaded_pattern_;
   device::DeviceContactPlanes device_planes_;
   device::Reducer reducer_;
-  // Device space: the broad phase over the uploaded surface, the ext-local node of each of its
-  // compact vertices, and the vertex–plane search over surface_.vertices.
+  // Device space: the broad phase over the uploaded surface and the ext-local node of each of
+  // its compact vertices.
   device::DeviceBroadPhase device_broad_phase_;
   std::vector<std::int32_t> device_surface_nodes_;
-  device::DeviceVertexPlanes device_vertex_planes_;
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;
   ContactStats stats_;

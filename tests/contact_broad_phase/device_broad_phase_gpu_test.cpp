@@ -3,8 +3,8 @@
 // vertex–face and edge–edge lists, pair for pair and in the same order, on random soups, deformed
 // cube boundaries with swept and static boxes, self-contact on and off, ownership filters,
 // boxes that only touch, coincident vertices, empty and one-primitive inputs and surfaces of
-// about 100K triangles; the same errors with the same messages; the segment search as
-// ContactForm forms its boxes; and the vertex–plane search against ContactForm's host loop.
+// about 100K triangles; the same errors with the same messages; and the segment search as
+// ContactForm forms its boxes.
 // Skips where no GPU is present; runs on the lent GPU machine.
 #include <gtest/gtest.h>
 
@@ -448,54 +448,6 @@ TEST(DeviceBroadPhase, SegmentSearchFormsBoxesAsContactForm) {
   for (int v = 0; v < nv; ++v)
     for (int c = 0; c < 3; ++c) p[3 * node[v] + c] = u(rng) - (c == 0 && s.groups[v] == 1 ? 0.03 : 0.0);
   expect_segment("moving");
-}
-
-TEST(DeviceVertexPlanes, MatchesContactFormHostLoop) {
-  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(-1, 1);
-  const int num_nodes = 5000;
-  std::vector<double> x(3 * num_nodes), p(3 * num_nodes);
-  for (double& v : x) v = u(rng);
-  for (double& v : p) v = 0.3 * u(rng);
-  std::vector<std::int32_t> nodes;
-  for (int n = 0; n < num_nodes; n += 3) nodes.push_back(n);
-  std::shuffle(nodes.begin(), nodes.end(), rng);
-  std::vector<double> points, normals;
-  for (int k = 0; k < 4; ++k) {
-    double n[3] = {u(rng), u(rng), u(rng)};
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int c = 0; c < 3; ++c) points.push_back(0.5 * u(rng)), normals.push_back(n[c] / len);
-  }
-  device::DeviceVertexPlanes search;
-  search.upload(nodes, points, normals);
-  device::Array<double> x_device("test x"), p_device("test p");
-  x_device.upload(x);
-  p_device.upload(p);
-  for (double distance : {0.0, 0.05, 0.5}) {
-    Pairs got, want;
-    search.find(x_device.data(), p_device.data(), distance, &got);
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-      for (std::size_t k = 0; 3 * k < points.size(); ++k) {
-        const std::int32_t v = nodes[i];
-        double s0 = 0, s1 = 0;
-        for (int c = 0; c < 3; ++c) {
-          s0 += (x[3 * v + c] - points[3 * k + c]) * normals[3 * k + c];
-          s1 += (x[3 * v + c] + p[3 * v + c] - points[3 * k + c]) * normals[3 * k + c];
-        }
-        if (std::min(s0, s1) <= distance) want.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(k)});
-      }
-    EXPECT_TRUE(same_pairs(got, want)) << "distance " << distance;
-    EXPECT_GT(want.size(), 0u);
-    if (distance == 0.0) {
-      EXPECT_LT(want.size(), nodes.size() * (points.size() / 3));
-    }
-  }
-  // No planes, no vertices: nothing.
-  search.upload(nodes, {}, {});
-  Pairs none = {{1, 1}};
-  search.find(x_device.data(), p_device.data(), 1.0, &none);
-  EXPECT_TRUE(none.empty());
 }
 
 }  // namespace

@@ -16,8 +16,8 @@
 // node boxes unions of those (exact), and every test is the closed aabbs_overlap, so each box
 // decision is the CPU's bit for bit. The tree's shape decides how fast a pair is found, never
 // whether; each primitive is one leaf, so each pair is found once. The file is compiled with
-// --fmad=false for the vertex–plane distances (sums of products), so they round as the host
-// loop rounds them.
+// --fmad=false like the contact kernels, so no arithmetic on coordinates can round otherwise
+// than on the CPU.
 #include "contact/broad_phase/cuda/device_broad_phase.hpp"
 
 #include <cub/device/device_radix_sort.cuh>
@@ -290,44 +290,6 @@ __global__ void split_keys_kernel(const std::uint64_t* keys, long long count, st
   if (k >= static_cast<std::size_t>(count)) return;
   pairs[2 * k] = static_cast<std::int32_t>(keys[k] >> 32);
   pairs[2 * k + 1] = static_cast<std::int32_t>(keys[k] & 0xffffffffULL);
-}
-
-// ContactForm's vertex–plane test, term by term as the host loop (no fused multiply-add).
-__device__ bool near_plane(const double* x, const double* p, std::size_t row, const double* point,
-                           const double* normal, double distance) {
-  double s0 = 0, s1 = 0;
-  for (int c = 0; c < 3; ++c) {
-    s0 += (x[row + c] - point[c]) * normal[c];
-    s1 += (x[row + c] + p[row + c] - point[c]) * normal[c];
-  }
-  return (s1 < s0 ? s1 : s0) <= distance;
-}
-
-__global__ void plane_count_kernel(const std::int32_t* nodes, int n, const double* point, const double* normal,
-                                   int planes, const double* x, const double* p, double distance, long long* counts) {
-  const std::size_t i = thread_index();
-  if (i > static_cast<std::size_t>(n)) return;
-  long long count = 0;
-  if (i < static_cast<std::size_t>(n)) {
-    const std::size_t row = 3 * static_cast<std::size_t>(nodes[i]);
-    for (int k = 0; k < planes; ++k) count += near_plane(x, p, row, point + 3 * k, normal + 3 * k, distance) ? 1 : 0;
-  }
-  counts[i] = count;
-}
-
-__global__ void plane_write_kernel(const std::int32_t* nodes, int n, const double* point, const double* normal,
-                                   int planes, const double* x, const double* p, double distance,
-                                   const long long* offsets, std::int32_t* pairs) {
-  const std::size_t i = thread_index();
-  if (i >= static_cast<std::size_t>(n)) return;
-  const std::size_t row = 3 * static_cast<std::size_t>(nodes[i]);
-  long long k_out = offsets[i];
-  for (int k = 0; k < planes; ++k)
-    if (near_plane(x, p, row, point + 3 * k, normal + 3 * k, distance)) {
-      pairs[2 * k_out] = static_cast<std::int32_t>(i);
-      pairs[2 * k_out + 1] = k;
-      ++k_out;
-    }
 }
 
 struct MergeBoxes {
@@ -609,58 +571,6 @@ void DeviceBroadPhase::find_candidates_on_segment(const double* x, const double*
   int moving = 0;
   m.moving.download(&moving);
   find_candidates(m.x0.data(), moving ? m.x1.data() : nullptr, inflation, out);
-}
-
-struct DeviceVertexPlanes::Impl {
-  int num_vertices = 0, num_planes = 0;
-  Array<std::int32_t> nodes{"plane query nodes"};
-  Array<double> points{"plane points"}, normals{"plane normals"};
-  Array<long long> counts{"vertex-plane counts"}, offsets{"vertex-plane offsets"};
-  Array<std::int32_t> pairs{"vertex-plane pairs"};
-  Array<unsigned char> temp{"CUB scratch"};
-};
-
-DeviceVertexPlanes::DeviceVertexPlanes() : impl_(std::make_unique<Impl>()) {}
-DeviceVertexPlanes::~DeviceVertexPlanes() = default;
-DeviceVertexPlanes::DeviceVertexPlanes(DeviceVertexPlanes&&) noexcept = default;
-DeviceVertexPlanes& DeviceVertexPlanes::operator=(DeviceVertexPlanes&&) noexcept = default;
-
-void DeviceVertexPlanes::upload(const std::vector<std::int32_t>& nodes, const std::vector<double>& points,
-                                const std::vector<double>& normals) {
-  const std::size_t max_count = static_cast<std::size_t>(INT_MAX);
-  if (points.size() != normals.size() || points.size() % 3 != 0 || points.size() / 3 > max_count ||
-      nodes.size() > max_count)
-    throw BroadPhaseError("DeviceVertexPlanes: give 3 point and 3 normal coordinates per plane, and at most 2^31 - 1 "
-                          "vertices and planes");
-  Impl& m = *impl_;
-  m.num_vertices = static_cast<int>(nodes.size());
-  m.num_planes = static_cast<int>(points.size() / 3);
-  m.nodes.upload(nodes);
-  m.points.upload(points);
-  m.normals.upload(normals);
-}
-
-void DeviceVertexPlanes::find(const double* x, const double* p, double distance,
-                              std::vector<std::array<std::int32_t, 2>>* out) {
-  Impl& m = *impl_;
-  out->clear();
-  if (m.num_vertices == 0 || m.num_planes == 0) return;
-  const std::size_t n = static_cast<std::size_t>(m.num_vertices);
-  m.counts.resize(n + 1);
-  plane_count_kernel<<<blocks_for(n + 1, kThreads), kThreads>>>(m.nodes.data(), m.num_vertices, m.points.data(),
-                                                                m.normals.data(), m.num_planes, x, p, distance,
-                                                                m.counts.data());
-  DIPC_CUDA_CHECK_LAUNCH();
-  const long long total = exclusive_sum(m.counts, m.offsets, n, m.temp);
-  if (total == 0) return;
-  const std::size_t pairs = static_cast<std::size_t>(total);
-  m.pairs.resize(2 * pairs);
-  plane_write_kernel<<<blocks_for(n, kThreads), kThreads>>>(m.nodes.data(), m.num_vertices, m.points.data(),
-                                                            m.normals.data(), m.num_planes, x, p, distance,
-                                                            m.offsets.data(), m.pairs.data());
-  DIPC_CUDA_CHECK_LAUNCH();
-  out->resize(pairs);
-  copy_to_host(out->data(), m.pairs.data(), pairs * sizeof(std::array<std::int32_t, 2>));
 }
 
 }  // namespace dipc::device

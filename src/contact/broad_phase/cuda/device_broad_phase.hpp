@@ -1,8 +1,8 @@
 // The contact broad phase on the CUDA device: the same vertex–triangle and edge–edge candidates
 // as contact::find_candidates (find_candidates.hpp) — same boxes, same exclusions, same filters,
 // same sorted order — found by a linear BVH built on the device (Karras 2012, "Maximizing
-// Parallelism in the Construction of BVHs, Octrees, and k-d Trees"), and the vertex–plane
-// candidates of half-space obstacles.
+// Parallelism in the Construction of BVHs, Octrees, and k-d Trees"). (Half-space obstacles need
+// no search: ContactForm pairs every surface vertex with every plane.)
 //
 // Plain C++: host code includes this header. The searches live in device_broad_phase.cu, or, in
 // builds without CUDA, in device_broad_phase_host.cpp, where they throw dipc::device::DeviceError.
@@ -18,7 +18,6 @@
 // (each present only when its arrays are given): ContactForm's filter, where a pair belongs to
 // the owner of its vertex, or of its edge with the smaller global id.
 #pragma once
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -72,31 +71,6 @@ class DeviceBroadPhase {
   // from vertex_node): x0 = x and x1 = x + p gathered per vertex, or static boxes at x0 when p
   // is zero at every vertex of the surface, as ContactForm forms them on the host.
   void find_candidates_on_segment(const double* x, const double* p, double inflation, contact::Candidates* out);
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
-
-// Vertex–plane candidates of half-space obstacles: the vertices whose segment x → x + p comes
-// within a distance of a plane, with the signed distances rounded exactly as ContactForm's host
-// loop rounds them.
-class DeviceVertexPlanes {
- public:
-  DeviceVertexPlanes();
-  ~DeviceVertexPlanes();
-  DeviceVertexPlanes(DeviceVertexPlanes&&) noexcept;
-  DeviceVertexPlanes& operator=(DeviceVertexPlanes&&) noexcept;
-
-  // nodes: the row of each vertex in x and p; points, normals: 3 doubles per plane (unit normal,
-  // solid side behind it).
-  void upload(const std::vector<std::int32_t>& nodes, const std::vector<double>& points,
-              const std::vector<double>& normals);
-
-  // Replaces *out by every (vertex index i, plane k), in that lexicographic order, with
-  // min(s0, s1) <= distance, where s0 = Σ_c (x_c − point_c) n_c and s1 = Σ_c (x_c + p_c − point_c) n_c
-  // at the vertex's node (device arrays x and p).
-  void find(const double* x, const double* p, double distance, std::vector<std::array<std::int32_t, 2>>* out);
 
  private:
   struct Impl;

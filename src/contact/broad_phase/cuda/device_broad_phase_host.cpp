@@ -27,18 +27,4 @@ void DeviceBroadPhase::find_candidates_on_segment(const double*, const double*, 
   no_cuda("broad phase on the device");
 }
 
-struct DeviceVertexPlanes::Impl {};
-
-DeviceVertexPlanes::DeviceVertexPlanes() = default;
-DeviceVertexPlanes::~DeviceVertexPlanes() = default;
-DeviceVertexPlanes::DeviceVertexPlanes(DeviceVertexPlanes&&) noexcept = default;
-DeviceVertexPlanes& DeviceVertexPlanes::operator=(DeviceVertexPlanes&&) noexcept = default;
-void DeviceVertexPlanes::upload(const std::vector<std::int32_t>&, const std::vector<double>&,
-                                const std::vector<double>&) {
-  no_cuda("vertex-plane upload");
-}
-void DeviceVertexPlanes::find(const double*, const double*, double, std::vector<std::array<std::int32_t, 2>>*) {
-  no_cuda("vertex-plane candidates on the device");
-}
-
 }  // namespace dipc::device
