@@ -108,6 +108,9 @@ ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters paramete
   for (std::int32_t v : surface_.vertices)
     for (std::size_t k = 0; k < parameters_.planes.size(); ++k)
       vertex_plane_.push_back({v, static_cast<std::int32_t>(k)});
+  // They are in the pattern from the first matrix on.
+  for (std::size_t i = 0; i < vertex_plane_.size(); ++i) pattern_pairs_.push_back({2, static_cast<std::int32_t>(i)});
+  pattern_key_ = pattern_keys(pattern_pairs_);
   if (space_ == MemorySpace::device) upload_surface();
 }
 
@@ -497,15 +500,7 @@ void ContactForm::update_pattern(const double* x) {
     if (active || kind == 2) active_now.push_back({kind, static_cast<std::int32_t>(i)});
     return true;
   });
-  // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.
-  std::vector<std::array<std::int64_t, 5>> key;
-  for (const auto& pe : active_now) {
-    const PairInfo info = describe(pe.kind, pe.index);
-    std::array<std::int64_t, 5> k{pe.kind, -1, -1, -1, -1};
-    for (int n = 0; n < info.count; ++n) k[1 + n] = global_node(info.nodes[n]);
-    if (info.plane) k[2] = info.plane - parameters_.planes.data();
-    key.push_back(k);
-  }
+  std::vector<std::array<std::int64_t, 5>> key = pattern_keys(active_now);
   pattern_pairs_ = std::move(active_now);
   if (key != pattern_key_) {
     pattern_key_ = std::move(key);
@@ -522,6 +517,19 @@ void ContactForm::update_pattern(const double* x) {
     uploaded_pattern_ = std::move(list);
   }
   stats_.transfer_seconds += MPI_Wtime() - start;
+}
+
+// Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.
+std::vector<std::array<std::int64_t, 5>> ContactForm::pattern_keys(const std::vector<PatternEntry>& pairs) const {
+  std::vector<std::array<std::int64_t, 5>> key;
+  for (const auto& pe : pairs) {
+    const PairInfo info = describe(pe.kind, pe.index);
+    std::array<std::int64_t, 5> k{pe.kind, -1, -1, -1, -1};
+    for (int n = 0; n < info.count; ++n) k[1 + n] = global_node(info.nodes[n]);
+    if (info.plane) k[2] = info.plane - parameters_.planes.data();
+    key.push_back(k);
+  }
+  return key;
 }
 
 void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {

@@ -19,11 +19,11 @@
 // and a change of that set means a new matrix (rebuilt COO preallocation of the whole
 // potential: 1.6 s at 64,000 hexes on 2 cores, far more on one GPU at 1M). Vertex–plane pairs
 // are exempt: every owned surface vertex is paired with every plane for the whole run, and all
-// those pairs stay in the pattern, writing zeros while inactive. Their 3×3 blocks lie on their
-// vertex's diagonal block, which the elastic pattern already holds, so the matrix's nonzeros are
-// the same and only vertex–triangle and edge–edge contacts change the pattern. An inactive
-// pair's barrier is exactly zero, so values are unchanged; the cost is evaluating
-// surface vertices × planes pairs, a small part of the broad phase's work.
+// those pairs are in the pattern from the first matrix on, writing zeros while inactive. Their
+// 3×3 blocks lie on their vertex's diagonal block, which the elastic pattern already holds, so
+// the matrix's nonzeros are the same and only vertex–triangle and edge–edge contacts change the
+// pattern. An inactive pair's barrier is exactly zero, so values are unchanged; the cost is
+// evaluating surface vertices × planes pairs, a small part of the broad phase's work.
 //
 // Memory space. On the host (the default) every evaluation loops over the pairs on the CPU. On
 // the device the broad phase runs there too: the surface's primitives are uploaded when an
@@ -181,6 +181,7 @@ class ContactForm : public Form {
     std::int32_t index;  // into vertex_face_, edge_edge_ or vertex_plane_
   };
   std::vector<PatternEntry> pattern_pairs_;
+  std::vector<std::array<std::int64_t, 5>> pattern_keys(const std::vector<PatternEntry>& pairs) const;
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
   long pattern_version_ = 0;
   // Device space: the candidates, the pattern's pairs (and the host copy they were uploaded
