@@ -1,10 +1,12 @@
 // The contact barrier through the whole distributed path (ghost surfaces, extra nodes, COO
 // across ranks) against finite differences on 1 and 2 ranks: two boxes (and a ground plane)
 // closer than d̂, perturbed. With the Hessian projection switched off the Hessian must equal
-// the differences of the gradient; with it on, it must be symmetric positive semi-definite.
+// the differences of the gradient; with it on, it must be symmetric positive semi-definite. A
+// body that meets only a plane keeps its first matrix pattern.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "mesh/box_generator.hpp"
@@ -140,6 +142,47 @@ TEST(ContactForm, ProjectedHessianIsSymmetricPositiveSemidefinite) {
   VecDestroy(&x);
   VecDestroy(&d);
   VecDestroy(&Hd);
+}
+
+// A body that only meets a plane keeps its first matrix: vertex–plane pairs are in the pattern
+// from the start (zeros while inactive), so bringing the box within d̂ of the plane turns its
+// barrier on without a new pattern.
+TEST(ContactForm, PlaneContactsKeepTheFirstPattern) {
+  DistributedMesh mesh = distribute_mesh(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0, 0, 0.3}, 0, "box"),
+                                         PETSC_COMM_WORLD);
+  ContactParameters params;
+  params.dhat = 0.02;
+  params.kappa = 1.0;
+  params.kappa_adaptive = false;
+  params.planes.push_back({{0, 0, 0}, {0, 0, 1}});
+  auto form = std::make_unique<ContactForm>(mesh, params);
+  ContactForm* contact = form.get();
+  std::vector<std::unique_ptr<Form>> forms;
+  forms.push_back(std::move(form));
+  IncrementalPotential potential;
+  ASSERT_EQ(potential.setup(mesh, std::move(forms), std::vector<char>(3 * mesh.num_local_nodes(), 0)), 0);
+  Mat H;
+  ASSERT_EQ(potential.create_matrix(&H), 0);
+  const long first = contact->pattern_version();
+  Vec x;
+  potential.create_global_vec(&x);
+  PetscReal norms[2];
+  for (int near = 0; near < 2; ++near) {
+    // Far: the bottom face 0.3 above the plane; near: 0.01 above it, inside d̂.
+    PetscScalar* a;
+    VecGetArray(x, &a);
+    for (int n = 0; n < mesh.num_owned_nodes; ++n)
+      for (int c = 0; c < 3; ++c) a[3 * n + c] = mesh.coordinates[n][c] - (c == 2 && near ? 0.29 : 0.0);
+    VecRestoreArray(x, &a);
+    ASSERT_EQ(potential.prepare_point(x), 0);
+    ASSERT_EQ(potential.hessian(x, H), 0);
+    MatNorm(H, NORM_FROBENIUS, &norms[near]);
+    EXPECT_EQ(contact->pattern_version(), first) << (near ? "near" : "far") << " the plane";
+  }
+  EXPECT_EQ(norms[0], 0.0) << "no pair is active far from the plane";
+  EXPECT_GT(norms[1], 0.0) << "the plane's barrier is active near it";
+  VecDestroy(&x);
+  MatDestroy(&H);
 }
 
 // The same state gives the same energy and gradient norm on all ranks and on rank 0 alone.
