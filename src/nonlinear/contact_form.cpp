@@ -494,10 +494,12 @@ bool ContactForm::gradient(const double* x, double* g) {
 void ContactForm::update_pattern(const double* x) {
   std::vector<PatternEntry> active_now;
   for_each_pair([&](int kind, std::size_t i) {
-    bool active;
-    ContactPairTerms t;
-    terms(describe(kind, i), x, false, false, &active, &t);
-    if (active || kind == 2) active_now.push_back({kind, static_cast<std::int32_t>(i)});
+    bool active = kind == 2;  // vertex–plane pairs are always in the pattern (header)
+    if (!active) {
+      ContactPairTerms t;
+      terms(describe(kind, i), x, false, false, &active, &t);
+    }
+    if (active) active_now.push_back({kind, static_cast<std::int32_t>(i)});
     return true;
   });
   std::vector<std::array<std::int64_t, 5>> key = pattern_keys(active_now);
