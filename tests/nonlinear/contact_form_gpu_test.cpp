@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
+#include "contact_test_scene.hpp"
 #include "device/device_runtime.hpp"
-#include "mesh/box_generator.hpp"
 #include "nonlinear/contact_form.hpp"
 
 namespace dipc {
@@ -38,15 +38,8 @@ struct TwoForms {
   device::Array<double> x_device{"test x"}, p_device{"test p"};
 
   TwoForms() {
-    HexMesh whole = generate_box({1, 1, 0.25}, {3, 3, 1}, {0, 0, 0.01}, 0, "slab");
-    whole.append(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0.21, 0.17, 0.29}, 1, "box"));
-    mesh = distribute_mesh(whole, PETSC_COMM_WORLD);
-    ContactParameters params;
-    params.dhat = 0.02;
-    params.kappa = 1.0;
-    params.kappa_adaptive = false;
-    params.self_contact = {1, 1};
-    params.planes.push_back({{0, 0, 0}, {0, 0, 1}});
+    mesh = distribute_mesh(slab_and_box(0.29), PETSC_COMM_WORLD);
+    const ContactParameters params = slab_and_box_parameters();
     host = std::make_unique<ContactForm>(mesh, params);
     gpu = std::make_unique<ContactForm>(mesh, params, MemorySpace::device);
   }

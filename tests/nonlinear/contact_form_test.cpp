@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "contact_test_scene.hpp"
 #include "mesh/box_generator.hpp"
 #include "nonlinear/contact_form.hpp"
 #include "nonlinear/incremental_potential.hpp"
@@ -28,17 +29,8 @@ struct ContactFixture {
   Mat H = nullptr;
 
   ContactFixture(double gap, bool project, MPI_Comm comm = PETSC_COMM_WORLD) {
-    // A 3×3×1 slab and a 2×2×2 box above it, offset so vertices, edges and faces all face
-    // each other (point–triangle and edge–edge pairs, not only aligned vertices).
-    HexMesh whole = generate_box({1, 1, 0.25}, {3, 3, 1}, {0, 0, 0.01}, 0, "slab");
-    whole.append(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0.21, 0.17, 0.3 + gap}, 1, "box"));
-    mesh = distribute_mesh(whole, comm);
-    ContactParameters params;
-    params.dhat = 0.02;
-    params.kappa = 1.0;
-    params.kappa_adaptive = false;
-    params.self_contact = {1, 1};
-    params.planes.push_back({{0, 0, 0}, {0, 0, 1}});
+    mesh = distribute_mesh(slab_and_box(0.3 + gap), comm);
+    ContactParameters params = slab_and_box_parameters();
     params.project_hessian = project;
     auto form = std::make_unique<ContactForm>(mesh, params);
     contact = form.get();
