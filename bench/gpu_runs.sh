@@ -11,6 +11,8 @@
 #   bench/gpu_runs.sh device       Newton breakdown device-resident (needs the CUDA PETSc build)
 #   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
+#   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
+#                                  AMG_SIZES, default 1000000)
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -65,5 +67,21 @@ case "${1:-}" in
       run mpirun -n 1 "$bin/dipc" scenes/block_on_plane.json -dipc_refine $r -dipc_backend cuda -vec_type cuda \
         -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -dipc_no_output | tail -26
     done ;;
-  *) sed -n '2,15p' "$0"; exit 2 ;;
+  amgsweep)
+    # Each variant: a name and the options it adds to the defaults of newton_solver.cpp.
+    variants=(
+      "default|"
+      "aggressive|-pc_hypre_boomeramg_agg_nl 1"
+      "theta07|-pc_hypre_boomeramg_strong_threshold 0.7"
+      "keeptranspose|-pc_hypre_boomeramg_keeptranspose 1"
+      "agg_theta07_pmax2|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_strong_threshold 0.7 -pc_hypre_boomeramg_P_max 2"
+      "ew|-snes_ksp_ew"
+      "agg_lag3|-pc_hypre_boomeramg_agg_nl 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
+    )
+    for v in "${variants[@]}"; do
+      name=${v%%|*}
+      run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps 2 -dipc_backend cuda \
+        -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
+    done ;;
+  *) sed -n '2,17p' "$0"; exit 2 ;;
 esac

@@ -30,6 +30,14 @@ void scatter_add(const double values[24], const std::int32_t* element_nodes, dou
   }
 }
 
+// The row-major 24x24 element Hessian H into the element's COO values (elastic_coo_offset).
+void scatter_hessian(const double H[576], double* coo) {
+  for (int a = 0; a < 8; ++a)
+    for (int k = 0; k < 3; ++k)
+      for (int b = 0; b < 8; ++b)
+        for (int l = 0; l < 3; ++l) coo[elastic_coo_offset(a, k, b, l)] = H[24 * (3 * a + k) + 3 * b + l];
+}
+
 // Global dof ids 3*l2g[node] + c of one element, checked against PETSc's 32-bit PetscInt.
 void element_dofs(const ElementBlock& block, int e, const std::int64_t* local_to_global, std::int32_t dofs[24]) {
   const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
@@ -78,8 +86,9 @@ bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_val
     double Xe[24], xe[24];
     gather(block.reference, en, Xe);
     gather(x, en, xe);
-    double* He = coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e);
+    double He[576];
     if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He)) return false;
+    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
   }
   return true;
 }
@@ -89,11 +98,11 @@ bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x,
   double total = 0;
   for (int e = 0; e < block.num_elements; ++e) {
     const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24], ge[24], ee;
+    double Xe[24], xe[24], ge[24], ee, He[576];
     gather(block.reference, en, Xe);
     gather(x, en, xe);
-    double* He = coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e);
     if (!hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], &ee, ge, He)) return false;
+    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
     total += ee;
     scatter_add(ge, en, g);
   }
@@ -111,11 +120,14 @@ void elastic_coo_pattern(const ElementBlock& block, const std::int64_t* local_to
     element_dofs(block, e, local_to_global, dofs);
     std::int32_t* r = rows->data() + kElasticCooPerElement * static_cast<std::size_t>(e);
     std::int32_t* c = cols->data() + kElasticCooPerElement * static_cast<std::size_t>(e);
-    for (int i = 0; i < 24; ++i)
-      for (int j = 0; j < 24; ++j) {
-        r[24 * i + j] = dofs[i];
-        c[24 * i + j] = dofs[j];
-      }
+    for (int a = 0; a < 8; ++a)
+      for (int k = 0; k < 3; ++k)
+        for (int b = 0; b < 8; ++b)
+          for (int l = 0; l < 3; ++l) {
+            const int o = elastic_coo_offset(a, k, b, l);
+            r[o] = dofs[3 * a + k];
+            c[o] = dofs[3 * b + l];
+          }
   }
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "host_device.hpp"
+
 namespace dipc {
 
 // Structure-of-arrays view of an element block; nothing owned.
@@ -27,6 +29,13 @@ class DofIndexOverflow : public std::overflow_error {
 
 // Entries per element of the elastic COO pattern (a dense 24x24 block).
 constexpr int kElasticCooPerElement = 576;
+
+// Where Hessian entry H_(3a+k)(3b+l) (node a, component k; node b, component l) sits among an
+// element's 576 COO values: column-block (k, l, b) major, row node a fastest. The CUDA kernel
+// gives row node a to thread a, so for each (k, l, b) the element's 8 threads store 8
+// consecutive doubles (two full 32-byte sectors) instead of 8 values 576 bytes apart; the
+// row-major 24x24 order made the kernel bound by L2 write sectors (ncu, README "GPU").
+DIPC_HD constexpr int elastic_coo_offset(int a, int k, int b, int l) { return 8 * (24 * k + 8 * l + b) + a; }
 // Entries per element of the consistent mass COO pattern (8x8 node pairs x 3 components).
 constexpr int kMassCooPerElement = 192;
 
@@ -38,8 +47,8 @@ constexpr int kMassCooPerElement = 192;
 bool elastic_energy(const ElementBlock& block, const double* x, double* energy);
 // Adds the element gradients into g (3 per local node).
 bool elastic_gradient(const ElementBlock& block, const double* x, double* g);
-// Writes 576 PSD-projected Hessian values per element (element-major, row-major 24x24 with
-// element dof 3a + i) into coo_values, in the order of elastic_coo_pattern.
+// Writes 576 PSD-projected Hessian values per element (element-major, each element's in the
+// order of elastic_coo_offset) into coo_values, in the order of elastic_coo_pattern.
 bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_values);
 // All three in one pass (one geometry evaluation per quadrature point): energy is
 // overwritten with the sum, g added into, coo_values written as above.
@@ -47,7 +56,7 @@ bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x,
                                      double* coo_values);
 
 // Resizes rows/cols to 576*num_elements and fills them with the global dof ids of the
-// entries written by elastic_hessian: entry 576e + 24(3a+i) + 3b+j is
+// entries written by elastic_hessian: entry 576e + elastic_coo_offset(a, i, b, j) is
 // (3*l2g[node_a]+i, 3*l2g[node_b]+j). Throws DofIndexOverflow if an id exceeds int32.
 void elastic_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
                          std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols);

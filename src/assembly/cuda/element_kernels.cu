@@ -8,8 +8,8 @@
 //      triangle: it is symmetric);
 //   2. thread t then owns node a = t: its 3 gradient entries g_ak = Σ_q Σ_j wP_kj G_aj, and its
 //      three Hessian rows H_(ak)(bl) = Σ_q Σ_jm G_aj wC_(kj)(lm) G_bm, one row at a time (24
-//      accumulators), written straight into the COO value array: the rows 3a+k of element e are
-//      24 contiguous values at 576e + 24(3a+k).
+//      accumulators), written straight into the COO value array at elastic_coo_offset, whose
+//      order makes the 8 threads of an element store 8 consecutive doubles at a time.
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_elasticity.hpp"
 #include "assembly/hex8_mass.hpp"
@@ -29,10 +29,15 @@ __host__ __device__ constexpr int packed(int r, int c) {
 }
 
 // Shared doubles per element for the outputs asked for: X and x (24 each), then per Gauss
-// point G (24), wP (9) when the gradient is wanted, wC (45) when the Hessian is.
+// point G (24), wP (9) when the gradient is wanted, wC (45) when the Hessian is; padded to
+// 4 (mod 16) doubles. A warp holds 4 elements whose threads read the same offsets in their
+// own element's area; shared memory has 32 four-byte banks (16 doubles a row), so an
+// unpadded stride that is a multiple of 16 doubles (672 with the Hessian) sent all 4 reads
+// to one bank pair, 4-way conflicts. A stride of 4 (mod 16) spreads them over 4 bank pairs.
 template <bool Grad, bool Hess>
 __host__ __device__ constexpr int shared_per_element() {
-  return 48 + 8 * ((Grad || Hess ? 24 : 0) + (Grad ? 9 : 0) + (Hess ? 45 : 0));
+  constexpr int used = 48 + 8 * ((Grad || Hess ? 24 : 0) + (Grad ? 9 : 0) + (Hess ? 45 : 0));
+  return used + (20 - used % 16) % 16;
 }
 
 // Blocks per SM the compiler must leave registers for (occupancy against spills).
@@ -100,7 +105,7 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
   }
   if (active && Hess) {
     const int a = t;
-    double* out = coo + kElasticCooPerElement * e + 24 * 3 * a;
+    double* out = coo + kElasticCooPerElement * e;
 #pragma unroll
     for (int k = 0; k < 3; ++k) {
       double row[24];
@@ -122,7 +127,9 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
             row[3 * b + l] += T[3 * l] * Gq[3 * b] + T[3 * l + 1] * Gq[3 * b + 1] + T[3 * l + 2] * Gq[3 * b + 2];
       }
 #pragma unroll
-      for (int j = 0; j < 24; ++j) out[24 * k + j] = scale * row[j];
+      for (int b = 0; b < 8; ++b)
+#pragma unroll
+        for (int l = 0; l < 3; ++l) out[elastic_coo_offset(a, k, b, l)] = scale * row[3 * b + l];
     }
   }
   const double total = block_sum(energy, reduction);
