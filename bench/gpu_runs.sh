@@ -12,7 +12,7 @@
 #   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
-#                                  AMG_SIZES, default 1000000)
+#                                  AMG_SIZES, default 1000000; AMG_VARIANTS picks variants by name)
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -77,9 +77,13 @@ case "${1:-}" in
       "agg_theta07_pmax2|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_strong_threshold 0.7 -pc_hypre_boomeramg_P_max 2"
       "ew|-snes_ksp_ew"
       "agg_lag3|-pc_hypre_boomeramg_agg_nl 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
+      "agg_kt|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1"
+      "agg_kt_lag3|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
+      "agg_kt_lag3_rtol4|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists -ksp_rtol 1e-4"
     )
     for v in "${variants[@]}"; do
       name=${v%%|*}
+      [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
       run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps 2 -dipc_backend cuda \
         -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
     done ;;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the benchmark CSVs of bench/ as PNG plots (Debian: apt-get install python3-matplotlib).
 
-  bench/plot_results.py --assembly bench/results/assembly_throughput_h200.csv \
+  bench/plot_results.py --assembly bench/results/assembly_throughput_h100.csv \
       --breakdown bench/results/newton_breakdown_h200.csv \
       --crossover bench/results/crossover_h200.csv \
       --weak bench/results/weak_scaling_h200.csv \
