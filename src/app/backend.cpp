@@ -70,9 +70,14 @@ std::size_t device_bytes_per_element(bool matrix_on_device) {
   // reference coordinates and 11 mirrored or scratch arrays of 3 doubles (x, gradient, segment
   // x/p/w, inertia x̂ and mass, body force, ...). A device matrix holds each of the ~81
   // nonzeros of a row once (value + column index), 3 rows per node, twice over for the
-  // preconditioner setup's copy.
+  // preconditioner setup's copy. The COO values are summed into those unique entries on the
+  // device (CooReduction): 4 B per COO value and per unique entry for the map, 8 B per unique
+  // entry for the sums, and PETSc's COO maps of the unique entries (8 B each way).
   std::size_t bytes = 8 * 4 + 2 * 8 + (kElasticCooPerElement + kMassCooPerElement) * 8 + 3 * 8 + 11 * 3 * 8;
-  if (matrix_on_device) bytes += 2 * 3 * 81 * (8 + 4);
+  constexpr std::size_t unique_per_element = 3 * 81;
+  if (matrix_on_device)
+    bytes += 2 * unique_per_element * (8 + 4) + (kElasticCooPerElement + kMassCooPerElement) * 4 +
+             unique_per_element * (4 + 8 + 2 * 8);
   return bytes;
 }
 

@@ -102,6 +102,17 @@ __global__ void fill_kernel(double* values, std::size_t n, double v) {
   if (k < n) values[k] = v;
 }
 
+// One thread per unique entry: an entry sums few raw ones (the element blocks sharing it, at
+// most 8, and the inertia and contact terms), so the serial sum is short, in the map's order.
+__global__ void reduce_coo_kernel(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
+                                  std::size_t num_unique, double* unique) {
+  const std::size_t u = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (u >= num_unique) return;
+  double sum = 0.0;
+  for (std::uint32_t j = offsets[u]; j < offsets[u + 1]; ++j) sum += raw[sources[j]];
+  unique[u] = sum;
+}
+
 }  // namespace
 
 // Two passes: at most 1024 blocks of partials, then one block over those.
@@ -187,6 +198,13 @@ void eliminate(double* values, const std::size_t* index, std::size_t count, std:
     fill_kernel<<<blocks_for(last - first, 256), 256>>>(values + first, last - first, 1.0);
     DIPC_CUDA_CHECK_LAUNCH();
   }
+}
+
+void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
+                std::size_t num_unique, double* unique) {
+  if (!num_unique) return;
+  reduce_coo_kernel<<<blocks_for(num_unique, 256), 256>>>(raw, offsets, sources, num_unique, unique);
+  DIPC_CUDA_CHECK_LAUNCH();
 }
 
 }  // namespace dipc::device

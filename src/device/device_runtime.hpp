@@ -5,6 +5,7 @@
 // a device throws DeviceError, so callers choose the CPU path by asking, never by #ifdef.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -121,5 +122,9 @@ void axpy_into(double* w, const double* x, double alpha, const double* p, std::s
 void add_scaled(double* y, double s, const double* x, std::size_t n);
 // values[index[k]] = 0 for every k, then values[first..last) = 1 (Dirichlet elimination in COO).
 void eliminate(double* values, const std::size_t* index, std::size_t count, std::size_t first, std::size_t last);
+// unique[u] = sum of raw[sources[j]] for j in [offsets[u], offsets[u+1]), added from 0 in that
+// order: CooReduction::reduce on device arrays, bit for bit the same.
+void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
+                std::size_t num_unique, double* unique);
 
 }  // namespace dipc::device

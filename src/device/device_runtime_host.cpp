@@ -37,5 +37,8 @@ bool Reducer::flag_set() { no_cuda("device flag"); }
 void axpy_into(double*, const double*, double, const double*, std::size_t) { no_cuda("device axpy"); }
 void add_scaled(double*, double, const double*, std::size_t) { no_cuda("device axpy"); }
 void eliminate(double*, const std::size_t*, std::size_t, std::size_t, std::size_t) { no_cuda("device elimination"); }
+void reduce_coo(const double*, const std::uint32_t*, const std::uint32_t*, std::size_t, double*) {
+  no_cuda("device COO reduction");
+}
 
 }  // namespace dipc::device

@@ -1,8 +1,9 @@
 #include "nonlinear/incremental_potential.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 #include <tuple>
-#include <unordered_set>
 
 #include "nonlinear/device_matrix.hpp"
 
@@ -12,7 +13,7 @@ namespace {
 // PETSc log events (registered once per process) and a scope timer that feeds both them and
 // the EvaluationTimes counters.
 struct Events {
-  PetscLogEvent energy, gradient, hessian, validity;
+  PetscLogEvent energy, gradient, hessian, validity, coo_reduction;
 };
 const Events& events() {
   static Events e = [] {
@@ -23,6 +24,7 @@ const Events& events() {
     PetscLogEventRegister("dipcGradient", id, &r.gradient);
     PetscLogEventRegister("dipcHessian", id, &r.hessian);
     PetscLogEventRegister("dipcValidity", id, &r.validity);
+    PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
     return r;
   }();
   return e;
@@ -111,42 +113,76 @@ bool IncrementalPotential::pattern_changed() const {
 
 PetscErrorCode IncrementalPotential::rebuild_pattern() {
   PetscFunctionBeginUser;
-  rows_.clear(), cols_.clear(), form_offset_.clear(), pattern_versions_.clear();
+  std::vector<PetscInt> rows, cols;  // the raw combined pattern, values_'s order
+  form_offset_.clear(), pattern_versions_.clear();
   for (auto& form : forms_) {
     std::vector<PetscInt> r, c;
     form->coo_pattern(&r, &c);
-    form_offset_.push_back(rows_.size());
+    form_offset_.push_back(rows.size());
     pattern_versions_.push_back(form->pattern_version());
-    rows_.insert(rows_.end(), r.begin(), r.end());
-    cols_.insert(cols_.end(), c.begin(), c.end());
+    rows.insert(rows.end(), r.begin(), r.end());
+    cols.insert(cols.end(), c.begin(), c.end());
   }
-  form_offset_.push_back(rows_.size());
+  form_offset_.push_back(rows.size());
 
-  std::unordered_set<PetscInt> prescribed;
+  // Prescribed global dofs as a bitmap over their id range: this test runs for every COO
+  // entry (hundreds of millions at 1M elements), where a hash set took seconds.
+  PetscInt lo = std::numeric_limits<PetscInt>::max(), hi = -1;
   for (std::size_t n = 0; n < local_to_global_.size(); ++n)
     for (int c = 0; c < 3; ++c)
-      if (dirichlet_dof_[3 * n + c]) prescribed.insert(static_cast<PetscInt>(3 * local_to_global_[n] + c));
+      if (dirichlet_dof_[3 * n + c]) {
+        const PetscInt dof = static_cast<PetscInt>(3 * local_to_global_[n] + c);
+        lo = std::min(lo, dof), hi = std::max(hi, dof);
+      }
   eliminated_.clear();
-  if (!prescribed.empty())
-    for (std::size_t k = 0; k < rows_.size(); ++k)
-      if (prescribed.count(rows_[k]) || prescribed.count(cols_[k])) eliminated_.push_back(k);
-  dirichlet_diagonal_begin_ = rows_.size();
+  if (hi >= lo) {
+    std::vector<bool> prescribed(static_cast<std::size_t>(hi - lo + 1), false);
+    for (std::size_t n = 0; n < local_to_global_.size(); ++n)
+      for (int c = 0; c < 3; ++c)
+        if (dirichlet_dof_[3 * n + c]) prescribed[static_cast<PetscInt>(3 * local_to_global_[n] + c) - lo] = true;
+    const auto is_prescribed = [&](PetscInt dof) { return dof >= lo && dof <= hi && prescribed[dof - lo]; };
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      if (is_prescribed(rows[k]) || is_prescribed(cols[k])) eliminated_.push_back(k);
+  }
+  dirichlet_diagonal_begin_ = rows.size();
   for (int k = 0; k < num_owned_dofs_; ++k)
     if (dirichlet_dof_[k]) {
       const PetscInt dof = static_cast<PetscInt>(3 * mesh_->node_offset + k);
-      rows_.push_back(dof);
-      cols_.push_back(dof);
+      rows.push_back(dof);
+      cols.push_back(dof);
     }
-  values_.assign(rows_.size(), 0.0);
+  values_.assign(rows.size(), 0.0);
   if (any_device_) {
     d_values_.resize(values_.size());
     d_eliminated_.upload(eliminated_);
   }
   if (J_) {
-    // MatSetPreallocationCOO may reorder the index arrays it is given: pass copies.
+    // The reduction serves the matrix it preallocates, so it is built only where one exists
+    // (create_matrix, or a pattern change under hessian()). Rows are bucketed directly over the
+    // owned range, which holds all but the ghost rows.
     const double start = MPI_Wtime();
-    std::vector<PetscInt> r = rows_, c = cols_;
-    PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(r.size()), r.data(), c.data()));
+    PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
+    const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
+    try {
+      reduction_ =
+          CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs_);
+    } catch (const std::length_error& e) {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+    }
+    PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
+    std::vector<PetscInt>().swap(rows);
+    std::vector<PetscInt>().swap(cols);
+    // The map goes to the device where hessian() sums there: device forms and a device matrix.
+    if (any_device_ && matrix_on_device(J_)) {
+      d_reduction_offsets_.upload(reduction_.offsets);
+      d_reduction_sources_.upload(reduction_.sources);
+    }
+    // PETSc may reorder the index arrays it is given and keeps its own copy: hand over the
+    // reduction's, which nothing reads afterwards.
+    std::vector<PetscInt> unique_rows = std::move(reduction_.rows), unique_cols = std::move(reduction_.cols);
+    reduction_.rows.clear(), reduction_.cols.clear();
+    PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(unique_rows.size()), unique_rows.data(),
+                                     unique_cols.data()));
     times_.preallocation += MPI_Wtime() - start;
     ++times_.preallocations;
   }
@@ -297,7 +333,18 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
   const double insert_start = MPI_Wtime();
-  PetscCall(MatSetValuesCOO(J, on_device ? d_values_.data() : values_.data(), INSERT_VALUES));
+  const std::size_t num_unique = reduction_.num_unique();
+  double* unique = nullptr;
+  if (on_device) {
+    d_unique_values_.resize(num_unique);
+    unique = d_unique_values_.data();
+    device::reduce_coo(d_values_.data(), d_reduction_offsets_.data(), d_reduction_sources_.data(), num_unique, unique);
+  } else {
+    unique_values_.resize(num_unique);
+    unique = unique_values_.data();
+    reduction_.reduce(values_.data(), unique);
+  }
+  PetscCall(MatSetValuesCOO(J, unique, INSERT_VALUES));
   times_.coo_insert += MPI_Wtime() - insert_start;
   PetscFunctionReturn(0);
 }

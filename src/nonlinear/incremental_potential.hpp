@@ -6,7 +6,9 @@
 // (owned, then element ghosts) followed by the extra nodes forms ask for (contact surfaces of
 // other ranks); the exchange is rebuilt when those change. The Hessian is assembled with
 // MatSetValuesCOO on the concatenated COO patterns of all forms, preallocated again only when a
-// form's pattern changes (the contact active set), never per iteration otherwise.
+// form's pattern changes (the contact active set), never per iteration otherwise. Forms write
+// their values in that raw concatenated order; PETSc is given only its distinct entries, sorted
+// (CooReduction), and the raw values are summed into them before each MatSetValuesCOO.
 //
 // Forms evaluate in their own memory space (form.hpp): the potential hands each the local
 // arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "device/device_runtime.hpp"
+#include "nonlinear/coo_reduction.hpp"
 #include "nonlinear/form.hpp"
 #include "nonlinear/local_views.hpp"
 #include "partition/ghost_exchange.hpp"
@@ -36,8 +39,8 @@ namespace dipc {
 // of the same names so -log_view shows them.
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
-  double coo_insert = 0;      // MatSetValuesCOO alone (part of hessian)
-  double preallocation = 0;   // MatSetPreallocationCOO after a pattern change (part of hessian)
+  double coo_insert = 0;      // summing duplicates and MatSetValuesCOO (part of hessian)
+  double preallocation = 0;   // CooReduction::build and MatSetPreallocationCOO after a pattern change
   long preallocations = 0;    // how many times the pattern was set
   double neighbourhood = 0;   // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
   double max_step = 0;        // forms' max_step (CCD)
@@ -113,7 +116,9 @@ class IncrementalPotential {
   bool assemble_values(LocalViews& x, bool on_device);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
-  PetscErrorCode rebuild_pattern();                // combined COO pattern and Dirichlet elimination
+  // Combined COO pattern, Dirichlet elimination and, where a matrix exists, its reduction to
+  // unique entries and the preallocation.
+  PetscErrorCode rebuild_pattern();
   bool pattern_changed() const;
 
   MPI_Comm comm_ = MPI_COMM_NULL;
@@ -127,11 +132,17 @@ class IncrementalPotential {
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
   Mat J_ = nullptr;                            // not owned
-  std::vector<PetscInt> rows_, cols_;          // combined pattern (forms, then Dirichlet diagonal)
   std::vector<std::size_t> form_offset_;       // start of each form's block in values_
   std::vector<std::size_t> eliminated_;        // entries in a Dirichlet row or column
   std::size_t dirichlet_diagonal_begin_ = 0;
-  std::vector<PetscScalar> values_;
+  std::vector<PetscScalar> values_;            // raw combined pattern (forms, then Dirichlet diagonal)
+  // Raw values -> the matrix's unique entries. Per hex element (576 raw elastic entries, 192
+  // more with a consistent mass; ≈ 243 unique): the map takes 4 B per raw and per unique entry
+  // (≈ 3.3 KB, 4 KB with a consistent mass) on the host and, with device forms, again on the
+  // device, and the summed values 8 B per unique entry (≈ 1.9 KB) where the matrix is assembled.
+  // PETSc's own COO maps (8 B per entry it is given) shrink by about as much.
+  CooReduction reduction_;
+  std::vector<PetscScalar> unique_values_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   LocalViews x_views_;
   Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
@@ -139,6 +150,9 @@ class IncrementalPotential {
   device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
   device::Array<double> d_values_{"Hessian COO values"};
   device::Array<std::size_t> d_eliminated_{"Dirichlet COO entries"};
+  device::Array<CooReduction::Index> d_reduction_offsets_{"COO reduction offsets"},
+      d_reduction_sources_{"COO reduction sources"};
+  device::Array<double> d_unique_values_{"Hessian unique COO values"};
   // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
   std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;
   device::Array<double> seg_x_device_{"segment start"}, seg_p_device_{"segment direction"},
