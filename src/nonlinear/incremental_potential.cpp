@@ -80,7 +80,9 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   PetscCall(exchange_.create_local_vec(&x_local_));
   PetscCall(VecDuplicate(x_local_, &g_local_));
   PetscCall(VecDuplicate(x_local_, &p_local_));
-  PetscCall(rebuild_pattern());
+  // The combined pattern is built by create_matrix(), the first call that needs it (hessian()
+  // requires that matrix); building it here too cost a second pass over every COO entry.
+  for (const auto& form : forms_) pattern_versions_.push_back(form->pattern_version());
   PetscFunctionReturn(0);
 }
 
