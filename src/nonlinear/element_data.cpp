@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 namespace dipc {
 
@@ -27,23 +29,27 @@ void ElementData::gather_reference(int e, double X[24]) const {
 }
 
 namespace {
-void to_petsc(const std::vector<std::int32_t>& r, const std::vector<std::int32_t>& c, std::vector<PetscInt>* rows,
+void to_petsc(std::vector<std::int32_t>&& r, std::vector<std::int32_t>&& c, std::vector<PetscInt>* rows,
               std::vector<PetscInt>* cols) {
-  rows->assign(r.begin(), r.end());
-  cols->assign(c.begin(), c.end());
+  if constexpr (std::is_same_v<PetscInt, std::int32_t>) {
+    *rows = std::move(r), *cols = std::move(c);  // no copy of the (large) element patterns
+  } else {
+    rows->assign(r.begin(), r.end());
+    cols->assign(c.begin(), c.end());
+  }
 }
 }  // namespace
 
 void ElementData::elastic_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
   std::vector<std::int32_t> r, c;
   elastic_coo_pattern(block(), local_to_global.data(), &r, &c);
-  to_petsc(r, c, rows, cols);
+  to_petsc(std::move(r), std::move(c), rows, cols);
 }
 
 void ElementData::consistent_mass_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
   std::vector<std::int32_t> r, c;
   consistent_mass_coo_pattern(block(), local_to_global.data(), &r, &c);
-  to_petsc(r, c, rows, cols);
+  to_petsc(std::move(r), std::move(c), rows, cols);
 }
 
 ElementBlock ElementData::block() const {

@@ -115,15 +115,26 @@ bool IncrementalPotential::pattern_changed() const {
 
 PetscErrorCode IncrementalPotential::rebuild_pattern() {
   PetscFunctionBeginUser;
-  std::vector<PetscInt> rows, cols;  // the raw combined pattern, values_'s order
+  // The raw combined pattern, values_'s order: the forms' patterns, then the Dirichlet
+  // diagonal. Reserved whole, because appending a small pattern after the elastic one's
+  // hundreds of millions of entries would reallocate and copy them.
+  std::vector<std::vector<PetscInt>> form_rows(forms_.size()), form_cols(forms_.size());
+  std::size_t total = 0;
+  for (std::size_t f = 0; f < forms_.size(); ++f) {
+    forms_[f]->coo_pattern(&form_rows[f], &form_cols[f]);
+    total += form_rows[f].size();
+  }
+  for (int k = 0; k < num_owned_dofs_; ++k) total += dirichlet_dof_[k] ? 1 : 0;
+  std::vector<PetscInt> rows, cols;
+  rows.reserve(total), cols.reserve(total);
   form_offset_.clear(), pattern_versions_.clear();
-  for (auto& form : forms_) {
-    std::vector<PetscInt> r, c;
-    form->coo_pattern(&r, &c);
+  for (std::size_t f = 0; f < forms_.size(); ++f) {
     form_offset_.push_back(rows.size());
-    pattern_versions_.push_back(form->pattern_version());
-    rows.insert(rows.end(), r.begin(), r.end());
-    cols.insert(cols.end(), c.begin(), c.end());
+    pattern_versions_.push_back(forms_[f]->pattern_version());
+    rows.insert(rows.end(), form_rows[f].begin(), form_rows[f].end());
+    cols.insert(cols.end(), form_cols[f].begin(), form_cols[f].end());
+    std::vector<PetscInt>().swap(form_rows[f]);
+    std::vector<PetscInt>().swap(form_cols[f]);
   }
   form_offset_.push_back(rows.size());
 
