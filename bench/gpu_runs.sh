@@ -24,6 +24,13 @@ out=${OUT:-bench/results/raw}
 mkdir -p "$out"
 bin=${DEVICE_BIN:?source .device/activate first}
 run() { echo "+ $*" >&2; "$@"; }
+# combine_variants OUT amg_NAME.csv...: the CSVs' rows under one header, each prefixed by NAME.
+combine_variants() {
+  local target=$1; shift
+  awk 'FNR == 1 { name = FILENAME; sub(/.*\/amg_/, "", name); sub(/\.csv$/, "", name) }
+       FNR == 1 && !done { print "variant," $0; done = 1; next }
+       FNR > 1 { print name "," $0 }' "$@" > "$target.tmp" && mv "$target.tmp" "$target"
+}
 gpus=$(nvidia-smi -L | wc -l)
 case "${1:-}" in
   tests)
@@ -81,11 +88,15 @@ case "${1:-}" in
       "agg_kt_lag3|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
       "agg_kt_lag3_rtol4|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists -ksp_rtol 1e-4"
     )
+    csvs=()
     for v in "${variants[@]}"; do
       name=${v%%|*}
       [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
+      csvs+=("$out/amg_$name.csv")
       run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps 2 -dipc_backend cuda \
         -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
-    done ;;
+    done
+    # One table with the variant's name in front (bench/results/amg_sweep_*.csv).
+    combine_variants "$out/amg_sweep.csv" "${csvs[@]}" ;;
   *) sed -n '2,17p' "$0"; exit 2 ;;
 esac
