@@ -355,16 +355,16 @@ void ContactForm::find_candidates(const double* x, const double* p) {
   view.num_faces = static_cast<int>(faces_.size());
   view.faces = s.faces.data();
   view.vertex_group = s.vertex_group.data();
+  // The filters the device search reads as data (device_broad_phase.hpp), from the same arrays:
+  // a vertex–face pair belongs to the owner of its vertex, an edge–edge pair to the owner of the
+  // edge with the smaller global id.
   contact::CandidateFilter filter;
-  const auto& self = parameters_.self_contact;
-  filter.allow_groups = [&self](int a, int b) {
-    return a != b || (a >= 0 && a < static_cast<int>(self.size()) && self[a]);
+  filter.allow_groups = [&s](int a, int b) {
+    return a != b || (a >= 0 && a < static_cast<int>(s.self_contact.size()) && s.self_contact[a]);
   };
   filter.keep_vertex_face = [&](std::int32_t v, std::int32_t) { return owned_vertex[v] != 0; };
-  // An edge–edge pair belongs to the owner of the edge with the smaller global id.
-  filter.keep_edge_edge = [&](std::int32_t a, std::int32_t b) {
-    const Primitive& first = edges_[a].gid < edges_[b].gid ? edges_[a] : edges_[b];
-    return first.owned;
+  filter.keep_edge_edge = [&s](std::int32_t a, std::int32_t b) {
+    return s.owned_edge[s.edge_gid[a] < s.edge_gid[b] ? a : b] != 0;
   };
   contact::Candidates candidates;
   contact::find_candidates(view, 0.5 * parameters_.dhat, &candidates, filter);
