@@ -169,36 +169,33 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
     d_values_.resize(values_.size());
     d_eliminated_.upload(eliminated_);
   }
-  if (J_) {
-    // The reduction serves the matrix it preallocates, so it is built only where one exists
-    // (create_matrix, or a pattern change under hessian()). Rows are bucketed directly over the
-    // owned range, which holds all but the ghost rows.
-    const double start = MPI_Wtime();
-    PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
-    const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
-    try {
-      reduction_ =
-          CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs_);
-    } catch (const std::length_error& e) {
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
-    }
-    PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
-    std::vector<PetscInt>().swap(rows);
-    std::vector<PetscInt>().swap(cols);
-    // The map goes to the device where hessian() sums there: device forms and a device matrix.
-    if (any_device_ && matrix_on_device(J_)) {
-      d_reduction_offsets_.upload(reduction_.offsets);
-      d_reduction_sources_.upload(reduction_.sources);
-    }
-    // PETSc may reorder the index arrays it is given and keeps its own copy: hand over the
-    // reduction's, which nothing reads afterwards.
-    std::vector<PetscInt> unique_rows = std::move(reduction_.rows), unique_cols = std::move(reduction_.cols);
-    reduction_.rows.clear(), reduction_.cols.clear();
-    PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(unique_rows.size()), unique_rows.data(),
-                                     unique_cols.data()));
-    times_.preallocation += MPI_Wtime() - start;
-    ++times_.preallocations;
+  // The matrix's unique entries. Rows are bucketed directly over the owned range, which holds
+  // all but the ghost rows.
+  const double start = MPI_Wtime();
+  PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
+  const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
+  try {
+    reduction_ =
+        CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs_);
+  } catch (const std::length_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
+  PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
+  std::vector<PetscInt>().swap(rows);
+  std::vector<PetscInt>().swap(cols);
+  // The map goes to the device where hessian() sums there: device forms and a device matrix.
+  if (any_device_ && matrix_on_device(J_)) {
+    d_reduction_offsets_.upload(reduction_.offsets);
+    d_reduction_sources_.upload(reduction_.sources);
+  }
+  // PETSc may reorder the index arrays it is given and keeps its own copy: hand over the
+  // reduction's, which nothing reads afterwards.
+  std::vector<PetscInt> unique_rows = std::move(reduction_.rows), unique_cols = std::move(reduction_.cols);
+  reduction_.rows.clear(), reduction_.cols.clear();
+  PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(unique_rows.size()), unique_rows.data(),
+                                   unique_cols.data()));
+  times_.preallocation += MPI_Wtime() - start;
+  ++times_.preallocations;
   PetscFunctionReturn(0);
 }
 

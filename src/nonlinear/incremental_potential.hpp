@@ -116,8 +116,8 @@ class IncrementalPotential {
   bool assemble_values(LocalViews& x, bool on_device);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
-  // Combined COO pattern, Dirichlet elimination and, where a matrix exists, its reduction to
-  // unique entries and the preallocation.
+  // Combined COO pattern, Dirichlet elimination, the reduction to unique entries and the
+  // preallocation of J_ (set by create_matrix before the first call).
   PetscErrorCode rebuild_pattern();
   bool pattern_changed() const;
 

@@ -94,16 +94,17 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_type", "hypre"));
   PetscCall(default_option("-pc_hypre_type", "boomeramg"));
   // BoomerAMG: HMIS coarsening, extended+i interpolation truncated to 4 entries per row,
-  // hypre's strength threshold for 3D problems, matrix block size 3. Measured on a 97,556-hex box (bench_step_breakdown, 2 ranks,
-  // README "Benchmarks"): plain unknown-based coarsening needed 4.1 s per Newton iteration,
+  // hypre's strength threshold for 3D problems, matrix block size 3. Measured on a 97,556-hex
+  // box (bench_step_breakdown, 2 ranks, README "Benchmarks"): plain unknown-based coarsening needed 4.1 s per Newton iteration,
   // nodal coarsening (-pc_hypre_boomeramg_nodal_coarsen 6) 14.1 s and nodal coarsening with
   // vector interpolation of the rigid-body modes (…_vec_interp_variant 3) 35 s, so the nodal
   // and vector-interpolation options are available (scenes/solver/*.opts) but not the default.
   // Aggressive coarsening is off: with it BoomerAMG turned indefinite on contact Hessians on
   // 4 ranks (CG stopped with DIVERGED_INDEFINITE_PC on the default scene's impact step).
   PetscCall(default_option("-pc_hypre_boomeramg_strong_threshold", "0.5"));
-  // A device matrix (CUSPARSE, or MATHYPRE with a GPU hypre) runs BoomerAMG on the GPU, where hypre sets up only PMIS
-  // coarsening and smooths only with Jacobi-type relaxation (hypre's GPU documentation).
+  // A device matrix (CUSPARSE, or MATHYPRE with a GPU hypre) runs BoomerAMG on the GPU, where
+  // hypre sets up only PMIS coarsening and smooths only with Jacobi-type relaxation (hypre's GPU
+  // documentation).
   const bool device_matrix = device_matrix_requested();
   if (device_matrix) PetscCall(default_option("-pc_hypre_boomeramg_relax_type_all", "l1scaled-Jacobi"));
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
