@@ -269,6 +269,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     result->newton_iterations += r.newton.iterations;
     result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
     result->linear_iterations += r.newton.linear_iterations;
+    result->preconditioner_rebuilds += r.newton.preconditioner_rebuilds;
     if (!r.failure.empty()) {
       result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;
       break;

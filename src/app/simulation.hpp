@@ -33,6 +33,7 @@ struct RunResult {
   std::string xdmf_path;  // empty without output
   PhaseTimes times;
   long long newton_iterations = 0, linear_iterations = 0;
+  long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
   long long num_elements = 0, num_dofs = 0;
   long max_contact_pairs = 0;       // over the steps (contact runs)
 };

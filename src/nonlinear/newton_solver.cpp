@@ -35,7 +35,7 @@ PetscErrorCode hessian_callback(SNES snes, Vec x, Mat J, Mat P, void* ctx) {
 // recomputed with them; and when the Hessian's nonzero pattern at x differs from the current
 // matrix's (the contact active set changed), the solver gets a new matrix, so that every
 // preconditioner sets itself up for the new pattern from scratch.
-PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt) {
+PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   PetscFunctionBeginUser;
   void* ctx;
   PetscCall(SNESGetApplicationContext(snes, &ctx));
@@ -64,6 +64,7 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt) {
     self->J_ = J;
     PetscCall(self->attach_near_null_space(x));
   }
+  PetscCall(self->pc_reuse_.begin_iteration(snes, iteration, new_pattern == PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
@@ -140,6 +141,7 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESLineSearchShellSetUserFunc(ls, ipc_line_search, &ls_));
 #endif
   PetscCall(SNESSetFromOptions(snes_));
+  PetscCall(pc_reuse_.setup(snes_));
   PetscFunctionReturn(0);
 }
 
@@ -180,6 +182,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   ls_.min_alpha = 1.0;
   ls_.min_alpha_ccd = 1.0;
   ls_.direction_inf_norm = 0.0;
+  const PetscInt rebuilds_before = pc_reuse_.rebuilds();
   {
     StageScope stage(log_stages().solve);
     PetscCall(SNESSolve(snes_, nullptr, x));
@@ -187,6 +190,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   PetscCall(SNESGetIterationNumber(snes_, &report->iterations));
   PetscCall(SNESGetLinearSolveIterations(snes_, &report->linear_iterations));
   PetscCall(SNESGetConvergedReason(snes_, &report->reason));
+  report->preconditioner_rebuilds = pc_reuse_.rebuilds() - rebuilds_before;
   report->min_alpha = ls_.min_alpha;
   report->min_alpha_ccd = ls_.min_alpha_ccd;
   report->step_inf_norm = ls_.direction_inf_norm;

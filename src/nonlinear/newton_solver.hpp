@@ -5,18 +5,21 @@
 //    exists), halved until every element is valid and Armijo holds on E;
 //  - convergence: IPC's velocity criterion ‖p‖∞ / h < tol_v on the Newton direction p
 //    (Li et al. 2020, §4.2), or PETSc's usual tests (-snes_rtol, -snes_atol, -snes_max_it);
-//  - KSP CG + BoomerAMG with the elasticity settings of DESIGN.md §2 as overridable defaults.
+//  - KSP CG + BoomerAMG with the elasticity settings of DESIGN.md §2 as overridable defaults;
+//    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp).
 #pragma once
 #include <petscsnes.h>
 
 #include "nonlinear/device_matrix.hpp"
 #include "nonlinear/incremental_potential.hpp"
+#include "nonlinear/preconditioner_reuse.hpp"
 
 namespace dipc {
 
 struct NewtonReport {
   PetscInt iterations = 0;
   PetscInt linear_iterations = 0;
+  PetscInt preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
   double min_alpha = 1.0;       // smallest accepted line-search step of the solve
   double min_alpha_ccd = 1.0;   // smallest collision-free bound (CCD) on a Newton step
   double step_inf_norm = 0.0;   // ‖p‖∞ of the last Newton direction
@@ -53,12 +56,13 @@ class NewtonSolver {
  private:
   PetscErrorCode set_default_options();
   PetscErrorCode attach_near_null_space(Vec x);
-  static PetscErrorCode update_callback(SNES snes, PetscInt step);
+  static PetscErrorCode update_callback(SNES snes, PetscInt iteration);
 
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
   Vec r_ = nullptr;
   LineSearchContext ls_;
+  PreconditionerReuse pc_reuse_;
 };
 
 

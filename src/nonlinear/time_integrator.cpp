@@ -252,6 +252,7 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     PetscCall(newton_.solve(x_, &solve));
     report->newton.iterations += solve.iterations;
     report->newton.linear_iterations += solve.linear_iterations;
+    report->newton.preconditioner_rebuilds += solve.preconditioner_rebuilds;
     report->newton.min_alpha = std::min(report->newton.min_alpha, solve.min_alpha);
     report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, solve.min_alpha_ccd);
     report->newton.step_inf_norm = solve.step_inf_norm;
