@@ -10,15 +10,21 @@ namespace dipc {
 
 namespace {
 
-int node_local_rank(MPI_Comm comm) {
+struct NodePlace {
+  int rank = 0;   // among the ranks of this node
+  int ranks = 1;  // ranks on this node
+};
+
+NodePlace node_place(MPI_Comm comm) {
   MPI_Comm node;
   int rank;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
-  int local;
-  MPI_Comm_rank(node, &local);
+  NodePlace place;
+  MPI_Comm_rank(node, &place.rank);
+  MPI_Comm_size(node, &place.ranks);
   MPI_Comm_free(&node);
-  return local;
+  return place;
 }
 
 }  // namespace
@@ -54,13 +60,25 @@ BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long e
     return choice;
   }
   choice.space = MemorySpace::device;
-  choice.device = node_local_rank(comm) % devices;
+  const NodePlace place = node_place(comm);
+  choice.device = place.rank % devices;
   device::select(choice.device);
   if (requested == "auto")
     std::snprintf(why, sizeof why, "cuda (auto: %ld elements/rank >= %ld)", per_rank, auto_min_elements);
   else
     std::snprintf(why, sizeof why, "cuda (requested)");
   choice.description = why;
+  // Processes sharing a GPU without CUDA MPS take turns on it, and every kernel launch and
+  // synchronisation may wait for the other's time slice. Latency-bound work suffers most:
+  // with the CUDA PETSc (BoomerAMG on the device), 5 steps of the default scene spent 13x
+  // longer in SNESSolve with 2 ranks on one H100 than with 1 (README "Ranks sharing a GPU").
+  int most_ranks = place.ranks;
+  MPI_Allreduce(&place.ranks, &most_ranks, 1, MPI_INT, MPI_MAX, comm);
+  if (most_ranks > min_devices) {
+    std::snprintf(why, sizeof why, "; warning: up to %d ranks share each GPU of a node (one rank per GPU, or CUDA MPS, is faster)",
+                  (most_ranks + min_devices - 1) / min_devices);
+    choice.description += why;
+  }
   return choice;
 }
 
