@@ -9,10 +9,12 @@
 #   bench/gpu_runs.sh crossover    seconds per Newton iteration, cpu vs cuda backend, 1 rank
 #   bench/gpu_runs.sh host16       Newton breakdown on 16 ranks: CPU, and GPU assembly with host PETSc
 #   bench/gpu_runs.sh device       Newton breakdown device-resident (needs the CUDA PETSc build)
-#   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build)
+#   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build;
+#                                  WEAK_GPUS, default "1 2 4"; WEAK_STEPS, default 2)
 #   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
 #                                  AMG_SIZES, default 1000000; AMG_VARIANTS picks variants by name)
+#   bench/gpu_runs.sh reuse        the same, 10 steps, AMG reuse (-dipc_pc_reuse) and looser CG (CUDA PETSc build)
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -31,11 +33,25 @@ combine_variants() {
        FNR == 1 && !done { print "variant," $0; done = 1; next }
        FNR > 1 { print name "," $0 }' "$@" > "$target.tmp" && mv "$target.tmp" "$target"
 }
+# sweep TABLE STEPS "NAME|OPTIONS"...: one device-resident bench_step_breakdown per variant
+# (AMG_VARIANTS picks some by name), then one table $out/TABLE.csv with the names in front.
+sweep() {
+  local table=$1 steps=$2 csvs=() v name
+  shift 2
+  for v in "$@"; do
+    name=${v%%|*}
+    [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
+    csvs+=("$out/amg_$name.csv")
+    run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps $steps -dipc_backend cuda \
+      -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
+  done
+  combine_variants "$out/$table.csv" "${csvs[@]}"
+}
 gpus=$(nvidia-smi -L | wc -l)
 case "${1:-}" in
   tests)
     # Full output goes to $out/gpu_tests.log; the summary lines and exit codes to the screen.
-    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests; do
+    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests; do
       run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
       echo "$t: exit ${PIPESTATUS[0]}"
@@ -66,7 +82,7 @@ case "${1:-}" in
   weak)
     for n in ${WEAK_GPUS:-1 2 4}; do
       [[ $n -le $gpus ]] || continue
-      run mpirun -n $n "$bin/bench_step_breakdown" -elements $((n * 1000000)) -steps 2 -dipc_backend cuda \
+      run mpirun -n $n "$bin/bench_step_breakdown" -elements $((n * 1000000)) -steps ${WEAK_STEPS:-2} -dipc_backend cuda \
         -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -csv "$out/weak_$n.csv" | tail -2
     done ;;
   mission)
@@ -88,15 +104,11 @@ case "${1:-}" in
       "agg_kt_lag3|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
       "agg_kt_lag3_rtol4|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists -ksp_rtol 1e-4"
     )
-    csvs=()
-    for v in "${variants[@]}"; do
-      name=${v%%|*}
-      [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
-      csvs+=("$out/amg_$name.csv")
-      run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps 2 -dipc_backend cuda \
-        -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
-    done
-    # One table with the variant's name in front (bench/results/amg_sweep_*.csv).
-    combine_variants "$out/amg_sweep.csv" "${csvs[@]}" ;;
+    sweep amg_sweep 2 "${variants[@]}" ;;
+  reuse)
+    # The AMG hierarchy kept while it pays (-dipc_pc_reuse) and looser CG, over 10 steps so that
+    # reuse across steps counts (README "GPU"); AMG_SIZES and AMG_VARIANTS as for amgsweep.
+    sweep amg_reuse ${REUSE_STEPS:-10} "default|" "reuse|-dipc_pc_reuse" "reuse_rtol4|-dipc_pc_reuse -ksp_rtol 1e-4" \
+      "reuse_rtol3|-dipc_pc_reuse -ksp_rtol 1e-3" ;;
   *) sed -n '2,17p' "$0"; exit 2 ;;
 esac

@@ -100,19 +100,24 @@ def plot_crossover(paths, out):
 
 
 def plot_weak(paths, out):
-    data = sorted(rows(paths), key=lambda r: int(r["ranks"]))
-    gpus = [int(r["ranks"]) for r in data]
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for key, name in PHASES:
-        ax.plot(gpus, [per_newton(r, key) for r in data], "o-", label=name)
-    ax.plot(gpus, [float(r["per_newton_s"]) for r in data], "k*-", label="total per Newton iteration")
-    ax.set_xticks(gpus)
-    ax.set_xlabel("GPUs (one rank each)")
-    ax.set_ylabel("seconds per Newton iteration")
-    ax.set_yscale("log")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    ax.set_title(f'weak scaling, {int(data[0]["elements"]) // max(1, gpus[0]):,} elements per GPU')
+    """One panel per solver configuration (the CSV's optional "config" column)."""
+    data = rows(paths)
+    configs = list(dict.fromkeys(r.get("config", "") for r in data))
+    fig, axes = plt.subplots(1, len(configs), figsize=(6 * len(configs), 4), sharey=True, squeeze=False)
+    for ax, name in zip(axes[0], configs):
+        sel = sorted((r for r in data if r.get("config", "") == name), key=lambda r: int(r["ranks"]))
+        gpus = [int(r["ranks"]) for r in sel]
+        for key, label in PHASES:
+            ax.plot(gpus, [per_newton(r, key) for r in sel], "o-", label=label)
+        ax.plot(gpus, [float(r["per_newton_s"]) for r in sel], "k*-", label="total per Newton iteration")
+        ax.set_xticks(gpus)
+        ax.set_xlabel("GPUs (one rank each)")
+        ax.set_yscale("log")
+        ax.grid(True, alpha=0.3)
+        per_gpu = int(sel[0]["elements"]) // max(1, gpus[0])
+        ax.set_title(f"{name + ': ' if name else ''}weak scaling, {per_gpu:,} elements per GPU", fontsize=9)
+    axes[0][0].set_ylabel("seconds per Newton iteration")
+    axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "weak_scaling.png"), dpi=120)
 

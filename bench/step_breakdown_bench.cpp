@@ -38,7 +38,9 @@ dipc::Scene box_scene(long long elements) {
   return s;
 }
 
-double event_seconds(const char* name) {
+// Seconds (or, with count, calls) of a PETSc event in dipc's solve and assembly stages, on the
+// slowest rank.
+double event_seconds(const char* name, bool count = false) {
   PetscLogEvent id;
   PetscEventPerfInfo info;
   if (PetscLogEventGetId(name, &id)) return 0;
@@ -48,7 +50,7 @@ double event_seconds(const char* name) {
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
   for (PetscLogStage st : {dipc::log_stages().solve, dipc::log_stages().assembly}) {
     if (PetscLogEventGetPerfInfo(st, id, &info)) continue;
-    total += info.time;
+    total += count ? info.count : info.time;
   }
   PetscPopErrorHandler();
   double worst = 0;
@@ -85,7 +87,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::fprintf(csv, "backend,mat_type,ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,"
-                      "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s\n");
+                      "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s,pc_setups,per_step_s\n");
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "backend %s, Mat %s\n", backend, mat_type));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks",
@@ -100,19 +102,25 @@ int main(int argc, char** argv) {
     options.report = false;
     options.backend = backend;
     const double pc0 = event_seconds("PCSetUp"), ksp0 = event_seconds("KSPSolve");
+    const double setups0 = event_seconds("PCSetUp", true);
     dipc::RunResult r;
     PetscCall(dipc::run_scene(scene, PETSC_COMM_WORLD, options, &r));
     const double pc = event_seconds("PCSetUp") - pc0, ksp = event_seconds("KSPSolve") - ksp0;
+    const long long setups = std::llround(event_seconds("PCSetUp", true) - setups0);
     const auto& t = r.times;
-    const double per_newton = r.newton_iterations ? (t.assembly + t.line_search + t.linear_solve) / r.newton_iterations : 0;
+    // Per Newton iteration and per step: a cheaper iteration (looser CG, reused AMG) can take
+    // more iterations per step, so both are written.
+    const double solve_time = t.assembly + t.line_search + t.linear_solve;
+    const double per_newton = r.newton_iterations ? solve_time / r.newton_iterations : 0;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6d %9lld %9lld %6lld %6lld | %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f | %9.4f%s\n",
                           ranks, r.num_elements, r.num_dofs, r.newton_iterations, r.linear_iterations, t.assembly,
                           t.coo_insert, t.line_search, pc, ksp, t.total, per_newton,
                           r.failure.empty() ? "" : "  (FAILED)"));
     if (csv)
-      std::fprintf(csv, "%s,%s,%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", backend,
+      std::fprintf(csv, "%s,%s,%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%lld,%.6f\n", backend,
                    mat_type, ranks, r.num_elements, r.num_dofs, (int)steps, r.newton_iterations, r.linear_iterations,
-                   t.partition, t.setup, t.assembly, t.coo_insert, t.line_search, t.contact, pc, ksp, t.total, per_newton);
+                   t.partition, t.setup, t.assembly, t.coo_insert, t.line_search, t.contact, pc, ksp, t.total, per_newton,
+                   setups, solve_time / steps);
   }
   if (csv) std::fclose(csv);
   PetscCall(PetscFinalize());
