@@ -164,9 +164,14 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
       rows.push_back(dof);
       cols.push_back(dof);
     }
-  values_.assign(rows.size(), 0.0);
+  num_raw_entries_ = rows.size();
+  device_matrix_ = any_device_ && matrix_on_device(J_);
+  if (device_matrix_)
+    std::vector<PetscScalar>().swap(values_);
+  else
+    values_.assign(num_raw_entries_, 0.0);
   if (any_device_) {
-    d_values_.resize(values_.size());
+    d_values_.resize(num_raw_entries_);
     d_eliminated_.upload(eliminated_);
   }
   // The matrix's unique entries. Rows are bucketed directly over the owned range, which holds
@@ -183,10 +188,14 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
   PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
   std::vector<PetscInt>().swap(rows);
   std::vector<PetscInt>().swap(cols);
-  // The map goes to the device where hessian() sums there: device forms and a device matrix.
-  if (any_device_ && matrix_on_device(J_)) {
+  num_unique_ = reduction_.num_unique();
+  // The map goes to the device where hessian() sums there (device forms and a device matrix),
+  // and then leaves the host.
+  if (device_matrix_) {
     d_reduction_offsets_.upload(reduction_.offsets);
     d_reduction_sources_.upload(reduction_.sources);
+    std::vector<CooReduction::Index>().swap(reduction_.offsets);
+    std::vector<CooReduction::Index>().swap(reduction_.sources);
   }
   // PETSc may reorder the index arrays it is given and keeps its own copy: hand over the
   // reduction's, which nothing reads afterwards.
@@ -339,11 +348,13 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   if (any) PetscCall(rebuild_pattern());
   // Values go to the device only where both the matrix and some forms are there.
   const bool on_device = matrix_on_device(J) && any_device_;
+  PetscCheck(on_device == device_matrix_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Hessian requested into a matrix in another memory space than the pattern's");
   const bool ok = assemble_values(x_views_, on_device);
   PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
   const double insert_start = MPI_Wtime();
-  const std::size_t num_unique = reduction_.num_unique();
+  const std::size_t num_unique = num_unique_;
   double* unique = nullptr;
   if (on_device) {
     d_unique_values_.resize(num_unique);
@@ -361,19 +372,29 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
 
 bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
   const MemorySpace target = on_device ? MemorySpace::device : MemorySpace::host;
-  double* values[2] = {values_.data(), d_values_.data()};  // indexed by MemorySpace
+  double* const matrix_values = on_device ? d_values_.data() : values_.data();
   bool ok = true;
   for (std::size_t f = 0; f < forms_.size(); ++f) {
     const MemorySpace space = forms_[f]->memory_space();
     const std::size_t begin = form_offset_[f], count = form_offset_[f + 1] - begin;
-    double* own = values[static_cast<int>(space)] + begin;
+    // A form evaluated away from the matrix writes its block where it runs, and the block
+    // crosses once: device forms into d_values_ (sized whenever there are device forms), host
+    // forms into host_block_.
+    double* own = matrix_values + begin;
+    if (space != target) {
+      if (space == MemorySpace::device) {
+        own = d_values_.data() + begin;
+      } else {
+        host_block_.resize(count);
+        own = host_block_.data();
+      }
+    }
     ok = forms_[f]->hessian(x.in(space), own) && ok;
-    // One copy per form block that was evaluated away from the matrix.
-    if (space != target) copy_between(target, values[static_cast<int>(target)] + begin, space, own, count);
+    if (space != target) copy_between(target, matrix_values + begin, space, own, count);
   }
   if (on_device) {
     device::eliminate(d_values_.data(), d_eliminated_.data(), eliminated_.size(), dirichlet_diagonal_begin_,
-                      values_.size());
+                      num_raw_entries_);
   } else {
     for (std::size_t k : eliminated_) values_[k] = 0;
     for (std::size_t k = dirichlet_diagonal_begin_; k < values_.size(); ++k) values_[k] = 1;

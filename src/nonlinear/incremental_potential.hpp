@@ -96,7 +96,7 @@ class IncrementalPotential {
   PetscErrorCode with_local(Vec x, const std::function<void(const double*, std::size_t)>& f);
 
   const std::vector<std::unique_ptr<Form>>& forms() const { return forms_; }
-  PetscInt num_hessian_entries() const { return static_cast<PetscInt>(values_.size()); }
+  PetscInt num_hessian_entries() const { return static_cast<PetscInt>(num_raw_entries_); }
   const EvaluationTimes& times() const { return times_; }
 
  private:
@@ -112,7 +112,8 @@ class IncrementalPotential {
   PetscErrorCode all_ranks(bool ok, PetscBool* all);
   // Builds w = x + αp of the kept segment in every space the forms use.
   void segment_point(PetscReal alpha);
-  // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix).
+  // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix);
+  // host forms of a device matrix go through host_block_.
   bool assemble_values(LocalViews& x, bool on_device);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
@@ -135,13 +136,19 @@ class IncrementalPotential {
   std::vector<std::size_t> form_offset_;       // start of each form's block in values_
   std::vector<std::size_t> eliminated_;        // entries in a Dirichlet row or column
   std::size_t dirichlet_diagonal_begin_ = 0;
-  std::vector<PetscScalar> values_;            // raw combined pattern (forms, then Dirichlet diagonal)
+  std::size_t num_raw_entries_ = 0;            // of the combined pattern (forms, then Dirichlet diagonal)
+  bool device_matrix_ = false;                 // values are summed on the device (device forms and matrix)
+  // The raw values in the combined pattern's order, on the host: only for a host matrix. With
+  // a device matrix the host keeps neither these nor the reduction map (at 1M elements about
+  // 6 GB and 4 GB), only the block of the largest host form (friction) in host_block_.
+  std::vector<PetscScalar> values_, host_block_;
   // Raw values -> the matrix's unique entries. Per hex element (576 raw elastic entries, 192
   // more with a consistent mass; ≈ 243 unique): the map takes 4 B per raw and per unique entry
-  // (≈ 3.3 KB, 4 KB with a consistent mass) on the host and, with device forms, again on the
-  // device, and the summed values 8 B per unique entry (≈ 1.9 KB) where the matrix is assembled.
+  // (≈ 3.3 KB, 4 KB with a consistent mass) where the values are summed (the host, or the
+  // device with a device matrix), and the summed values 8 B per unique entry (≈ 1.9 KB).
   // PETSc's own COO maps (8 B per entry it is given) shrink by about as much.
   CooReduction reduction_;
+  std::size_t num_unique_ = 0;                 // reduction_.num_unique(), kept when its map is freed
   std::vector<PetscScalar> unique_values_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   LocalViews x_views_;
