@@ -7,6 +7,7 @@
 //                                    [-dipc_backend cpu|cuda|auto] [PETSc options]
 // With -vec_type cuda -mat_type aijcusparse (a CUDA PETSc) vectors and matrix stay on the device.
 #include <petscksp.h>
+#include <sys/resource.h>
 
 #include <cmath>
 #include <cstdio>
@@ -123,6 +124,12 @@ int main(int argc, char** argv) {
                    setups, solve_time / steps);
   }
   if (csv) std::fclose(csv);
+  // Peak host memory of the largest rank over all sizes (getrusage: kilobytes on Linux).
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  long peak_kb = usage.ru_maxrss, most = 0;
+  MPI_Allreduce(&peak_kb, &most, 1, MPI_LONG, MPI_MAX, PETSC_COMM_WORLD);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "peak host memory of a rank: %.2f GB\n", most / 1048576.0));
   PetscCall(PetscFinalize());
   return 0;
 }
