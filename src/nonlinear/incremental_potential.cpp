@@ -354,14 +354,13 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
   const double insert_start = MPI_Wtime();
-  const std::size_t num_unique = num_unique_;
   double* unique = nullptr;
   if (on_device) {
-    d_unique_values_.resize(num_unique);
+    d_unique_values_.resize(num_unique_);
     unique = d_unique_values_.data();
-    device::reduce_coo(d_values_.data(), d_reduction_offsets_.data(), d_reduction_sources_.data(), num_unique, unique);
+    device::reduce_coo(d_values_.data(), d_reduction_offsets_.data(), d_reduction_sources_.data(), num_unique_, unique);
   } else {
-    unique_values_.resize(num_unique);
+    unique_values_.resize(num_unique_);
     unique = unique_values_.data();
     reduction_.reduce(values_.data(), unique);
   }

@@ -48,7 +48,6 @@ class PreconditionerReuse {
   // Reads -dipc_pc_reuse; when set, takes over -snes_lag_preconditioner (refusing both) and
   // hooks the KSP's post-solve to time each solve.
   PetscErrorCode setup(SNES snes);
-  bool enabled() const { return enabled_; }
   // Start of a Newton iteration (SNES update callback), before its Jacobian: decides whether
   // the coming linear solve rebuilds the preconditioner. `iteration` is SNES's iteration
   // number (0 starts a new nonlinear solve).
