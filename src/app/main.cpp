@@ -30,9 +30,11 @@ int main(int argc, char** argv) {
     if (help_requested) options.setup_only = true;  // list every option, then stop
     dipc::RunResult result;
     PetscCall(dipc::run_scene(scene, comm, options, &result));
+    // Exit status: 1 bad input, 2 a step that step recovery could not take, 3 a violated
+    // invariant (an inverted element or an intersection after a step: a solver defect).
     if (!result.failure.empty()) {
       PetscCall(PetscPrintf(comm, "dipc: error: %s\n", result.failure.c_str()));
-      status = 2;
+      status = result.fatal ? 3 : 2;
     }
     if (!result.xdmf_path.empty())
       PetscCall(PetscPrintf(comm, "dipc: %d steps written to %s (open it in ParaView)\n", result.steps_taken,

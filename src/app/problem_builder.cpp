@@ -46,6 +46,8 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     bm.rho = m.rho;
     p.body_materials.push_back(bm);
     p.body_velocity.push_back(body.initial_velocity);
+    p.body_angular_velocity.push_back(body.initial_angular_velocity);
+    p.body_spin_center.push_back(body.spin_center);
     p.body_kinematic.push_back(body.kinematic ? 1 : 0);
   }
   p.gravity = scene.gravity;

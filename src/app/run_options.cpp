@@ -36,7 +36,20 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU", "",
                             crossover, &crossover, nullptr));
   o->auto_gpu_min_elements = crossover;
+  PetscCall(PetscOptionsReal("-dipc_dt_min",
+                             "Shortest sub-step of step recovery: a failed step is retried with dt halved down to this "
+                             "(default: the scene's dt / 1024)",
+                             "", o->dt_min, &o->dt_min, nullptr));
+  PetscCall(PetscOptionsReal("-dipc_alpha_floor",
+                             "A Newton solve has stalled (and the step fails) when the line-search step stays below this "
+                             "in 5 iterations in a row",
+                             "", o->alpha_floor, &o->alpha_floor, nullptr));
+  PetscBool substeps = o->output_substeps ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-dipc_output_substeps", "Also write the sub-steps of steps that recovery cut", "", substeps,
+                             &substeps, nullptr));
+  o->output_substeps = substeps;
   PetscOptionsEnd();
+  PetscCheck(o->alpha_floor > 0 && o->alpha_floor < 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_alpha_floor must be in (0, 1)");
   PetscCheck(o->auto_gpu_min_elements >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_auto_gpu_elements must be >= 0");
   PetscCheck(o->backend == "cpu" || o->backend == "cuda" || o->backend == "auto", comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-dipc_backend must be cpu, cuda or auto (got '%s')", o->backend.c_str());

@@ -22,6 +22,10 @@ struct RunOptions {
   bool report = true;        // run header and timing table (tests and benchmarks turn it off)
   bool check_invariants = false;  // -dipc_check_invariants: verify no inversion/intersection after every step
   bool setup_only = false;   // build everything (so -help lists all options), take no step
+  // Step recovery (nonlinear/step_recovery.hpp): the shortest sub-step, ≤ 0 for dt / 1024.
+  double dt_min = -1;
+  double alpha_floor = 1e-6;      // -dipc_alpha_floor: line-search stall floor (newton_solver.hpp)
+  bool output_substeps = false;   // -dipc_output_substeps: also write the sub-steps of cut steps
   std::string backend = "auto";   // -dipc_backend cpu | cuda | auto (app/backend.hpp)
   long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
 };

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "mesh/mesh_checks.hpp"
 #include "nonlinear/device_matrix.hpp"
 #include "nonlinear/log_stages.hpp"
+#include "nonlinear/step_recovery.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
 
@@ -103,8 +106,10 @@ class RunOutput {
     om.element_nodes = nodes.data();
     om.element_body = mesh.element_body.data();
     writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om);
-    std::vector<std::string> columns{"step", "t", "newton_its", "ksp_its", "alpha_min", "energy", "min_volume_ratio",
-                                     "wall_s", "linear_solve_s"};
+    std::vector<std::string> columns{"step", "t", "dt", "substeps", "dt_cuts", "converged_by", "newton_its", "ksp_its",
+                                     "alpha_min", "energy", "min_volume_ratio", "wall_s", "linear_solve_s",
+                                     "kinetic_energy", "elastic_energy", "gravity_energy", "momentum_x", "momentum_y",
+                                     "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z"};
     if (contact_)
       columns.insert(columns.end(), {"contact_pairs", "min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd",
                                      "broad_phase_s", "ccd_s", "barrier_s", "exchange_s"});
@@ -129,9 +134,13 @@ class RunOutput {
     PetscFunctionReturn(0);
   }
 
-  void write_stats(const StepReport& r) {
-    std::vector<double> row{double(r.step), r.time, double(r.newton.iterations), double(r.newton.linear_iterations),
-                            r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds, r.linear_solve_seconds};
+  void write_stats(const StepReport& r, const PhysicalQuantities& q) {
+    std::vector<StatsCsv::Cell> row{double(r.step), r.time, r.dt, double(r.substeps), double(r.dt_cuts),
+                                    r.newton.ended_by, double(r.newton.iterations), double(r.newton.linear_iterations),
+                                    r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds,
+                                    r.linear_solve_seconds, q.kinetic_energy, q.elastic_energy, q.gravity_energy};
+    for (double m : q.momentum) row.emplace_back(m);
+    for (double l : q.angular_momentum) row.emplace_back(l);
     if (contact_)
       row.insert(row.end(), {double(r.contact_pairs), r.min_distance, r.min_distance / dhat_, r.kappa, r.alpha_ccd,
                              r.broad_phase_seconds, r.ccd_seconds, r.barrier_seconds, r.exchange_seconds});
@@ -155,7 +164,7 @@ struct DeviceUse {
 
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
                             TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
-                            const BackendChoice& backend, const DeviceUse& device_use) {
+                            double dt_min, const BackendChoice& backend, const DeviceUse& device_use) {
   PetscFunctionBeginUser;
   int size;
   MPI_Comm_size(comm, &size);
@@ -192,9 +201,14 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   }
   PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
                         forms.c_str()));
-  PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps | Newton: |p|_inf/h < %g\n",
+  PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps, recovery down to dt %g | Newton: |p|_inf/h < %g, stalled below alpha %g\n",
                         scene.is_static ? "static" : "implicit Euler", scene.dt,
-                        options.steps > 0 ? options.steps : scene.steps, velocity_tol));
+                        options.steps > 0 ? options.steps : scene.steps, dt_min, velocity_tol, options.alpha_floor));
+  // The user's -snes_ options are honoured; -snes_rtol/atol/stol let PETSc's tests end a solve.
+  std::string snes;
+  for (const auto& o : integrator.user_snes_options()) snes += (snes.empty() ? "" : " ") + o;
+  if (!snes.empty())
+    PetscCall(PetscPrintf(comm, "  user SNES options: %s\n", snes.c_str()));
   PetscFunctionReturn(0);
 }
 
@@ -239,17 +253,26 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     check_device_memory(comm, mesh.num_elements(), device_use.matrix_on_device);
     device_use.free_before = device::memory_info().free_bytes;
   }
+  const double dt_min = options.dt_min > 0 ? options.dt_min : scene.dt / 1024;
+  if (dt_min > scene.dt)
+    throw std::runtime_error("-dipc_dt_min " + std::to_string(dt_min) + " is larger than the scene's dt " +
+                             std::to_string(scene.dt));
   TimeIntegrator integrator;
   {
     StageScope stage(stages.setup);
-    PetscCall(integrator.setup(mesh, problem, velocity_tol, options.check_invariants, backend.space));
+    StepControl control;
+    control.velocity_tol = velocity_tol;
+    control.alpha_floor = options.alpha_floor;
+    control.check_invariants = options.check_invariants;
+    PetscCall(integrator.setup(mesh, problem, control, backend.space));
   }
+  StepRecovery recovery(integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
   // Matrices made during setup are not part of the solves' time (see the timing table below).
   const double setup_preallocation = integrator.evaluation_times().preallocation;
   t_setup = MPI_Wtime() - t_setup;
   if (options.report)
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, backend, device_use));
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use));
 
   std::unique_ptr<RunOutput> output;
   double t_output = MPI_Wtime();
@@ -263,17 +286,29 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
 
   const int steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
   const int every = std::max(1, scene.output_every);
+  // Sub-steps of cut steps are written only when asked (-dipc_output_substeps).
+  std::function<PetscErrorCode(const StepReport&)> on_substep;
+  if (output && options.output_substeps)
+    on_substep = [&](const StepReport&) { return output->write_fields(integrator); };
   for (int s = 0; s < steps; ++s) {
     StepReport r;
-    PetscCall(integrator.step(&r));
+    PetscCall(recovery.step(&r, on_substep));
     result->newton_iterations += r.newton.iterations;
     result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
     result->linear_iterations += r.newton.linear_iterations;
     result->preconditioner_rebuilds += r.newton.preconditioner_rebuilds;
+    result->dt_cuts += r.dt_cuts;
+    if (!options.quiet)
+      for (const std::string& cut : r.cuts)
+        PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
+                              r.failure.empty() || &cut != &r.cuts.back() ? ": retrying with dt halved" : ""));
     if (!r.failure.empty()) {
-      result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(r.time) + "): " + r.failure;
+      result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(integrator.time()) + " reached): " + r.failure;
+      result->fatal = r.fatal;
       break;
     }
+    PhysicalQuantities q;
+    PetscCall(integrator.measure(&q));
     if (!options.quiet) {
       std::string contact;
       if (problem.contact) {
@@ -285,18 +320,21 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       }
       if (r.dirichlet_substeps)
         contact += "  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) + " solves)";
+      if (r.dt_cuts)
+        contact += "  (" + std::to_string(r.substeps) + " sub-steps after " + std::to_string(r.dt_cuts) +
+                   " cut(s), smallest dt " + std::to_string(r.dt) + ")";
       PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
                             r.step, r.time, (int)r.newton.iterations, (int)r.newton.linear_iterations, r.newton.min_alpha,
                             r.energy, r.min_volume_ratio, r.wall_seconds, contact.c_str()));
     }
     if (output) {
       const double t0 = MPI_Wtime();
-      output->write_stats(r);
+      output->write_stats(r, q);
       if (r.step % every == 0 || s == steps - 1) PetscCall(output->write_fields(integrator));
       t_output += MPI_Wtime() - t0;
     }
   }
-  result->steps_taken = integrator.steps_taken();
+  result->steps_taken = recovery.steps_taken();
   PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
   PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
 

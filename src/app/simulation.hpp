@@ -27,6 +27,8 @@ struct PhaseTimes {
 struct RunResult {
   int steps_taken = 0;
   std::string failure;  // why the run stopped early; empty if it completed
+  bool fatal = false;   // the failure is a violated invariant (not a step recovery could not take)
+  long long dt_cuts = 0;  // failed attempts retried with a halved step
   // On rank 0 of the run's communicator: final positions and velocities, 3 per node of the
   // input mesh (input numbering, independent of the partition).
   std::vector<double> positions, velocities;

@@ -31,6 +31,8 @@ struct Body {
   double scale = 1.0;                          // applied before the translation
   std::size_t material = 0;                    // index into Scene::materials
   std::array<double, 3> initial_velocity{0, 0, 0};
+  // Initial spin: the velocity at X is initial_velocity + ω × (X − center).
+  std::array<double, 3> initial_angular_velocity{0, 0, 0}, spin_center{0, 0, 0};
   bool self_contact = true;  // contact between this body's own surface primitives
   // Prescribed entirely (rollers, presses): the parser turns its "kinematic" motion into a
   // DirichletCondition on all its nodes (selection = name), appended to Scene::dirichlet.

@@ -5,6 +5,7 @@
 //   materials            [ {name, E, nu, rho} ]                       required, >= 1
 //   geometry             [ {name, box: {size, resolution, origin} | mesh,
 //                           translation, scale (mesh only), material, initial_velocity,
+//                           initial_spin: {angular_velocity: [wx,wy,wz], center: [x,y,z]},
 //                           self_contact, kinematic: {MOTION}} ]      required, >= 1
 //   boundary_conditions  {gravity: [gx,gy,gz], dirichlet: [ {selection, MOTION} ]}
 //   time                 {integrator: implicit_euler, dt, steps | t_end} or
@@ -193,7 +194,7 @@ Geometry parse_geometry(const SceneJsonNode& node, const std::vector<Material>& 
   for (std::size_t i = 0; i < items.size(); ++i) {
     const SceneJsonNode& item = items[i];
     item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity",
-                        "self_contact", "kinematic"});
+                        "initial_spin", "self_contact", "kinematic"});
     Body b;
     b.name = "body" + std::to_string(i);
     if (auto name = item.find("name")) {
@@ -223,12 +224,16 @@ Geometry parse_geometry(const SceneJsonNode& node, const std::vector<Material>& 
     }
     b.material = material_reference(item.find("material"), item, materials);
     if (auto v = item.find("initial_velocity")) b.initial_velocity = v->vec3();
+    if (auto spin = item.find("initial_spin")) {
+      spin->expect_object({"angular_velocity", "center"});
+      b.initial_angular_velocity = spin->required("angular_velocity").vec3();
+      b.spin_center = spin->required("center").vec3();
+    }
     if (auto self_contact = item.find("self_contact")) b.self_contact = self_contact->boolean();
     if (auto kinematic = item.find("kinematic")) {
       b.kinematic = true;
-      if (auto v = item.find("initial_velocity")) {
-        v->fail("a kinematic body's motion is prescribed by \"kinematic\", not by an initial velocity");
-      }
+      for (const char* key : {"initial_velocity", "initial_spin"})
+        if (auto v = item.find(key)) v->fail("a kinematic body's motion is prescribed by \"kinematic\", not by an initial velocity");
       DirichletCondition motion;
       motion.key_path = kinematic->path();
       parse_motion(*kinematic, {}, motion);

@@ -2,6 +2,7 @@
 #include "io/stats_csv.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -48,7 +49,23 @@ StatsCsv::StatsCsv(const std::string& path, std::vector<std::string> columns, MP
   check(error);
 }
 
-void StatsCsv::row(const std::vector<double>& values) {
+StatsCsv::Cell::Cell(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", value);
+  csv_ = buf;
+}
+
+StatsCsv::Cell::Cell(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) {
+    csv_ = text;
+    return;
+  }
+  csv_ = "\"";
+  for (char c : text) csv_ += c == '"' ? std::string("\"\"") : std::string(1, c);
+  csv_ += "\"";
+}
+
+void StatsCsv::row(const std::vector<Cell>& values) {
   if (values.size() != columns_.size()) {
     throw std::invalid_argument("StatsCsv '" + path_ + "': row has " + std::to_string(values.size()) +
                                 " values for " + std::to_string(columns_.size()) + " columns");
@@ -57,7 +74,7 @@ void StatsCsv::row(const std::vector<double>& values) {
   if (writes_) {
     bool ok = true;
     for (std::size_t i = 0; i < values.size(); ++i) {
-      ok = ok && std::fprintf(file_.get(), i == 0 ? "%.10g" : ",%.10g", values[i]) >= 0;
+      ok = ok && (i == 0 || std::fputc(',', file_.get()) != EOF) && std::fputs(values[i].csv().c_str(), file_.get()) >= 0;
     }
     ok = ok && std::fputc('\n', file_.get()) != EOF && std::fflush(file_.get()) == 0;
     if (!ok) error = "cannot write '" + path_ + "': " + std::strerror(errno);

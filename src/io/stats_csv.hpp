@@ -19,9 +19,22 @@ class StatsCsv {
   // column list or a column name holding a comma, a quote or a line break.
   StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm = MPI_COMM_WORLD);
 
-  // Collective. Writes one line (%.10g per value) and flushes it, so the table is complete up
-  // to the last step if the run is killed. `values` must have one entry per column.
-  void row(const std::vector<double>& values);
+  // One value of a row: a number (%.10g) or a text (quoted as CSV requires when it holds a
+  // comma, a quote or a line break).
+  class Cell {
+   public:
+    Cell(double value);
+    Cell(const std::string& text);
+    Cell(const char* text) : Cell(std::string(text)) {}
+    const std::string& csv() const { return csv_; }
+
+   private:
+    std::string csv_;
+  };
+
+  // Collective. Writes one line and flushes it, so the table is complete up to the last step
+  // if the run is killed. `values` must have one entry per column.
+  void row(const std::vector<Cell>& values);
 
   const std::string& path() const { return path_; }
   const std::vector<std::string>& columns() const { return columns_; }

@@ -2,11 +2,23 @@
 
 namespace dipc {
 
+std::vector<double> scaled_body_forces(const std::vector<double>& node_mass, int num_owned_nodes,
+                                       const std::array<double, 3>& acceleration, double scale) {
+  std::vector<double> force(3 * static_cast<std::size_t>(num_owned_nodes));
+  for (int i = 0; i < num_owned_nodes; ++i)
+    for (int c = 0; c < 3; ++c) force[3 * i + c] = scale * node_mass[i] * acceleration[c];
+  return force;
+}
+
 BodyForceForm::BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
                              const std::array<double, 3>& acceleration, double scale)
-    : force_(3 * static_cast<std::size_t>(num_owned_nodes)) {
-  for (int i = 0; i < num_owned_nodes; ++i)
-    for (int c = 0; c < 3; ++c) force_[3 * i + c] = scale * node_mass[i] * acceleration[c];
+    : node_mass_(node_mass.begin(), node_mass.begin() + num_owned_nodes),
+      num_owned_nodes_(num_owned_nodes),
+      acceleration_(acceleration),
+      force_(scaled_body_forces(node_mass, num_owned_nodes, acceleration, scale)) {}
+
+void BodyForceForm::set_time_step(double h) {
+  force_ = scaled_body_forces(node_mass_, num_owned_nodes_, acceleration_, h * h);
 }
 
 bool BodyForceForm::value(const double* x, double* energy) {

@@ -8,6 +8,10 @@
 
 namespace dipc {
 
+// scale · m_i g for the first num_owned_nodes nodes, 3 per node (shared by the device form).
+std::vector<double> scaled_body_forces(const std::vector<double>& node_mass, int num_owned_nodes,
+                                       const std::array<double, 3>& acceleration, double scale);
+
 class BodyForceForm : public Form {
  public:
   BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
@@ -17,8 +21,12 @@ class BodyForceForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double*, double*) override { return true; }
+  void set_time_step(double h) override;
 
  private:
+  std::vector<double> node_mass_;
+  int num_owned_nodes_;
+  std::array<double, 3> acceleration_;
   std::vector<double> force_;  // scale · m_i g, owned nodes, 3 per node
 };
 

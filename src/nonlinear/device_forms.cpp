@@ -2,6 +2,7 @@
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_mass.hpp"
+#include "nonlinear/body_force_form.hpp"
 #include "nonlinear/inertia_form.hpp"
 
 namespace dipc {
@@ -128,11 +129,15 @@ bool DeviceConsistentInertiaForm::hessian(const double*, double* values) {
 // ---- body force -----------------------------------------------------------------------------
 
 DeviceBodyForceForm::DeviceBodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
-                                         const std::array<double, 3>& acceleration, double scale) {
-  std::vector<double> f(3 * static_cast<std::size_t>(num_owned_nodes));
-  for (int i = 0; i < num_owned_nodes; ++i)
-    for (int c = 0; c < 3; ++c) f[3 * i + c] = scale * node_mass[i] * acceleration[c];
-  force_.upload(f);
+                                         const std::array<double, 3>& acceleration, double scale)
+    : node_mass_(node_mass.begin(), node_mass.begin() + num_owned_nodes),
+      num_owned_nodes_(num_owned_nodes),
+      acceleration_(acceleration) {
+  force_.upload(scaled_body_forces(node_mass, num_owned_nodes, acceleration, scale));
+}
+
+void DeviceBodyForceForm::set_time_step(double h) {
+  force_.upload(scaled_body_forces(node_mass_, num_owned_nodes_, acceleration_, h * h));
 }
 
 bool DeviceBodyForceForm::value(const double* x, double* energy) {

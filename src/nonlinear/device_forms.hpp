@@ -36,6 +36,7 @@ class DeviceElasticForm : public Form {
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
   bool is_valid(const double* x) override;
+  void set_time_step(double h) override { scale_ = h * h; }
 
  private:
   const ElementData& elements_;
@@ -94,8 +95,12 @@ class DeviceBodyForceForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double*, double*) override { return true; }
+  void set_time_step(double h) override;
 
  private:
+  std::vector<double> node_mass_;
+  int num_owned_nodes_;
+  std::array<double, 3> acceleration_;
   device::Array<double> force_{"body forces"};  // scale · m_i g, owned dofs
   device::Reducer reducer_;
 };

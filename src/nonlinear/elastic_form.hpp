@@ -15,6 +15,7 @@ class ElasticForm : public Form {
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
   bool is_valid(const double* x) override;
+  void set_time_step(double h) override { scale_ = h * h; }
 
  private:
   const ElementData& elements_;

@@ -53,6 +53,10 @@ class Form {
   // Hooks: start of a time step (x̂ = predicted positions, local array) and of a Newton
   // iteration.
   virtual void begin_step(const double* x_hat) {}
+  // The time step h changed (step recovery halves it, then lets it grow back): forms whose
+  // definition holds h (h²Ψ, h²fᵀx, friction's ε_v·h) rescale. Never called in static solves,
+  // whose potential has no h.
+  virtual void set_time_step(double h) {}
   // Returns true if the form changed its own definition (e.g. the barrier stiffness), so that
   // the gradient at x must be evaluated again.
   virtual bool begin_iteration(const double* x) { return false; }

@@ -20,14 +20,17 @@ namespace dipc {
 
 class FrictionForm : public Form {
  public:
-  // eps_u = ε_v · h (h = the time step); μ the friction coefficient.
-  FrictionForm(ContactForm& contact, double mu, double eps_u) : contact_(contact), mu_(mu), eps_u_(eps_u) {}
+  // μ the friction coefficient; smoothing below ε_u = ε_v · h (h the time step).
+  FrictionForm(ContactForm& contact, double mu, double eps_v, double h)
+      : contact_(contact), mu_(mu), eps_v_(eps_v), eps_u_(eps_v * h) {}
   std::string name() const override { return "friction (lagged)"; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
   long pattern_version() const override { return pattern_version_; }
+  // Takes effect at the next update_lag (the start of every step).
+  void set_time_step(double h) override { eps_u_ = eps_v_ * h; }
 
   // Freezes the friction pairs at x_lag (the active contact pairs there); x_start holds the
   // positions at the start of the step. Both are local arrays of the potential.
@@ -45,7 +48,7 @@ class FrictionForm : public Form {
   bool gather(const Pair& p, const double* x, double* X, std::int32_t* local) const;
 
   ContactForm& contact_;
-  double mu_, eps_u_;
+  double mu_, eps_v_, eps_u_;
   std::vector<Pair> pairs_;
   long pattern_version_ = 0;
 };

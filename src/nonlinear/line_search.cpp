@@ -9,6 +9,8 @@
 // than that round-off is accepted.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "nonlinear/newton_solver.hpp"
 
@@ -59,6 +61,7 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
     PetscFunctionReturn(0);
   }
   ctx->min_alpha = std::min<double>(ctx->min_alpha, alpha);
+  ctx->small_steps_in_a_row = alpha < ctx->alpha_floor ? ctx->small_steps_in_a_row + 1 : 0;
   PetscCall(PetscInfo(snes, "IPC line search: alpha %g (collision-free bound %g), E %.12g -> %.12g, |p|_inf %g\n",
                       (double)alpha, (double)alpha_ccd, (double)E0, (double)E, (double)ctx->direction_inf_norm));
   // The accepted trial state X + αp, p = −Y, bit for bit as segment_objective built it.
@@ -71,16 +74,50 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   PetscFunctionReturn(0);
 }
 
+// Only dipc's criterion ends a solve as converged (newton_solver.hpp); PETSc's tests are
+// consulted first only when the user gave one of them. ctx->ended_by names the deciding test.
 PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
                                          PetscReal fnorm, SNESConvergedReason* reason, void* ctx_) {
   auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
   PetscFunctionBeginUser;
-  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
-  if (*reason == SNES_CONVERGED_ITERATING && it > 0 &&
-      ctx->direction_inf_norm / ctx->step_length < ctx->velocity_tol) {
-    PetscCall(PetscInfo(snes, "Converged: |p|_inf / h = %g < %g\n",
-                        (double)(ctx->direction_inf_norm / ctx->step_length), ctx->velocity_tol));
+  *reason = SNES_CONVERGED_ITERATING;
+  if (ctx->petsc_tests) {
+    PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+    if (*reason != SNES_CONVERGED_ITERATING) {
+      ctx->ended_by = std::string(*reason > 0 ? "PETSc test (user -snes_ option): " : "") + SNESConvergedReasons[*reason];
+      PetscFunctionReturn(0);
+    }
+  }
+  PetscReal atol, rtol, stol;
+  PetscInt max_it, max_funcs, funcs;
+  PetscCall(SNESGetTolerances(snes, &atol, &rtol, &stol, &max_it, &max_funcs));
+  PetscCall(SNESGetNumberFunctionEvals(snes, &funcs));
+  const double velocity = ctx->direction_inf_norm / ctx->step_length;
+  if (!std::isfinite(fnorm)) {
+    *reason = SNES_DIVERGED_FNORM_NAN;
+    ctx->ended_by = "gradient is not finite";
+  } else if (it == 0 && fnorm == 0) {
+    *reason = SNES_CONVERGED_FNORM_ABS;  // the start is the minimiser: nothing moves
+    ctx->ended_by = "zero gradient";
+  } else if (it > 0 && velocity < ctx->velocity_tol) {
+    PetscCall(PetscInfo(snes, "Converged: |p|_inf / h = %g < %g\n", velocity, ctx->velocity_tol));
     *reason = SNES_CONVERGED_SNORM_RELATIVE;
+    ctx->ended_by = "velocity";
+  } else if (ctx->small_steps_in_a_row >= kStallIterations) {
+    *reason = SNES_DIVERGED_LINE_SEARCH;
+    char text[160];
+    std::snprintf(text, sizeof text, "line search stalled (alpha < %g in %d Newton iterations in a row, |p|_inf/h %.3g)",
+                  ctx->alpha_floor, kStallIterations, velocity);
+    ctx->ended_by = text;
+  } else if (it >= max_it) {
+    *reason = SNES_DIVERGED_MAX_IT;
+    char text[160];
+    std::snprintf(text, sizeof text, "no convergence in %d Newton iterations (|p|_inf/h %.3g, tolerance %.3g)",
+                  static_cast<int>(max_it), velocity, ctx->velocity_tol);
+    ctx->ended_by = text;
+  } else if (max_funcs >= 0 && funcs >= max_funcs) {
+    *reason = SNES_DIVERGED_FUNCTION_COUNT;
+    ctx->ended_by = "-snes_max_funcs reached";
   }
   PetscFunctionReturn(0);
 }

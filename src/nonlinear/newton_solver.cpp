@@ -2,6 +2,7 @@
 
 #include <petscversion.h>
 
+#include <cctype>
 #include <cstring>
 
 #include "nonlinear/log_stages.hpp"
@@ -111,16 +112,50 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
   PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
-  PetscCall(default_option("-snes_max_it", "100"));
+  PetscFunctionReturn(0);
+}
+
+// Before the defaults are set, so that only what the user gave is listed. PETSc's residual and
+// small-update tests take part in the convergence decision only when the user asks for one.
+PetscErrorCode NewtonSolver::record_user_snes_options() {
+  PetscFunctionBeginUser;
+  char* all = nullptr;
+  PetscCall(PetscOptionsGetAll(nullptr, &all));
+  user_snes_options_.clear();
+  std::string text = all ? all : "";
+  PetscCall(PetscFree(all));
+  // "-a 1 -b -c x": each option is a token starting with '-' and a letter, its value the tokens
+  // up to the next option (a negative number is a value).
+  std::size_t pos = 0;
+  while ((pos = text.find("-snes_", pos)) != std::string::npos) {
+    if (pos > 0 && text[pos - 1] != ' ') { ++pos; continue; }
+    std::size_t end = pos + 1;
+    while (end < text.size()) {
+      const std::size_t next = text.find(" -", end);
+      if (next == std::string::npos) { end = text.size(); break; }
+      const char c = next + 2 < text.size() ? text[next + 2] : '\0';
+      if (std::isalpha(static_cast<unsigned char>(c))) { end = next; break; }
+      end = next + 2;
+    }
+    user_snes_options_.push_back(text.substr(pos, end - pos));
+    pos = end;
+  }
+  PetscBool rtol, atol, stol;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_rtol", &rtol));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_atol", &atol));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_stol", &stol));
+  ls_.petsc_tests = rtol || atol || stol;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec,
-                                   double step_length, double velocity_tol) {
+                                   double step_length, double velocity_tol, double alpha_floor) {
   PetscFunctionBeginUser;
   ls_.potential = potential;
   ls_.step_length = step_length;
   ls_.velocity_tol = velocity_tol;
+  ls_.alpha_floor = alpha_floor;
+  PetscCall(record_user_snes_options());
   PetscCall(set_default_options());
   PetscCall(potential->create_matrix(&J_));
   PetscCall(VecDuplicate(template_vec, &r_));
@@ -129,6 +164,9 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESSetObjective(snes_, objective_callback, potential));
   PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
   PetscCall(SNESSetJacobian(snes_, J_, J_, hessian_callback, potential));
+  // -snes_max_it 100 unless the user says otherwise (SNESSetFromOptions below); set here rather
+  // than in the options database so that the run header lists only the user's -snes_ options.
+  PetscCall(SNESSetTolerances(snes_, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 100, PETSC_DEFAULT));
   PetscCall(SNESSetConvergenceTest(snes_, velocity_convergence_test, &ls_, nullptr));
   PetscCall(SNESSetApplicationContext(snes_, this));
   PetscCall(SNESSetUpdate(snes_, NewtonSolver::update_callback));
@@ -182,6 +220,8 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   ls_.min_alpha = 1.0;
   ls_.min_alpha_ccd = 1.0;
   ls_.direction_inf_norm = 0.0;
+  ls_.small_steps_in_a_row = 0;
+  ls_.ended_by.clear();
   const PetscInt rebuilds_before = pc_reuse_.rebuilds();
   {
     StageScope stage(log_stages().solve);
@@ -194,6 +234,15 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   report->min_alpha = ls_.min_alpha;
   report->min_alpha_ccd = ls_.min_alpha_ccd;
   report->step_inf_norm = ls_.direction_inf_norm;
+  // Failures SNES detects itself (line search, linear solve) bypass the convergence test.
+  if (!ls_.ended_by.empty())
+    report->ended_by = ls_.ended_by;
+  else if (report->reason == SNES_DIVERGED_LINE_SEARCH)
+    report->ended_by = "line search found no admissible decrease";
+  else if (report->reason == SNES_DIVERGED_LINEAR_SOLVE)
+    report->ended_by = "linear solve failed";
+  else
+    report->ended_by = SNESConvergedReasons[report->reason];
   PetscFunctionReturn(0);
 }
 

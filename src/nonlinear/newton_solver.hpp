@@ -3,12 +3,19 @@
 //  - objective = E(x), function = ∇E, Jacobian = PSD-projected ∇²E (COO assembly);
 //  - line search (line_search.cpp): step capped by the forms' max_step (CCD once contact
 //    exists), halved until every element is valid and Armijo holds on E;
-//  - convergence: IPC's velocity criterion ‖p‖∞ / h < tol_v on the Newton direction p
-//    (Li et al. 2020, §4.2), or PETSc's usual tests (-snes_rtol, -snes_atol, -snes_max_it);
+//  - convergence: only IPC's velocity criterion ‖p‖∞ / h < tol_v on the Newton direction p
+//    (Li et al. 2020, §4.2) ends a solve as converged. PETSc's own small-update and residual
+//    tests would end it early with the criterion unmet (a stalled line search passes the
+//    small-update test), so they are consulted only when the user gives one of -snes_rtol,
+//    -snes_atol, -snes_stol. A solve fails on -snes_max_it, a failed line search or linear
+//    solve, a NaN, or a line search stuck below alpha_floor for kStallIterations iterations;
 //  - KSP CG + BoomerAMG with the elasticity settings of DESIGN.md §2 as overridable defaults;
 //    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp).
 #pragma once
 #include <petscsnes.h>
+
+#include <string>
+#include <vector>
 
 #include "nonlinear/device_matrix.hpp"
 #include "nonlinear/incremental_potential.hpp"
@@ -24,7 +31,13 @@ struct NewtonReport {
   double min_alpha_ccd = 1.0;   // smallest collision-free bound (CCD) on a Newton step
   double step_inf_norm = 0.0;   // ‖p‖∞ of the last Newton direction
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  std::string ended_by;         // which test ended the solve, in words ("velocity", "max_it", ...)
 };
+
+// Newton iterations in a row whose accepted line-search step stays below the floor before a
+// solve is declared stalled: a few such steps happen when surfaces first come close (the CCD
+// bound is small once), but a run of them means the iterate no longer moves.
+constexpr int kStallIterations = 5;
 
 class NewtonSolver {
  public:
@@ -33,9 +46,15 @@ class NewtonSolver {
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;
 
-  // step_length: h (1 for a static solve); velocity_tol: tol_v in length units per second.
+  // step_length: h (1 for a static solve); velocity_tol: tol_v in length units per second;
+  // alpha_floor: see kStallIterations.
   PetscErrorCode setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec,
-                       double step_length, double velocity_tol);
+                       double step_length, double velocity_tol, double alpha_floor);
+  // The time step h of the next solves (step recovery changes it).
+  void set_step_length(double h) { ls_.step_length = h; }
+  // The -snes_* options the user gave (command line or options file), "-name value" each: they
+  // are honoured, and the run header names them.
+  const std::vector<std::string>& user_snes_options() const { return user_snes_options_; }
   // Minimises E starting from x (overwritten with the minimiser). A solve that does not
   // converge is reported in NewtonReport::reason, not as an error.
   PetscErrorCode solve(Vec x, NewtonReport* report);
@@ -51,10 +70,15 @@ class NewtonSolver {
     double direction_inf_norm = 0;
     double step_length = 1.0;
     double velocity_tol = 0;
+    double alpha_floor = 0;
+    int small_steps_in_a_row = 0;  // accepted α < alpha_floor, consecutive
+    bool petsc_tests = false;      // the user asked for PETSc's -snes_rtol/atol/stol tests
+    std::string ended_by;
   };
 
  private:
   PetscErrorCode set_default_options();
+  PetscErrorCode record_user_snes_options();
   PetscErrorCode attach_near_null_space(Vec x);
   static PetscErrorCode update_callback(SNES snes, PetscInt iteration);
 
@@ -63,6 +87,7 @@ class NewtonSolver {
   Vec r_ = nullptr;
   LineSearchContext ls_;
   PreconditionerReuse pc_reuse_;
+  std::vector<std::string> user_snes_options_;
 };
 
 

@@ -35,6 +35,8 @@ struct DirichletSet {
 struct ProblemSetup {
   std::vector<BodyMaterial> body_materials;          // indexed by body id
   std::vector<std::array<double, 3>> body_velocity;  // initial velocity per body id
+  // Initial spin per body id: velocity += ω × (X − center) (empty: none).
+  std::vector<std::array<double, 3>> body_angular_velocity, body_spin_center;
   std::vector<char> body_kinematic;  // per body id: prescribed entirely (no elastic energy)
   std::array<double, 3> gravity{0, 0, 0};
   std::vector<DirichletSet> dirichlet;  // later sets win where they overlap

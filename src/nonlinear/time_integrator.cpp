@@ -59,9 +59,10 @@ TimeIntegrator::~TimeIntegrator() {
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
-                                     double velocity_tol, bool check_invariants, MemorySpace space) {
+                                     const StepControl& control, MemorySpace space) {
   PetscFunctionBeginUser;
-  check_invariants_ = check_invariants;
+  check_invariants_ = control.check_invariants;
+  h_ = problem.dt;
   mesh_ = &mesh;
   problem_ = problem;
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
@@ -70,8 +71,8 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
   const bool inertia = !problem.is_static;
   std::vector<double> node_mass;
-  if (gravity || (inertia && problem.lumped_mass) || problem.contact)
-    PetscCall(assemble_node_masses(mesh, *elements_, &node_mass));
+  PetscCall(assemble_node_masses(mesh, *elements_, &node_mass));
+  node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
 
   // Only the terms this problem needs (DESIGN.md: "model only what a scene requires").
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
@@ -113,7 +114,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     contact_ = contact.get();
     forms.push_back(std::move(contact));
     if (problem.friction > 0 && !problem.is_static) {
-      auto friction = std::make_unique<FrictionForm>(*contact_, problem.friction, problem.friction_epsv * problem.dt);
+      auto friction = std::make_unique<FrictionForm>(*contact_, problem.friction, problem.friction_epsv, problem.dt);
       friction_ = friction.get();
       forms.push_back(std::move(friction));
     }
@@ -146,6 +147,14 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     const Vec3& Xn = mesh.coordinates[n];
     std::array<double, 3> vn{0, 0, 0};
     if (!problem.is_static && !problem.body_velocity.empty()) vn = problem.body_velocity[node_body[n]];
+    if (!problem.is_static && !problem.body_angular_velocity.empty()) {
+      const auto& w = problem.body_angular_velocity[node_body[n]];
+      const auto& c = problem.body_spin_center[node_body[n]];
+      const double r[3] = {Xn[0] - c[0], Xn[1] - c[1], Xn[2] - c[2]};
+      vn[0] += w[1] * r[2] - w[2] * r[1];
+      vn[1] += w[2] * r[0] - w[0] * r[2];
+      vn[2] += w[0] * r[1] - w[1] * r[0];
+    }
     if (dirichlet_set_[n] >= 0) vn = problem.dirichlet[dirichlet_set_[n]].motion.velocity_at(Xn, 0.0);
     for (int c = 0; c < 3; ++c) X[3 * n + c] = Xn[c], v[3 * n + c] = problem.is_static ? 0.0 : vn[c];
   }
@@ -154,7 +163,8 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecCopy(X_, x_));
 
   PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed)));
-  PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, velocity_tol));
+  PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
+                          control.alpha_floor));
   if (contact_) {
     std::string problem_at_start;
     PetscCall(contact_state_problem(x_, &problem_at_start));
@@ -219,14 +229,25 @@ PetscErrorCode TimeIntegrator::apply_dirichlet(Vec x, double t) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode TimeIntegrator::step(StepReport* report) {
+void TimeIntegrator::set_time_step(double h) {
+  if (problem_.is_static || h == h_) return;
+  h_ = h;
+  for (const auto& form : potential_.forms()) form->set_time_step(h);
+  newton_.set_step_length(h);
+}
+
+PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
-  const double h = problem_.dt;
-  const double t = time_ + h;
+  const double t = t_end;
+  set_time_step(t_end - time_);
+  const double h = h_;
   *report = StepReport{};
-  report->step = steps_taken_ + 1;
   report->time = t;
+  report->dt = t_end - time_;
+  // What a failed attempt must leave as it found (x is restored from x_n below).
+  const double kappa_before = contact_ ? contact_->kappa() : 0;
+  const double previous_min_distance2_before = previous_min_distance2_;
 
   PetscCall(VecCopy(x_, x_n_));
   if (!problem_.is_static) {
@@ -257,7 +278,8 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, solve.min_alpha_ccd);
     report->newton.step_inf_norm = solve.step_inf_norm;
     report->newton.reason = solve.reason;
-    if (solve.reason < 0) report->failure = std::string("Newton did not converge: ") + SNESConvergedReasons[solve.reason];
+    report->newton.ended_by = solve.ended_by;
+    if (solve.reason < 0) report->failure = "Newton failed: " + solve.ended_by;
   }
   const double solve_wall = MPI_Wtime() - solve_start;
   solve_seconds_ += solve_wall;
@@ -270,6 +292,9 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
   }
   if (!report->failure.empty()) {
     PetscCall(VecCopy(x_n_, x_));
+    if (contact_) contact_->set_kappa(kappa_before);
+    previous_min_distance2_ = previous_min_distance2_before;
+    report->wall_seconds = MPI_Wtime() - start;
     PetscFunctionReturn(0);
   }
 
@@ -291,10 +316,10 @@ PetscErrorCode TimeIntegrator::step(StepReport* report) {
     if (contact_ && violated.empty()) PetscCall(contact_state_problem(x_, &violated));
     if (!violated.empty()) {
       report->failure = "invariant violated: " + violated;
+      report->fatal = true;
       PetscFunctionReturn(0);
     }
   }
-  ++steps_taken_;
   time_ = t;
   report->wall_seconds = MPI_Wtime() - start;
   PetscFunctionReturn(0);
@@ -335,8 +360,7 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
       report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, partial.min_alpha_ccd);
       ++report->dirichlet_substeps;
       if (partial.reason < 0) {
-        report->failure = std::string("Newton did not converge on a part of the prescribed motion: ") +
-                          SNESConvergedReasons[partial.reason];
+        report->failure = "Newton failed on a part of the prescribed motion: " + partial.ended_by;
         break;
       }
       PetscCall(VecCopy(x_, accepted));
@@ -349,7 +373,7 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
     trial = 0.5 * (reached + trial);
     if (++halvings > 30) {
       report->failure = "the prescribed motion of this step inverts an element next to the Dirichlet nodes, or "
-                        "drives them into a contact, even when applied in 2^-30 fractions; reduce the time step";
+                        "drives them into a contact, even when applied in 2^-30 fractions";
       break;
     }
   }
@@ -431,6 +455,38 @@ PetscErrorCode TimeIntegrator::collect_contact_stats(StepReport* report) {
   report->alpha_ccd = report->newton.min_alpha_ccd;
   report->broad_phase_seconds = worst[0], report->ccd_seconds = worst[1];
   report->barrier_seconds = worst[2], report->exchange_seconds = worst[3];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::measure(PhysicalQuantities* q) {
+  PetscFunctionBeginUser;
+  *q = PhysicalQuantities{};
+  // Energies of the terms that carry h² in the potential, per unit h² (a static solve has none).
+  std::vector<double> values;
+  PetscCall(potential_.form_values(x_, &values));
+  const double h2 = problem_.is_static ? 1.0 : h_ * h_;
+  for (std::size_t f = 0; f < form_names_.size(); ++f) {
+    if (form_names_[f] == "elastic") q->elastic_energy = values[f] / h2;
+    if (form_names_[f] == "body force") q->gravity_energy = values[f] / h2;
+  }
+  const PetscScalar *x, *v;
+  PetscCall(VecGetArrayRead(x_, &x));
+  PetscCall(VecGetArrayRead(v_, &v));
+  double local[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (std::size_t n = 0; n < node_mass_.size(); ++n) {
+    const double m = node_mass_[n], *xn = x + 3 * n, *vn = v + 3 * n;
+    local[0] += 0.5 * m * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    for (int c = 0; c < 3; ++c) local[1 + c] += m * vn[c];
+    local[4] += m * (xn[1] * vn[2] - xn[2] * vn[1]);
+    local[5] += m * (xn[2] * vn[0] - xn[0] * vn[2]);
+    local[6] += m * (xn[0] * vn[1] - xn[1] * vn[0]);
+  }
+  PetscCall(VecRestoreArrayRead(x_, &x));
+  PetscCall(VecRestoreArrayRead(v_, &v));
+  double total[7];
+  PetscCallMPI(MPI_Allreduce(local, total, 7, MPI_DOUBLE, MPI_SUM, mesh_->comm));
+  q->kinetic_energy = total[0];
+  for (int c = 0; c < 3; ++c) q->momentum[c] = total[1 + c], q->angular_momentum[c] = total[4 + c];
   PetscFunctionReturn(0);
 }
 

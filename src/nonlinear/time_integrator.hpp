@@ -2,6 +2,7 @@
 // sequence of static solves. Builds only the forms the problem needs (no inertia in a static
 // solve, no body force when g = 0), owns the distributed state and advances it step by step.
 #pragma once
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,9 +16,13 @@ namespace dipc {
 
 class FrictionForm;
 
+// What one step did. TimeIntegrator::advance fills it for one attempt; StepRecovery sums the
+// attempts and sub-steps of a scene step into one (iterations and times added up, the state
+// fields those at the step's end).
 struct StepReport {
-  int step = 0;          // 1-based index of the step just taken
-  double time = 0;       // t_{n+1}
+  int step = 0;          // 1-based index of the scene step
+  double time = 0;       // time at the end of the step (exactly k·dt for a scene step)
+  double dt = 0;         // the step length taken (the smallest sub-step's for a scene step)
   NewtonReport newton;
   double energy = 0;     // E at the accepted state
   double min_volume_ratio = 0;
@@ -33,6 +38,27 @@ struct StepReport {
   // potential (assembly, line search, contact): KSP + AMG setup + vector work.
   double linear_solve_seconds = 0;
   std::string failure;   // empty when the step succeeded; otherwise why it did not
+  bool fatal = false;    // the failure is a violated invariant: retrying with a smaller step is no cure
+  // Step recovery (scene steps): sub-steps taken, failed attempts retried with a halved step,
+  // and one line per failed attempt (time, step length, reason).
+  int substeps = 1;
+  int dt_cuts = 0;
+  std::vector<std::string> cuts;
+};
+
+// Physical quantities of the current state, summed over ranks (lumped masses): what a user
+// checks conservation with. Energies in J, momenta about the origin.
+struct PhysicalQuantities {
+  double kinetic_energy = 0, elastic_energy = 0, gravity_energy = 0;
+  std::array<double, 3> momentum{0, 0, 0}, angular_momentum{0, 0, 0};
+};
+
+struct StepControl {
+  double velocity_tol = 0;   // Newton's ‖p‖∞/h tolerance (length/s); for static solves a length
+  double alpha_floor = 1e-6;  // line-search stall floor (newton_solver.hpp)
+  // After every step verify det J > 0 everywhere and, with contact, no intersection and a
+  // positive minimum distance (a violated invariant fails the run).
+  bool check_invariants = false;
 };
 
 class TimeIntegrator {
@@ -42,25 +68,29 @@ class TimeIntegrator {
   TimeIntegrator(const TimeIntegrator&) = delete;
   TimeIntegrator& operator=(const TimeIntegrator&) = delete;
 
-  // velocity_tol: Newton's ‖p‖∞/h tolerance (length/s); for static solves a length.
-  // check_invariants: after every step verify det J > 0 everywhere and, with contact, no
-  // intersection and a positive minimum distance (a violated invariant fails the step).
   // With contact, an initial state whose surfaces intersect or touch is an error (thrown as
   // std::runtime_error with the bodies and nodes).
   // space: where the element and nodal forms (and contact, where ported) evaluate.
-  PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, double velocity_tol,
-                       bool check_invariants = false, MemorySpace space = MemorySpace::host);
-  // Takes one time step (or one static load step). A step that cannot be taken (Newton
-  // diverged, prescribed motion inverts an element) is reported in StepReport::failure and
-  // leaves the state at the previous step.
-  PetscErrorCode step(StepReport* report);
+  PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, const StepControl& control,
+                       MemorySpace space = MemorySpace::host);
+  // One attempt at a step from time() to t_end (a time step of length t_end − time(), or a
+  // static load step to pseudo-time t_end). A step that cannot be taken (Newton failed, the
+  // prescribed motion inverts an element) is reported in StepReport::failure and leaves the
+  // state, the barrier stiffness included, as it was, so that it can be retried with a shorter
+  // step (StepRecovery). A violated invariant is reported as fatal.
+  PetscErrorCode advance(double t_end, StepReport* report);
+  // Collective: the physical quantities of the current state.
+  PetscErrorCode measure(PhysicalQuantities* q);
 
-  int steps_taken() const { return steps_taken_; }
   double time() const { return time_; }
+  bool is_static() const { return problem_.is_static; }
+  double scene_dt() const { return problem_.dt; }
+  const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
   const std::vector<std::string>& form_names() const { return form_names_; }
   PetscInt num_dofs() const;
   PetscInt hessian_entries() const;
   Vec positions() const { return x_; }
+  const std::vector<double>& node_masses() const { return node_mass_; }  // lumped, owned nodes
   Vec velocities() const { return v_; }
   Vec reference_positions() const { return X_; }
   // Min det F per local element at the current state (output).
@@ -72,6 +102,8 @@ class TimeIntegrator {
   Mat jacobian() const { return newton_.jacobian(); }
 
  private:
+  // Sets the step length h of the forms and of Newton's velocity test.
+  void set_time_step(double h);
   PetscErrorCode apply_dirichlet(Vec x, double t);
   PetscErrorCode reach_prescribed_positions(double t, StepReport* report);
   PetscErrorCode initialize_barrier_stiffness();
@@ -96,8 +128,9 @@ class TimeIntegrator {
   Vec x_local_ = nullptr;
   bool check_invariants_ = false;
   double previous_min_distance2_ = -1;  // at the start of the previous step (κ update)
-  int steps_taken_ = 0;
   double time_ = 0;
+  double h_ = 0;                         // the current step length (dynamic runs)
+  std::vector<double> node_mass_;        // lumped, owned nodes first (measure())
   double solve_seconds_ = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mesh/hex_mesh.hpp"
+#include "nonlinear/step_recovery.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
 
@@ -47,10 +48,13 @@ inline std::vector<double> solve_static(const HexMesh& whole, ProblemSetup probl
     problem.dirichlet.push_back(set);
   }
   TimeIntegrator integrator;
-  if (integrator.setup(mesh, problem, tolerance)) throw std::runtime_error("setup failed");
+  StepControl control;
+  control.velocity_tol = tolerance;
+  if (integrator.setup(mesh, problem, control)) throw std::runtime_error("setup failed");
+  StepRecovery recovery(integrator, problem.dt / 1024);
   StepReport report;
   for (int s = 0; s < problem.steps; ++s) {
-    if (integrator.step(&report)) throw std::runtime_error("step failed");
+    if (recovery.step(&report)) throw std::runtime_error("step failed");
     if (!report.failure.empty()) throw std::runtime_error(report.failure);
   }
   if (last) *last = report;
