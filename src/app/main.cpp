@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "app/option_checks.hpp"
 #include "app/simulation.hpp"
 
 static const char help[] =
@@ -19,13 +20,13 @@ int main(int argc, char** argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   MPI_Comm comm = PETSC_COMM_WORLD;
 
-  dipc::RunOptions options;
-  PetscCall(dipc::read_run_options(comm, &options));
-  PetscBool help_requested = PETSC_FALSE;
-  PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
-
   int status = 0;
   try {
+    dipc::check_option_values();  // before anything reads them
+    dipc::RunOptions options;
+    PetscCall(dipc::read_run_options(comm, &options));
+    PetscBool help_requested = PETSC_FALSE;
+    PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
     const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
     if (help_requested) options.setup_only = true;  // list every option, then stop
     dipc::RunResult result;
