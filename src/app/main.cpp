@@ -3,8 +3,11 @@
 // Without a scene file, runs the default scene embedded in the program.
 #include <petscsys.h>
 
+#include <cstdlib>
 #include <cstring>
 
+#include "app/option_checks.hpp"
+#include "app/options_files.hpp"
 #include "app/simulation.hpp"
 
 static const char help[] =
@@ -13,19 +16,39 @@ static const char help[] =
     "  scene.json  the scene (JSON); without it, the embedded default scene runs.\n"
     "Numerics are PETSc options: -snes_*, -ksp_*, -pc_*, -log_view, -options_file, and the -dipc_* below.\n\n";
 
+// Rank 0 looks for the -options_file files (where PETSc reads them) before PetscInitialize,
+// which would abort the run on a missing one; false, after the message, when one is missing.
+static bool options_files_readable(int argc, char** argv) {
+  int rank;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::string problem;
+  if (rank == 0) problem = dipc::options_file_problem({argv + 1, argv + argc}, std::getenv("PETSC_OPTIONS"));
+  int missing = !problem.empty();
+  MPI_Bcast(&missing, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (missing && rank == 0) std::fprintf(stderr, "dipc: error: %s\n", problem.c_str());
+  return !missing;
+}
+
 int main(int argc, char** argv) {
   // The scene file is the first argument unless it is an option; PETSc ignores it.
   const char* scene_path = (argc > 1 && argv[1][0] != '-') ? argv[1] : nullptr;
+  // MPI first, so that a missing options file can be reported before PETSc reads the files;
+  // PETSc then leaves MPI_Finalize to us.
+  MPI_Init(&argc, &argv);
+  if (!options_files_readable(argc, argv)) {
+    MPI_Finalize();
+    return 1;
+  }
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   MPI_Comm comm = PETSC_COMM_WORLD;
 
-  dipc::RunOptions options;
-  PetscCall(dipc::read_run_options(comm, &options));
-  PetscBool help_requested = PETSC_FALSE;
-  PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
-
   int status = 0;
   try {
+    dipc::check_option_values();  // before anything reads them
+    dipc::RunOptions options;
+    PetscCall(dipc::read_run_options(comm, &options));
+    PetscBool help_requested = PETSC_FALSE;
+    PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
     const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
     if (help_requested) options.setup_only = true;  // list every option, then stop
     dipc::RunResult result;
@@ -44,5 +67,6 @@ int main(int argc, char** argv) {
     status = 1;
   }
   PetscCall(PetscFinalize());
+  MPI_Finalize();
   return status;
 }

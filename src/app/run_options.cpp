@@ -49,13 +49,7 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
                              &substeps, nullptr));
   o->output_substeps = substeps;
   PetscOptionsEnd();
-  PetscCheck(o->alpha_floor > 0 && o->alpha_floor < 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_alpha_floor must be in (0, 1)");
-  PetscCheck(o->auto_gpu_min_elements >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_auto_gpu_elements must be >= 0");
-  PetscCheck(o->backend == "cpu" || o->backend == "cuda" || o->backend == "auto", comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-dipc_backend must be cpu, cuda or auto (got '%s')", o->backend.c_str());
-  PetscCheck(o->velocity_tol_rel > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_velocity_tol_rel must be > 0");
   o->steps = static_cast<int>(steps);
-  PetscCheck(refine >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-dipc_refine must be >= 1");
   o->refine = static_cast<int>(refine);
   if (set) o->output_dir = dir;
   o->write_output = !no_output;

@@ -30,6 +30,8 @@ struct RunOptions {
   long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
 };
 
+// Values are taken as given: check_option_values (app/option_checks.hpp), which refuses those
+// out of range, runs first; a new option needs its row there.
 PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* options);
 
 }  // namespace dipc

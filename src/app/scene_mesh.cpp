@@ -3,6 +3,7 @@
 #include "mesh/box_generator.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "mesh/mesh_checks.hpp"
+#include "mesh/nested_bodies.hpp"
 
 namespace dipc {
 
@@ -29,6 +30,12 @@ HexMesh build_scene_mesh(const Scene& scene) {
     all.append(named);
   }
   check_mesh(all, scene.source);
+  // Without contact bodies pass through each other, so one inside another is no error there.
+  if (scene.contact.enabled) {
+    std::vector<std::string> names;
+    for (const Body& body : scene.bodies) names.push_back(body.name);
+    check_no_nested_bodies(all, names, scene.source);
+  }
   return all;
 }
 

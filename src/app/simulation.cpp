@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/backend.hpp"
+#include "app/option_checks.hpp"
 #include "app/problem_builder.hpp"
 #include "app/scene_mesh.hpp"
 #include "device/device_runtime.hpp"
@@ -271,6 +272,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   // Matrices made during setup are not part of the solves' time (see the timing table below).
   const double setup_preallocation = integrator.evaluation_times().preallocation;
   t_setup = MPI_Wtime() - t_setup;
+  // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
+  // nothing read is misspelt or unknown, and would otherwise be ignored.
+  check_no_unknown_options(comm);
   if (options.report)
     PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use));
 

@@ -464,6 +464,9 @@ Scene parse_scene_text(const std::string& json_text, const std::string& source_n
 }
 
 Scene parse_scene_file(const std::string& path) {
+  // An ifstream opens a directory and then reads nothing, which would read as invalid JSON.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open scene file");
   std::ostringstream text;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "contact/broad_phase/find_candidates.hpp"
@@ -623,15 +624,69 @@ std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) 
   return out;
 }
 
+std::string ContactForm::body_label(int b) const {
+  return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
+                                                                        : std::to_string(b);
+}
+
+std::string ContactForm::node_label(std::int32_t n) const {
+  return n < mesh_.num_local_nodes() ? "node " + std::to_string(mesh_.node_input_id[n])
+                                     : "node (global " + std::to_string(global_node(n)) + ")";
+}
+
+std::string ContactForm::closest_pair(const double* x) const {
+  struct {
+    double distance;
+    int rank;
+  } mine{std::numeric_limits<double>::infinity(), rank_}, closest;
+  int closest_kind = -1;
+  std::size_t closest_index = 0;
+  for_each_pair([&](int kind, std::size_t i) {
+    const PairInfo info = describe(kind, i);
+    double X[12];
+    gather_positions(x, info.nodes.data(), info.count, X);
+    const double d = std::sqrt(squared_distance(info, X));
+    if (d < mine.distance) mine.distance = d, closest_kind = kind, closest_index = i;
+    return true;
+  });
+  MPI_Allreduce(&mine, &closest, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  if (closest.distance == std::numeric_limits<double>::infinity()) return "";
+  std::string text;
+  if (closest.rank == rank_) {
+    const std::size_t i = closest_index;
+    auto vertex_body = [&](std::int32_t node) {
+      const auto it = std::find(surface_.vertices.begin(), surface_.vertices.end(), node);
+      return it == surface_.vertices.end() ? -1 : surface_.vertex_body[it - surface_.vertices.begin()];
+    };
+    auto primitive = [&](const char* what, const Primitive& p, int nodes) {
+      std::string s = std::string(what) + " (";
+      for (int k = 0; k < nodes; ++k) s += (k ? ", " : "") + node_label(p.node[k]);
+      return s + ") of body " + body_label(p.body);
+    };
+    if (closest_kind == 0) {
+      const std::int32_t v = vertex_face_[i][0];
+      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
+             primitive("triangle", faces_[vertex_face_[i][1]], 3);
+    } else if (closest_kind == 1) {
+      text = primitive("edge", edges_[edge_edge_[i][0]], 2) + " and " + primitive("edge", edges_[edge_edge_[i][1]], 2);
+    } else {
+      const std::int32_t v = vertex_plane_[i][0];
+      const auto& point = parameters_.planes[vertex_plane_[i][1]].point;
+      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and the plane through (" +
+             std::to_string(point[0]) + ", " + std::to_string(point[1]) + ", " + std::to_string(point[2]) + ")";
+    }
+    char distance[32];
+    std::snprintf(distance, sizeof distance, ", %g apart", closest.distance);
+    text += distance;
+  }
+  int length = static_cast<int>(text.size());
+  MPI_Bcast(&length, 1, MPI_INT, closest.rank, comm_);
+  text.resize(length);
+  MPI_Bcast(text.data(), length, MPI_CHAR, closest.rank, comm_);
+  return text;
+}
+
 long ContactForm::count_intersections(const double* x, std::string* first) const {
-  auto body = [&](int b) {
-    return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
-                                                                          : std::to_string(b);
-  };
-  auto name = [&](std::int32_t n) {
-    return n < mesh_.num_local_nodes() ? "node " + std::to_string(mesh_.node_input_id[n])
-                                       : "node (global " + std::to_string(global_node(n)) + ")";
-  };
   // Triangles sorted by the lower x of their boxes, so each edge only looks at the triangles
   // whose x-range can overlap its own (sweep and prune).
   std::vector<std::pair<double, std::size_t>> by_x;
@@ -660,9 +715,9 @@ long ContactForm::count_intersections(const double* x, std::string* first) const
                                     x + 3 * face.node[1], x + 3 * face.node[2]))
         continue;
       if (count++ == 0 && first)
-        *first = "edge (" + name(edge.node[0]) + ", " + name(edge.node[1]) + ") of body " + body(edge.body) +
-                 " crosses triangle (" + name(face.node[0]) + ", " + name(face.node[1]) + ", " + name(face.node[2]) +
-                 ") of body " + body(face.body);
+        *first = "edge (" + node_label(edge.node[0]) + ", " + node_label(edge.node[1]) + ") of body " +
+                 body_label(edge.body) + " crosses triangle (" + node_label(face.node[0]) + ", " +
+                 node_label(face.node[1]) + ", " + node_label(face.node[2]) + ") of body " + body_label(face.body);
     }
   }
   for (std::size_t i = 0; i < surface_.vertices.size(); ++i)
@@ -672,7 +727,7 @@ long ContactForm::count_intersections(const double* x, std::string* first) const
       for (int c = 0; c < 3; ++c) s += (x[3 * v + c] - plane.point[c]) * plane.normal[c];
       if (s > 0) continue;
       if (count++ == 0 && first)
-        *first = name(v) + " of body " + body(surface_.vertex_body[i]) + " is on or behind the plane through (" +
+        *first = node_label(v) + " of body " + body_label(surface_.vertex_body[i]) + " is on or behind the plane through (" +
                  std::to_string(plane.point[0]) + ", " + std::to_string(plane.point[1]) + ", " +
                  std::to_string(plane.point[2]) + ")";
     }

@@ -133,6 +133,11 @@ class ContactForm : public Form {
   // here (owned or ghost; call after the potential prepared x), and vertices behind a plane.
   // Returns how many; *first describes one (bodies and input node ids) for error messages.
   long count_intersections(const double* x, std::string* first) const;
+  // The candidate pair closest at x over all ranks, for error messages: its two primitives with
+  // their bodies and input node ids and the distance between them ("node 7 of body "upper" and
+  // triangle (node 1, node 2, node 3) of body "lower", 0 apart"); "" without any pair.
+  // Collective (call after the potential prepared x).
+  std::string closest_pair(const double* x) const;
 
  private:
   struct Primitive {  // an edge or a triangle known on this rank (owned or ghost)
@@ -154,6 +159,9 @@ class ContactForm : public Form {
   template <class F>
   bool for_each_pair(F&& f) const;
   PairInfo describe(int kind, std::size_t i) const;
+  // Names for messages: "\"body name\"" (or the id), "node <input id>".
+  std::string body_label(int body) const;
+  std::string node_label(std::int32_t node) const;
   bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
              ContactPairTerms* t) const;
   void append(device::ContactPairList* list, const PairInfo& info) const;

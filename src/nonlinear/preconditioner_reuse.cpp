@@ -28,7 +28,11 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   PetscFunctionBeginUser;
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(snes));
   PetscBool flag = PETSC_FALSE, lag_set;
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-dipc_pc_reuse", &flag, nullptr));
+  // Read inside an options block so that -help lists it with the run options.
+  PetscOptionsBegin(comm, nullptr, "dipc preconditioner reuse", "SNES");
+  PetscCall(PetscOptionsBool("-dipc_pc_reuse", "Keep the preconditioner across Newton iterations while that is cheaper",
+                             "", flag, &flag, nullptr));
+  PetscOptionsEnd();
   enabled_ = flag;
   if (!enabled_) PetscFunctionReturn(0);
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_lag_preconditioner", &lag_set));

@@ -203,7 +203,9 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
     MPI_Bcast(first.data(), length, MPI_CHAR, lowest, mesh_->comm);
     *problem = std::to_string(total) + " edge-triangle crossing(s), e.g. " + first;
   } else {
-    *problem = "two surfaces touch (minimum distance " + std::to_string(global_min) + ")";
+    std::string pair;
+    PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) { pair = contact_->closest_pair(xl); }));
+    *problem = "two surfaces touch: " + pair;
   }
   PetscFunctionReturn(0);
 }

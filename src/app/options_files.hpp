@@ -1,0 +1,18 @@
+// The -options_file arguments checked before PetscInitialize: PETSc reads a file it cannot
+// open inside PetscInitialize and stops the run with MPI_Abort (exit status 83 and a trace),
+// so dipc looks for every named file first and reports a missing one itself.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace dipc {
+
+// The first problem with the options files named by `args` (the command line after the
+// program name) or by `petsc_options` (the PETSC_OPTIONS environment variable, may be null),
+// followed into -options_file lines inside those files as PETSc does; "" when every file can
+// be read. Relative names are taken from the working directory, like PETSc. Names that PETSc
+// rewrites (${...}, ~) are left for PETSc to judge. Example:
+//   "-options_file solver.opts (named in base.opts): no such file"
+std::string options_file_problem(const std::vector<std::string>& args, const char* petsc_options);
+
+}  // namespace dipc
