@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -108,6 +110,34 @@ TEST(Options, OptionsFileIsRead) {
   EXPECT_NE(o.output.find("type: gamg"), std::string::npos) << o.output;
   const Outcome d = run_dipc("cube_good.json", "-snes_view");
   EXPECT_NE(d.output.find("HYPRE BoomerAMG"), std::string::npos) << d.output;
+}
+
+// A step that step recovery cannot take (no room to halve: -dipc_dt_min = dt, and a 100 m/s
+// impact that Newton cannot resolve in one 5 ms step) stops the run with exit status 2 and a
+// message naming the step, the time and the reason; the output written so far stays readable
+// (the XDMF lists the initial state).
+TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
+  for (int ranks : {1, 2}) {
+    const std::string dir = "recovery_runs_out_np" + std::to_string(ranks);
+    const std::string launcher = ranks > 1 ? std::string(DIPC_MPIEXEC) + " -n 2 " : "";
+    const std::string cmd = launcher + DIPC_BINARY + " " + data_dir + "impact_100ms.json -dipc_quiet -dipc_dt_min 0.005 "
+                            "-dipc_output " + dir + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    std::array<char, 4096> buf;
+    while (std::fgets(buf.data(), buf.size(), pipe)) output += buf.data();
+    const int raw = pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(raw)) << output;
+    EXPECT_EQ(WEXITSTATUS(raw), 2) << output;
+    for (const char* s : {"dipc: error: step 1 (t = 0", "Newton failed", "step recovery ran out"})
+      EXPECT_NE(output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << output;
+    EXPECT_EQ(output.find("PETSC ERROR"), std::string::npos) << output;
+    std::ifstream xmf(dir + "/impact.xmf");
+    std::stringstream text;
+    text << xmf.rdbuf();
+    EXPECT_NE(text.str().find("<Time Value=\"0\""), std::string::npos) << dir << "/impact.xmf:\n" << text.str();
+  }
 }
 
 // -help lists the dipc options with their defaults and stops before the first step.
