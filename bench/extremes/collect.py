@@ -51,12 +51,13 @@ def final_displacement(h5_path):
 
 def rank_agreement(h5_path, first_rank_h5):
     """max |u_R − u_1| / max |u_1| over nodes matched by rest position, at the final step;
-    None when either run is missing or they stopped at different steps."""
+    None when either run is missing, they stopped at different steps or wrote
+    no step beyond the initial state."""
     if not first_rank_h5 or not os.path.exists(first_rank_h5) or not os.path.exists(h5_path):
         return None
     X1, u1, last1 = final_displacement(first_rank_h5)
     X, u, last = final_displacement(h5_path)
-    if last != last1:
+    if last != last1 or last == 0:  # stopped at different steps, or nothing but the initial state
         return None
     same_node = judge_output.input_order(X, X1)  # row of X1 holding each node of X
     return float(np.abs(u - u1[same_node]).max() / max(np.abs(u1).max(), 1e-300))

@@ -7,6 +7,7 @@ the agreement of the final displacements across rank counts.
     extremes.py generate DIR                     # write DIR/<case>.json
     extremes.py run [--ci] [--ranks 1 2] [--dipc build/src/app/dipc] [--cases REGEX]
                     [--work DIR] [--results bench/results] [--timeout S]
+    extremes.py report bench/results/extremes.csv  # redraw the PNG, print the table
 
 `run` writes <results>/extremes.csv and extremes.png and prints a Markdown table. A case that
 dipc fails is recorded (exit status and its last `dipc: error:` line), never fatal. With --ci
@@ -19,6 +20,7 @@ import json
 import os
 import re
 import shlex
+import signal
 import subprocess
 import sys
 import time
@@ -60,10 +62,13 @@ def run_dipc(args, scene_path, ranks, out_dir):
                OMPI_MCA_rmaps_base_oversubscribe='1')
     start = time.monotonic()
     with open(os.path.join(out_dir, 'log.txt'), 'w') as log:
+        # Its own process group, so that a timeout ends the launcher and every rank it started.
+        proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
         try:
-            status = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, env=env,
-                                    timeout=args.timeout).returncode
+            status = proc.wait(timeout=args.timeout)
         except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
             status = 'timeout'
     wall = time.monotonic() - start
     with open(os.path.join(out_dir, 'log.txt'), errors='replace') as log:
@@ -87,7 +92,15 @@ def main(argv):
     run.add_argument('--results', help='CSV/PNG folder (default bench/results; with --ci the work folder)')
     run.add_argument('--timeout', type=float, default=600, help='seconds per dipc run')
     run.add_argument('--no-plot', action='store_true')
+    rep = sub.add_parser('report', help='redraw the PNG and print the table from a CSV of `run`')
+    rep.add_argument('csv')
     args = parser.parse_args(argv)
+
+    if args.command == 'report':
+        rows = report.read_csv(args.csv)
+        report.plot(rows, os.path.splitext(args.csv)[0] + '.png')
+        print(report.markdown(rows))
+        return 0
 
     if args.command == 'generate':
         for name in write_scenes(args.directory):

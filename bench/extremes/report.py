@@ -22,6 +22,24 @@ def write_csv(rows, path):
             writer.writerow({k: '' if r[k] is None else r[k] for k in COLUMNS})
 
 
+def read_csv(path):
+    """Rows of a CSV written by write_csv, with numbers and flags parsed back."""
+    ints = ('ranks', 'steps', 'steps_planned', 'newton_its', 'ksp_its', 'dt_cuts', 'inverted', 'intersections')
+    floats = ('min_distance', 'min_plane_distance', 'dhat', 'min_det_F', 'energy_drift', 'momentum_drift', 'wall_s',
+              'rank_agreement')
+    rows = []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            for k in ints:
+                r[k] = int(r[k]) if r[k] else None
+            for k in floats:
+                r[k] = float(r[k]) if r[k] else None
+            r['exit'] = int(r['exit']) if r['exit'].lstrip('-').isdigit() else r['exit']
+            r['ok'] = r['ok'] == 'True'
+            rows.append(r)
+    return rows
+
+
 def verdict(r):
     """Short outcome: ok, dipc's exit status / timeout, or the judge's first finding."""
     if r['ok']:
