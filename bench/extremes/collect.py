@@ -15,14 +15,20 @@ MOMENTUM_COLUMNS = ('momentum_x', 'momentum_y', 'momentum_z')
 
 
 def read_stats(path):
-    """stats.csv as {column: float array}; empty when the file is missing or has no rows."""
+    """stats.csv as {column: float array} (text columns, such as converged_by, as lists of
+    strings); empty when the file is missing or has no rows."""
     if not os.path.exists(path):
         return {}
     with open(path) as f:
         rows = list(csv.DictReader(f))
     if not rows:
         return {}
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    def column(k):
+        try:
+            return np.array([float(r[k]) for r in rows])
+        except ValueError:
+            return [r[k] for r in rows]
+    return {k: column(k) for k in rows[0]}
 
 
 def energy_drift(stats, s):
