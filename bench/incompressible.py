@@ -72,7 +72,7 @@ SQUEEZE = """{
 }
 """
 SCENES = {"drop": DROP, "squeeze": SQUEEZE}
-STEP = re.compile(r"^step\s+\d+\s.*newton\s+(\d+)\s+ksp\s+(\d+)")
+STEP = re.compile(r"^step\s+\d+\s.*newton\s+(\d+)(?:\s+\([^)]*\))?\s+ksp\s+(\d+)")
 TOTAL = re.compile(r"^total\s+([0-9.eE+-]+)")
 
 

@@ -327,9 +327,10 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       if (r.dt_cuts)
         contact += "  (" + std::to_string(r.substeps) + " sub-steps after " + std::to_string(r.dt_cuts) +
                    " cut(s), smallest dt " + std::to_string(r.dt) + ")";
-      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
-                            r.step, r.time, (int)r.newton.iterations, (int)r.newton.linear_iterations, r.newton.min_alpha,
-                            r.energy, r.min_volume_ratio, r.wall_seconds, contact.c_str()));
+      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d (%s)  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
+                            r.step, r.time, (int)r.newton.iterations, r.newton.ended_by.c_str(),
+                            (int)r.newton.linear_iterations, r.newton.min_alpha, r.energy, r.min_volume_ratio,
+                            r.wall_seconds, contact.c_str()));
     }
     if (output) {
       const double t0 = MPI_Wtime();
