@@ -12,6 +12,7 @@ repeat the comparison before quoting a time.
 import argparse
 import csv
 import glob
+import json
 import os
 import subprocess
 import sys
@@ -65,9 +66,11 @@ def main():
     print('|---|---|---|---|---|---|---|')
     for scene in scenes:
         name = os.path.splitext(os.path.basename(scene))[0] if scene else 'default'
+        scene_steps = json.load(open(scene))['time'].get('steps', 1) if scene else 40  # the default scene: 40
+        steps = min(scene_steps, args.max_steps) if args.max_steps else 0
         with tempfile.TemporaryDirectory() as tmp:
-            b = run(args.before, scene, args.ranks, args.max_steps, os.path.join(tmp, 'b'), args.options.split())
-            a = run(args.after, scene, args.ranks, args.max_steps, os.path.join(tmp, 'a'), args.options.split())
+            b = run(args.before, scene, args.ranks, steps, os.path.join(tmp, 'b'), args.options.split())
+            a = run(args.after, scene, args.ranks, steps, os.path.join(tmp, 'a'), args.options.split())
         diff = float('nan')
         if b['u'] is not None and a['u'] is not None and b['u'].shape == a['u'].shape:
             diff = float(np.abs(a['u'] - b['u']).max() / max(np.abs(b['u']).max(), 1e-300))

@@ -62,6 +62,8 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   }
   ctx->min_alpha = std::min<double>(ctx->min_alpha, alpha);
   ctx->small_steps_in_a_row = alpha < ctx->alpha_floor ? ctx->small_steps_in_a_row + 1 : 0;
+  ctx->last_alpha = alpha;
+  ctx->last_alpha_ccd = alpha_ccd;
   PetscCall(PetscInfo(snes, "IPC line search: alpha %g (collision-free bound %g), E %.12g -> %.12g, |p|_inf %g\n",
                       (double)alpha, (double)alpha_ccd, (double)E0, (double)E, (double)ctx->direction_inf_norm));
   // The accepted trial state X + αp, p = −Y, bit for bit as segment_objective built it.
@@ -105,9 +107,12 @@ PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm
     ctx->ended_by = "velocity";
   } else if (ctx->small_steps_in_a_row >= kStallIterations) {
     *reason = SNES_DIVERGED_LINE_SEARCH;
-    char text[160];
-    std::snprintf(text, sizeof text, "line search stalled (alpha < %g in %d Newton iterations in a row, |p|_inf/h %.3g)",
-                  ctx->alpha_floor, kStallIterations, velocity);
+    // The collision-free bound says whether contact (CCD) or element validity held α down.
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "line search stalled (alpha < %g in %d Newton iterations in a row, last alpha %.2g of a collision-free "
+                  "bound %.2g, |p|_inf/h %.3g)",
+                  ctx->alpha_floor, kStallIterations, ctx->last_alpha, ctx->last_alpha_ccd, velocity);
     ctx->ended_by = text;
   } else if (it >= max_it) {
     *reason = SNES_DIVERGED_MAX_IT;

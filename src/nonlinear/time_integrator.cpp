@@ -294,7 +294,14 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   }
   if (!report->failure.empty()) {
     PetscCall(VecCopy(x_n_, x_));
-    if (contact_) contact_->set_kappa(kappa_before);
+    // The retry starts from the same state. When CCD held the attempt back (surfaces closing
+    // faster than the barrier could stop them within the step) the retry gets twice the
+    // barrier stiffness, as IPC doubles κ when distances keep shrinking; otherwise κ is as
+    // before the attempt. min_alpha_ccd is a global minimum, so every rank decides alike.
+    if (contact_) {
+      const bool held_back = report->newton.min_alpha_ccd < 1.0;
+      contact_->set_kappa(held_back ? std::min(contact_->kappa_max(), 2 * contact_->kappa()) : kappa_before);
+    }
     previous_min_distance2_ = previous_min_distance2_before;
     report->wall_seconds = MPI_Wtime() - start;
     PetscFunctionReturn(0);
