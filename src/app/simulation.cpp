@@ -239,7 +239,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     HexMesh whole;
     on_rank0_collectively(comm, [&] { whole = build_scene_mesh(scene); diagonal = bounding_box_diagonal(whole); });
     MPI_Bcast(&diagonal, 1, MPI_DOUBLE, 0, comm);
-    mesh = distribute_mesh(whole, comm);
+    mesh = distribute_mesh(whole, comm, scene.contact.enabled);  // the contact surface only for contact
   }
   t_partition = MPI_Wtime() - t_partition;
 
