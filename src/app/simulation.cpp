@@ -239,7 +239,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     HexMesh whole;
     on_rank0_collectively(comm, [&] { whole = build_scene_mesh(scene); diagonal = bounding_box_diagonal(whole); });
     MPI_Bcast(&diagonal, 1, MPI_DOUBLE, 0, comm);
-    mesh = distribute_mesh(whole, comm);
+    mesh = distribute_mesh(whole, comm, scene.contact.enabled);  // the contact surface only for contact
   }
   t_partition = MPI_Wtime() - t_partition;
 
@@ -269,8 +269,6 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   }
   StepRecovery recovery(integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
-  // Matrices made during setup are not part of the solves' time (see the timing table below).
-  const double setup_preallocation = integrator.evaluation_times().preallocation;
   t_setup = MPI_Wtime() - t_setup;
   // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
   // nothing read is misspelt or unknown, and would otherwise be ignored.
@@ -343,31 +341,62 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
   PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
 
-  // Timing table: the slowest rank's time per phase.
-  const EvaluationTimes& ev = integrator.evaluation_times();
+  // Timing table: per phase, the slowest rank's time. Every row is measured on each rank as a
+  // set of disjoint intervals (IncrementalPotential's timers), or is the remainder of an
+  // enclosing wall time after the disjoint intervals inside it, which cannot be negative: the
+  // Newton solves' remainder (KSP, AMG, vector work) and the run's (everything outside setup,
+  // solves and output: step bookkeeping, energies, checks, reports). Only the phases the run
+  // has are rows: no solve rows without a step, no contact row without contact, no "new
+  // matrix patterns" unless a pattern changed after setup, no output row without output.
+  const EvaluationTimes& ev = integrator.solve_evaluation_times();
+  const bool contact_row = integrator.contact() != nullptr;
   const double assembly = ev.gradient + ev.hessian;
-  const double line_search = ev.energy + ev.validity;
-  const double linear = integrator.solve_seconds() - assembly - line_search;
+  // Without contact the segment hooks have no form work to do; what little they take is the
+  // line search's.
   const double contact_work = ev.neighbourhood + ev.max_step;
-  double local[10] = {t_partition, t_setup, assembly, ev.coo_insert, line_search, contact_work,
-                      linear - contact_work - (ev.preallocation - setup_preallocation), ev.preallocation, t_output,
-                      MPI_Wtime() - t_start};
-  double worst[10];
-  MPI_Allreduce(local, worst, 10, MPI_DOUBLE, MPI_MAX, comm);
+  const double line_search = ev.energy + ev.validity + ev.segment + (contact_row ? 0.0 : contact_work);
+  const double linear = integrator.solve_seconds() - evaluation_seconds(ev);
+  const double total = MPI_Wtime() - t_start;
+  const double other = total - t_partition - t_setup - integrator.solve_seconds() - t_output;
+  enum Row { partition, setup, assembly_row, coo, line_search_row, contact, patterns, linear_row, output_row, other_row,
+             total_row, rows };
+  const double local[rows] = {t_partition, t_setup,  assembly, ev.coo_insert, line_search, contact_row ? contact_work : 0,
+                              ev.preallocation, linear, t_output, other, total};
+  double worst[rows];
+  MPI_Allreduce(local, worst, rows, MPI_DOUBLE, MPI_MAX, comm);
   PhaseTimes& pt = result->times;
-  pt.partition = worst[0], pt.setup = worst[1], pt.assembly = worst[2], pt.coo_insert = worst[3];
-  pt.line_search = worst[4], pt.contact = worst[5], pt.linear_solve = worst[6], pt.preallocation = worst[7];
-  pt.output = worst[8], pt.total = worst[9];
+  pt.partition = worst[partition], pt.setup = worst[setup], pt.assembly = worst[assembly_row];
+  pt.coo_insert = worst[coo], pt.line_search = worst[line_search_row], pt.contact = worst[contact];
+  pt.preallocation = worst[patterns], pt.linear_solve = worst[linear_row], pt.output = worst[output_row];
+  pt.other = worst[other_row], pt.total = worst[total_row];
+  result->new_matrix_patterns = ev.preallocations;  // the same on every rank (collective)
   result->num_elements = mesh.num_global_elements;
   result->num_dofs = integrator.num_dofs();
+  const bool solved = integrator.solve_seconds() > 0;
+  const struct {
+    Row row;
+    const char* name;
+    bool shown;
+  } table[] = {{partition, "partition", true},
+               {setup, "setup", true},
+               {assembly_row, "assembly (gradient, Hessian)", solved},
+               {coo, "  of which COO insertion", solved},
+               {line_search_row, "line search (energy, validity, segments)", solved},
+               {contact, "contact: ghost surfaces, broad phase, CCD", solved && contact_row},
+               {patterns, "new matrix patterns (contact)", ev.preallocations > 0},
+               {linear_row, "linear solve (KSP + AMG) and rest", solved},
+               {output_row, "output", output != nullptr},
+               {other_row, "other (step reports, energies, checks)", true},
+               {total_row, "total", true}};
+  result->timing_rows.clear();
+  for (const auto& r : table)
+    if (r.shown) result->timing_rows.push_back(r.name);
   if (options.report) {
-    const char* names[10] = {"partition", "setup", "assembly (gradient, Hessian)", "  of which COO insertion",
-                             "line search (energy, validity)", "contact: ghost surfaces, broad phase, CCD",
-                             "linear solve (KSP + AMG) and rest", "new matrix patterns (contact)", "output", "total"};
     PetscCall(PetscPrintf(comm, "\n%-42s %10s\n", "phase (max over ranks)", "seconds"));
-    for (int i = 0; i < 10; ++i) PetscCall(PetscPrintf(comm, "%-42s %10.3f\n", names[i], worst[i]));
-    long count = integrator.evaluation_times().preallocations;
-    PetscCall(PetscPrintf(comm, "(%ld matrix patterns set)\n", count));
+    for (const auto& r : table)
+      if (r.shown) PetscCall(PetscPrintf(comm, "%-42s %10.3f\n", r.name, worst[r.row]));
+    if (ev.preallocations > 0)
+      PetscCall(PetscPrintf(comm, "(%ld new matrix pattern(s) after setup)\n", ev.preallocations));
   }
   PetscFunctionReturn(0);
 }

@@ -12,16 +12,20 @@
 
 namespace dipc {
 
-// Wall time per phase of a run, the slowest rank's (seconds).
+// Wall time per phase of a run, the slowest rank's (seconds); the rows of the timing table.
+// Each is measured on every rank from disjoint intervals, or is a remainder of an enclosing
+// wall time (linear_solve, other), so none is negative. A phase the run does not have is 0.
 struct PhaseTimes {
-  double partition = 0, setup = 0;
-  double assembly = 0;     // gradient and Hessian evaluation, COO insertion included
+  double partition = 0, setup = 0;  // setup: problem, forms, the first matrix, solver setup
+  double assembly = 0;     // gradient and Hessian evaluation in the solves, COO insertion included
   double coo_insert = 0;   // MatSetValuesCOO alone
-  double line_search = 0;  // energy and validity of trial states
+  double line_search = 0;  // energy and validity of trial states, gathering each segment
   double contact = 0;      // ghost-surface exchange, broad phase and CCD (the barrier is in assembly)
-  double preallocation = 0;  // new matrices for new contact patterns
+  double preallocation = 0;  // new matrices for patterns that changed after setup (contact)
   double linear_solve = 0; // the rest of the Newton solves: KSP, AMG setup, vector work
-  double output = 0, total = 0;
+  double output = 0;
+  double other = 0;        // the rest of the run: step reports, energies and checks between solves
+  double total = 0;
 };
 
 struct RunResult {
@@ -38,6 +42,8 @@ struct RunResult {
   long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
   long long num_elements = 0, num_dofs = 0;
   long max_contact_pairs = 0;       // over the steps (contact runs)
+  long new_matrix_patterns = 0;     // matrices made after setup because a pattern changed (contact)
+  std::vector<std::string> timing_rows;  // the timing table's rows: the phases this run has
 };
 
 // Collective over comm. Input errors (mesh file, selections) throw std::runtime_error with the

@@ -85,6 +85,8 @@ class ContactForm : public Form {
   void prepare_segment(const double* x, const double* p) override;
   void update_pattern(const double* x) override;
   long pattern_version() const override { return pattern_version_; }
+  bool pattern_may_change() const override { return true; }
+  bool limits_step() const override { return true; }
 
   double kappa() const { return parameters_.kappa; }
   void set_kappa(double kappa) { parameters_.kappa = kappa; }

@@ -47,6 +47,9 @@ class Form {
   // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
   // contact). 1 for forms without such a limit.
   virtual double max_step(const double* x, const double* p) { return 1.0; }
+  // True for forms whose max_step can be below 1 (contact): without any, the potential skips
+  // the bound and its reduction over the ranks.
+  virtual bool limits_step() const { return false; }
   // False if x must be rejected outright (an inverted element at a corner or quadrature
   // point), whatever the energy says.
   virtual bool is_valid(const double* x) { return true; }
@@ -78,6 +81,10 @@ class Form {
   virtual void update_pattern(const double* x) {}
   // Increases whenever coo_pattern() would return a different pattern.
   virtual long pattern_version() const { return 0; }
+  // True for forms whose pattern can change after setup (contact's active set, friction's
+  // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
+  // made at setup is the only one.
+  virtual bool pattern_may_change() const { return false; }
 };
 
 }  // namespace dipc

@@ -29,6 +29,7 @@ class FrictionForm : public Form {
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
   long pattern_version() const override { return pattern_version_; }
+  bool pattern_may_change() const override { return true; }
   // Takes effect at the next update_lag (the start of every step).
   void set_time_step(double h) override { eps_u_ = eps_v_ * h; }
 

@@ -46,6 +46,23 @@ class ScopedEvent {
 };
 }  // namespace
 
+EvaluationTimes operator-(const EvaluationTimes& a, const EvaluationTimes& b) {
+  EvaluationTimes d;
+  d.energy = a.energy - b.energy, d.gradient = a.gradient - b.gradient, d.hessian = a.hessian - b.hessian;
+  d.validity = a.validity - b.validity, d.coo_insert = a.coo_insert - b.coo_insert;
+  d.preallocation = a.preallocation - b.preallocation, d.preallocations = a.preallocations - b.preallocations;
+  d.segment = a.segment - b.segment, d.neighbourhood = a.neighbourhood - b.neighbourhood;
+  d.max_step = a.max_step - b.max_step;
+  return d;
+}
+
+EvaluationTimes& operator+=(EvaluationTimes& s, const EvaluationTimes& a) {
+  s.energy += a.energy, s.gradient += a.gradient, s.hessian += a.hessian, s.validity += a.validity;
+  s.coo_insert += a.coo_insert, s.preallocation += a.preallocation, s.preallocations += a.preallocations;
+  s.segment += a.segment, s.neighbourhood += a.neighbourhood, s.max_step += a.max_step;
+  return s;
+}
+
 IncrementalPotential::~IncrementalPotential() {
   VecDestroy(&x_local_);
   VecDestroy(&g_local_);
@@ -60,8 +77,12 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   comm_ = mesh.comm;
   mesh_ = &mesh;
   forms_ = std::move(forms);
-  for (const auto& form : forms_)
+  for (const auto& form : forms_) {
     (form->memory_space() == MemorySpace::device ? any_device_ : any_host_) = true;
+    any_extra_nodes_ = any_extra_nodes_ || form->extra_nodes() != nullptr;
+    any_step_limit_ = any_step_limit_ || form->limits_step();
+    any_pattern_change_ = any_pattern_change_ || form->pattern_may_change();
+  }
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
   local_to_global_ = mesh.local_to_global;
@@ -277,6 +298,7 @@ PetscErrorCode IncrementalPotential::all_ranks(bool ok, PetscBool* all) {
 
 PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include) {
   PetscFunctionBeginUser;
+  ScopedEvent timer(events().gradient, &times_.gradient);
   PetscCall(gather(x));
   PetscCall(VecZeroEntries(g_local_));
   PetscCall(x_views_.begin(x_local_));
@@ -331,21 +353,33 @@ PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::f
 
 PetscErrorCode IncrementalPotential::gradient(Vec x, Vec g) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().gradient, &times_.gradient);
-  PetscCall(partial_gradient(x, g, {}));
+  PetscCall(partial_gradient(x, g, {}));  // timed there
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().hessian, &times_.hessian);
+  // A pattern rebuilt here is preallocation time, not Hessian time (the timers are disjoint).
+  const double preallocation_before = times_.preallocation;
+  {
+    ScopedEvent timer(events().hessian, &times_.hessian);
+    PetscCall(assemble_hessian(x, J));
+  }
+  times_.hessian -= times_.preallocation - preallocation_before;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
+  PetscFunctionBeginUser;
   PetscCheck(J == J_, comm_, PETSC_ERR_ARG_WRONG, "hessian() needs the matrix made by create_matrix()");
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
-  for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
-  int changed = pattern_changed() ? 1 : 0, any = 0;
-  PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
-  if (any) PetscCall(rebuild_pattern());
+  if (any_pattern_change_) {
+    for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
+    int changed = pattern_changed() ? 1 : 0, any = 0;
+    PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
+    if (any) PetscCall(rebuild_pattern());
+  }
   // Values go to the device only where both the matrix and some forms are there.
   const bool on_device = matrix_on_device(J) && any_device_;
   PetscCheck(on_device == device_matrix_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
@@ -403,6 +437,8 @@ bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
 
 PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {
   PetscFunctionBeginUser;
+  *changed = PETSC_FALSE;
+  if (!any_pattern_change_) PetscFunctionReturn(0);  // the matrix made at setup serves the whole run
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
@@ -429,13 +465,17 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
 
 PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
   PetscFunctionBeginUser;
-  const double start = MPI_Wtime();
+  // Timed as `segment` (what every line search needs) apart from the forms' own work on the
+  // segment, timed as `neighbourhood`.
+  double start = MPI_Wtime();
   // Forms may ask for more nodes once they see the segment; then everything is gathered again
   // over the extended node list. Every rank takes part in the rebuild if any rank needs it.
   PetscCall(gather(x));
   PetscCall(exchange_.to_local(p, p_local_));
+  times_.segment += MPI_Wtime() - start;
+  start = MPI_Wtime();
   int changed = 0;
-  {
+  if (any_extra_nodes_) {
     const PetscScalar *xl, *pl;
     PetscCall(VecGetArrayRead(x_local_, &xl));
     PetscCall(VecGetArrayRead(p_local_, &pl));
@@ -444,12 +484,14 @@ PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
     PetscCall(VecRestoreArrayRead(x_local_, &xl));
   }
   int any = 0;
-  PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
+  if (any_extra_nodes_) PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
   if (any) {
     PetscCall(rebuild_exchange());
     PetscCall(gather(x));
     PetscCall(exchange_.to_local(p, p_local_));
   }
+  times_.neighbourhood += MPI_Wtime() - start;
+  start = MPI_Wtime();
   // Keep the segment in every space the forms use: trial states are built from these copies,
   // and each form prepares the segment on the copies in its own space.
   PetscInt n;
@@ -468,6 +510,8 @@ PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
   }
   seg_w_host_.resize(uses(MemorySpace::host) ? static_cast<std::size_t>(n) : 0);
   if (uses(MemorySpace::device)) seg_w_device_.resize(static_cast<std::size_t>(n));
+  times_.segment += MPI_Wtime() - start;
+  start = MPI_Wtime();
   for (auto& form : forms_) {
     if (form->memory_space() == MemorySpace::device)
       form->prepare_segment(seg_x_device_.data(), seg_p_device_.data());
@@ -491,6 +535,10 @@ PetscErrorCode IncrementalPotential::prepare_point(Vec x) {
 PetscErrorCode IncrementalPotential::max_step(Vec x, Vec p, PetscReal* alpha) {
   PetscFunctionBeginUser;
   PetscCall(prepare_segment(x, p));
+  if (!any_step_limit_) {  // nothing bounds the step: no CCD, no reduction
+    *alpha = 1.0;
+    PetscFunctionReturn(0);
+  }
   const double start = MPI_Wtime();
   double a = 1.0;
   for (auto& form : forms_) {

@@ -36,15 +36,25 @@
 namespace dipc {
 
 // Wall time spent in each kind of evaluation on this rank (seconds), and PETSc log events
-// of the same names so -log_view shows them.
+// of the same names so -log_view shows them. The intervals are disjoint (none is counted
+// inside another, apart from coo_insert, which is part of hessian), so that a caller can
+// subtract them all from a wall time that encloses them (the timing table's remainder).
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
   double coo_insert = 0;      // summing duplicates and MatSetValuesCOO (part of hessian)
-  double preallocation = 0;   // CooReduction::build and MatSetPreallocationCOO after a pattern change
-  long preallocations = 0;    // how many times the pattern was set
+  double preallocation = 0;   // making the matrix: CooReduction::build, MatSetPreallocationCOO
+  long preallocations = 0;    // how many times the pattern was set (1 at setup, then pattern changes)
+  double segment = 0;         // gathering a line-search segment's x and p where the forms evaluate
   double neighbourhood = 0;   // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
-  double max_step = 0;        // forms' max_step (CCD)
+  double max_step = 0;        // forms' max_step (CCD); zero without a form that limits the step
 };
+// after − before, field by field (the counts too).
+EvaluationTimes operator-(const EvaluationTimes& after, const EvaluationTimes& before);
+EvaluationTimes& operator+=(EvaluationTimes& sum, const EvaluationTimes& add);
+// The wall time of all the disjoint intervals (coo_insert is inside hessian).
+inline double evaluation_seconds(const EvaluationTimes& t) {
+  return t.energy + t.gradient + t.hessian + t.validity + t.preallocation + t.segment + t.neighbourhood + t.max_step;
+}
 
 class IncrementalPotential {
  public:
@@ -96,11 +106,18 @@ class IncrementalPotential {
   PetscErrorCode with_local(Vec x, const std::function<void(const double*, std::size_t)>& f);
 
   const std::vector<std::unique_ptr<Form>>& forms() const { return forms_; }
+  // What the forms need beyond element and nodal terms (set by setup): nodes of other ranks
+  // (contact's ghost surfaces), a bound on the step (CCD), a pattern that changes after setup.
+  // Without them the potential skips those hooks and their reductions over the ranks.
+  bool has_extra_nodes() const { return any_extra_nodes_; }
+  bool has_step_limit() const { return any_step_limit_; }
+  bool has_changing_pattern() const { return any_pattern_change_; }
   PetscInt num_hessian_entries() const { return static_cast<PetscInt>(num_raw_entries_); }
   const EvaluationTimes& times() const { return times_; }
 
  private:
   PetscErrorCode gather(Vec x);                    // x -> x_local_
+  PetscErrorCode assemble_hessian(Vec x, Mat J);   // hessian() without its timer
   bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
   // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
   bool local_values(const double* x_host, const double* x_device, double* values);
@@ -151,6 +168,7 @@ class IncrementalPotential {
   std::size_t num_unique_ = 0;                 // reduction_.num_unique(), kept when its map is freed
   std::vector<PetscScalar> unique_values_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
+  bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
   LocalViews x_views_;
   Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
   std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)

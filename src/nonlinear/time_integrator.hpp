@@ -90,14 +90,25 @@ class TimeIntegrator {
   PetscInt num_dofs() const;
   PetscInt hessian_entries() const;
   Vec positions() const { return x_; }
-  const std::vector<double>& node_masses() const { return node_mass_; }  // lumped, owned nodes
+  // Lumped, owned nodes; empty in a static run without gravity or contact (nothing needs them).
+  const std::vector<double>& node_masses() const { return node_mass_; }
   Vec velocities() const { return v_; }
   Vec reference_positions() const { return X_; }
   // Min det F per local element at the current state (output).
   PetscErrorCode element_volume_ratios(std::vector<double>* ratio);
+  // Evaluation times since setup began (setup's matrix and contact checks included)...
   const EvaluationTimes& evaluation_times() const { return potential_.times(); }
+  // ... and those inside the Newton solves of advance(), which solve_seconds() encloses: the
+  // timing table's phases, with the solves' remainder (KSP, AMG) solve_seconds() minus their
+  // evaluation_seconds(), which cannot be negative.
+  const EvaluationTimes& solve_evaluation_times() const { return solve_times_; }
   const ContactForm* contact() const { return contact_; }
-  double solve_seconds() const { return solve_seconds_; }  // whole SNES solves
+  const FrictionForm* friction() const { return friction_; }
+  double solve_seconds() const { return solve_seconds_; }  // whole solves of advance()
+  // What the potential does beyond element and nodal terms (see IncrementalPotential).
+  bool has_changing_pattern() const { return potential_.has_changing_pattern(); }
+  bool has_extra_nodes() const { return potential_.has_extra_nodes(); }
+  bool has_step_limit() const { return potential_.has_step_limit(); }
   SNES snes() const { return newton_.snes(); }
   Mat jacobian() const { return newton_.jacobian(); }
 
@@ -130,8 +141,9 @@ class TimeIntegrator {
   double previous_min_distance2_ = -1;  // at the start of the previous step (κ update)
   double time_ = 0;
   double h_ = 0;                         // the current step length (dynamic runs)
-  std::vector<double> node_mass_;        // lumped, owned nodes first (measure())
+  std::vector<double> node_mass_;        // lumped, owned nodes (measure()); empty when no term needs masses
   double solve_seconds_ = 0;
+  EvaluationTimes solve_times_;
 };
 
 }  // namespace dipc

@@ -11,6 +11,7 @@
 // owned edges and vertices with their global ids.
 // DistributedMesh::comm is `comm` itself (not duplicated); the caller keeps it alive.
 #include <algorithm>
+#include <optional>
 #include <climits>
 #include <cstdint>
 #include <string>
@@ -226,6 +227,18 @@ void pack_surface(const SurfaceForPacking& s, const PartitionNumbering& numberin
   meta[kNumOwnedVertices] = vertices.begin[rank + 1] - vertices.begin[rank];
 }
 
+// Without a contact surface: every surface block of rank `rank` is empty (meta's counts stay 0).
+void pack_no_surface(int rank, Payload& payload) {
+  payload.boundary_face_mask.close_rank(payload.boundary_face_mask.data.size(), "boundary face mask", rank);
+  payload.triangle_gid.close_rank(payload.triangle_gid.data.size(), "triangle id", rank);
+  payload.edge_nodes.close_rank(payload.edge_nodes.data.size(), "edge node", rank);
+  payload.edge_gid.close_rank(payload.edge_gid.data.size(), "edge id", rank);
+  payload.edge_body.close_rank(payload.edge_body.data.size(), "edge body", rank);
+  payload.vertex_node.close_rank(payload.vertex_node.data.size(), "vertex node", rank);
+  payload.vertex_gid.close_rank(payload.vertex_gid.data.size(), "vertex id", rank);
+  payload.vertex_body.close_rank(payload.vertex_body.data.size(), "vertex body", rank);
+}
+
 void check_mesh_tags(const HexMesh& mesh) {
   if (mesh.body.size() != mesh.num_elements()) {
     throw PartitionError("distribute_mesh: the mesh has " + std::to_string(mesh.body.size()) +
@@ -242,19 +255,22 @@ void check_mesh_tags(const HexMesh& mesh) {
   }
 }
 
-Payload build_payload(const HexMesh& mesh, int num_ranks) {
+Payload build_payload(const HexMesh& mesh, int num_ranks, bool with_surface) {
   check_mesh_tags(mesh);
   const std::vector<int> element_part = partition_elements(mesh, num_ranks);
   const PartitionNumbering numbering = number_partition(mesh, element_part, num_ranks);
 
-  const SurfaceForPacking whole_surface(mesh, element_part, num_ranks);
+  std::optional<SurfaceForPacking> whole_surface;
+  if (with_surface) whole_surface.emplace(mesh, element_part, num_ranks);
 
   Payload payload;
   payload.num_global_nodes = numbering.num_global_nodes();
   payload.num_global_elements = numbering.num_global_elements();
-  payload.num_global_triangles = static_cast<std::int64_t>(whole_surface.surface.triangles.size());
-  payload.num_global_edges = static_cast<std::int64_t>(whole_surface.surface.edges.size());
-  payload.num_global_vertices = static_cast<std::int64_t>(whole_surface.surface.vertices.size());
+  if (whole_surface) {
+    payload.num_global_triangles = static_cast<std::int64_t>(whole_surface->surface.triangles.size());
+    payload.num_global_edges = static_cast<std::int64_t>(whole_surface->surface.edges.size());
+    payload.num_global_vertices = static_cast<std::int64_t>(whole_surface->surface.vertices.size());
+  }
 
   // Node -> sets it belongs to (CSR), so packing a rank's memberships costs O(its nodes).
   const std::size_t nn = mesh.num_nodes();
@@ -328,7 +344,10 @@ Payload build_payload(const HexMesh& mesh, int num_ranks) {
       local_of_input[static_cast<std::size_t>(local_nodes[local])] =
           static_cast<std::int32_t>(local);
     }
-    pack_surface(whole_surface, numbering, local_of_input, rank, payload, meta);
+    if (whole_surface)
+      pack_surface(*whole_surface, numbering, local_of_input, rank, payload, meta);
+    else
+      pack_no_surface(rank, payload);
     for (std::int64_t node : local_nodes) local_of_input[static_cast<std::size_t>(node)] = -1;
 
     meta[kNumOwnedNodes] = numbering.node_offset[rank + 1] - numbering.node_offset[rank];
@@ -420,7 +439,7 @@ std::vector<std::array<std::int32_t, 8>> localize_elements(
 
 }  // namespace
 
-DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm) {
+DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_surface) {
   if (comm == MPI_COMM_NULL) throw PartitionError("distribute_mesh: comm is MPI_COMM_NULL");
   int rank = 0;
   int num_ranks = 1;
@@ -431,7 +450,7 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm) {
   std::string error;
   if (rank == kRoot) {
     try {
-      payload = build_payload(mesh, num_ranks);
+      payload = build_payload(mesh, num_ranks, with_surface);
     } catch (const std::exception& e) {
       error = e.what();
       if (error.empty()) error = "distribute_mesh: failed on rank 0";
@@ -474,7 +493,7 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm) {
   part.node_input_id = scatter(payload.node_input_id, num_local, rank, comm);
   const std::vector<std::int32_t> membership =
       scatter(payload.set_membership, 2 * meta[kNumSetMemberships], rank, comm);
-  part.boundary_face_mask = scatter(payload.boundary_face_mask, num_elements, rank, comm);
+  part.boundary_face_mask = scatter(payload.boundary_face_mask, with_surface ? num_elements : 0, rank, comm);
   surface.triangle_gid = scatter(payload.triangle_gid, meta[kNumOwnedTriangles], rank, comm);
   const std::vector<std::int32_t> edge_nodes =
       scatter(payload.edge_nodes, 2 * meta[kNumOwnedEdges], rank, comm);

@@ -78,6 +78,8 @@ struct DistributedMesh {
 // rank 0 from the whole mesh). Deterministic: the same mesh and rank count give the same
 // result. Throws PartitionError on every rank when rank 0 fails (also for a face shared by
 // more than two elements, which has no boundary to extract).
-DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm);
+// with_surface = false (a scene without contact): no surface is extracted, and the parts have
+// no boundary-face masks and an empty owned_surface.
+DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_surface = true);
 
 }  // namespace dipc
