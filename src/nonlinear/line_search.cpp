@@ -41,10 +41,14 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   const double roundoff = 1e-12 * std::max(1.0, std::abs(E0));
   bool accepted = false;
   PetscReal E = E0;
+  int invalid_trials = 0;  // halvings forced by an inverted element (the rest: by the energy)
   for (int halvings = 0; halvings < 60 && alpha > 0; ++halvings, alpha *= 0.5) {
     PetscBool valid;
     PetscCall(ctx->potential->segment_is_valid(alpha, &valid));
-    if (!valid) continue;
+    if (!valid) {
+      ++invalid_trials;
+      continue;
+    }
     PetscCall(ctx->potential->segment_objective(alpha, &E));
     if (!std::isfinite(E)) continue;
     const bool armijo = E <= E0 + ctx->armijo * alpha * slope;
@@ -64,6 +68,7 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   ctx->small_steps_in_a_row = alpha < ctx->alpha_floor ? ctx->small_steps_in_a_row + 1 : 0;
   ctx->last_alpha = alpha;
   ctx->last_alpha_ccd = alpha_ccd;
+  ctx->last_invalid_trials = invalid_trials;
   PetscCall(PetscInfo(snes, "IPC line search: alpha %g (collision-free bound %g), E %.12g -> %.12g, |p|_inf %g\n",
                       (double)alpha, (double)alpha_ccd, (double)E0, (double)E, (double)ctx->direction_inf_norm));
   // The accepted trial state X + αp, p = −Y, bit for bit as segment_objective built it.
@@ -107,12 +112,14 @@ PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm
     ctx->ended_by = "velocity";
   } else if (ctx->small_steps_in_a_row >= kStallIterations) {
     *reason = SNES_DIVERGED_LINE_SEARCH;
-    // The collision-free bound says whether contact (CCD) or element validity held α down.
-    char text[200];
+    // What held α down: the collision-free bound (contact), trial states with an inverted
+    // element, or the energy (Armijo).
+    char text[256];
     std::snprintf(text, sizeof text,
-                  "line search stalled (alpha < %g in %d Newton iterations in a row, last alpha %.2g of a collision-free "
-                  "bound %.2g, |p|_inf/h %.3g)",
-                  ctx->alpha_floor, kStallIterations, ctx->last_alpha, ctx->last_alpha_ccd, velocity);
+                  "line search stalled (alpha < %g in %d Newton iterations in a row; last alpha %.2g of a collision-free "
+                  "bound %.2g, %d of its halvings for an inverted element; |p|_inf/h %.3g)",
+                  ctx->alpha_floor, kStallIterations, ctx->last_alpha, ctx->last_alpha_ccd, ctx->last_invalid_trials,
+                  velocity);
     ctx->ended_by = text;
   } else if (it >= max_it) {
     *reason = SNES_DIVERGED_MAX_IT;

@@ -73,6 +73,7 @@ class NewtonSolver {
     double alpha_floor = 0;
     int small_steps_in_a_row = 0;  // accepted α < alpha_floor, consecutive
     double last_alpha = 1, last_alpha_ccd = 1;  // of the latest line search (stall message)
+    int last_invalid_trials = 0;                // its halvings forced by an inverted element
     bool petsc_tests = false;      // the user asked for PETSc's -snes_rtol/atol/stol tests
     std::string ended_by;
   };
