@@ -49,7 +49,15 @@ if [[ -n $nvcc && ${DIPC_WITH_CUDA:-auto} != OFF ]]; then
   echo "quickstart: building the CUDA kernels with $nvcc"
   cuda=(-DDIPC_WITH_CUDA=ON -DCMAKE_CUDA_COMPILER="$nvcc")
 fi
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cuda[@]}"
+# ccache, where installed, keeps rebuilds (and fresh clones on the same machine) fast; paths
+# are taken relative to the checkout so that clones in other folders share the cache.
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root}
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  [[ ${#cuda[@]} -gt 0 ]] && launcher+=(-DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cuda[@]}" "${launcher[@]}"
 cmake --build "$build" -j "$jobs"
 
 # Open MPI refuses to run as root and to start more ranks than cores unless told to.
