@@ -12,7 +12,7 @@ namespace {
 // setup against one CG iteration, measured with -log_view (PCSetUp per call against KSPSolve
 // per CG iteration).
 constexpr double kDeviceSetupCost = 40;  // one H100, 1M elements: 0.36 s against 9 ms
-constexpr double kHostSetupCost = 10;    // 2 CPU cores, 344 to 20K elements, 1 and 2 ranks
+constexpr double kHostSetupCost = 5;     // one CPU core: 4-6 at 20K elements, 9-10 below 500
 }  // namespace
 
 // Rebuild when nothing is known about the current preconditioner (first solve; or the last
