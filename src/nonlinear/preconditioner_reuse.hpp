@@ -60,7 +60,8 @@ class ReuseCycle {
 class PreconditionerReuse {
  public:
   // Reads -dipc_pc_reuse and -dipc_pc_reuse_setup_cost; when on, takes over
-  // -snes_lag_preconditioner (refusing both) and hooks the KSP's post-solve to count each solve.
+  // -snes_lag_preconditioner (refusing both given together; a lag given alone turns a reuse
+  // that is on by default off) and hooks the KSP's post-solve to count each solve.
   PetscErrorCode setup(SNES snes);
   // Start of a Newton iteration (SNES update callback), before its Jacobian: decides whether
   // the coming linear solve rebuilds the preconditioner. `iteration` is SNES's iteration

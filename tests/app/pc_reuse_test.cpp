@@ -36,7 +36,9 @@ PetscErrorCode run_with_reuse(const Scene& scene, RunResult* result) {
 TEST(PcReuse, KeepsThePreconditionerAndReachesTheSameStatesReproducibly) {
   const Scene scene = default_scene();
   RunResult fresh, reused, again, rest;
+  PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "0");  // explicit, whatever the default
   ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, twenty_quiet_steps(), &fresh), 0);
+  PetscOptionsClearValue(nullptr, "-dipc_pc_reuse");
   ASSERT_TRUE(fresh.failure.empty()) << fresh.failure;
   EXPECT_EQ(fresh.preconditioner_rebuilds, 0);  // the policy is off: SNES rebuilds, uncounted
 
