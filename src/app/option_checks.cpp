@@ -97,7 +97,8 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       flag("-dipc_check_invariants"),
       one_of("-dipc_backend", "cpu cuda auto"),
       integer_at_least("-dipc_auto_gpu_elements", 0),
-      flag("-dipc_pc_reuse"),  // read in nonlinear/preconditioner_reuse.cpp
+      flag("-dipc_pc_reuse"),                      // read in nonlinear/preconditioner_reuse.cpp
+      positive_real("-dipc_pc_reuse_setup_cost"),  // the same
       positive_real("-dipc_dt_min"),
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),

@@ -1,46 +1,77 @@
 #include "nonlinear/preconditioner_reuse.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "nonlinear/device_matrix.hpp"
+
 namespace dipc {
+
+namespace {
+// S when -dipc_pc_reuse_setup_cost is not given, in CG iterations (README "GPU"): one BoomerAMG
+// setup against one CG iteration, measured with -log_view (PCSetUp per call against KSPSolve
+// per CG iteration).
+constexpr double kDeviceSetupCost = 40;  // one H100, 1M elements: 0.36 s against 9 ms
+constexpr double kHostSetupCost = 5;     // one CPU core: 4-6 at 20K elements, 9-10 below 500
+// -dipc_pc_reuse when not given. With true, -dipc_pc_reuse 0 turns the reuse off, and a
+// -snes_lag_preconditioner given without -dipc_pc_reuse turns it off instead of being refused.
+constexpr bool kReuseByDefault = false;
+}  // namespace
 
 // Rebuild when nothing is known about the current preconditioner (first solve; or the last
 // decision's solve never ran because its iteration stopped early), for a new pattern, after a
-// failed solve, and when the latest cost exceeds the cycle's average: T_n > A_n.
+// failed solve, and when the latest cost exceeds the cycle's average: C_n > A_n, compared as
+// C_n (n + 1) > C_0 + … + C_n.
 bool ReuseCycle::decide(bool new_pattern) {
   rebuilding_ = new_pattern || cycle_length_ == 0 || awaiting_solve_ || last_failed_ ||
-                last_time_ * cycle_length_ > cycle_time_;
+                last_cost_ * cycle_length_ > cycle_cost_;
   if (rebuilding_) {
-    cycle_time_ = 0;
+    cycle_cost_ = 0;
     cycle_length_ = 0;
   }
   awaiting_solve_ = true;
   return rebuilding_;
 }
 
-void ReuseCycle::record(double seconds, bool failed) {
+void ReuseCycle::record(long long cg_iterations, bool failed) {
   awaiting_solve_ = false;
-  last_time_ = seconds;
-  cycle_time_ += seconds;
+  last_cost_ = static_cast<double>(cg_iterations) + (cycle_length_ == 0 ? setup_cost_ : 0.0);
+  if (cycle_length_ == 0) first_solve_ = cg_iterations;
+  cycle_cost_ += last_cost_;
   ++cycle_length_;
   last_failed_ = failed;
+}
+
+long long ReuseCycle::reused_solve_limit() const {
+  return std::max(10LL, static_cast<long long>(std::ceil(2 * (setup_cost_ + first_solve_))));
 }
 
 PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   PetscFunctionBeginUser;
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(snes));
-  PetscBool flag = PETSC_FALSE, lag_set;
-  // Read inside an options block so that -help lists it with the run options.
+  Mat J;
+  PetscCall(SNESGetJacobian(snes, &J, nullptr, nullptr, nullptr));
+  PetscBool flag = kReuseByDefault ? PETSC_TRUE : PETSC_FALSE, flag_set, lag_set;
+  PetscReal setup_cost = J && matrix_on_device(J) ? kDeviceSetupCost : kHostSetupCost;
+  // Read inside an options block so that -help lists them with the run options.
   PetscOptionsBegin(comm, nullptr, "dipc preconditioner reuse", "SNES");
   PetscCall(PetscOptionsBool("-dipc_pc_reuse", "Keep the preconditioner across Newton iterations while that is cheaper",
-                             "", flag, &flag, nullptr));
+                             "", flag, &flag, &flag_set));
+  PetscCall(PetscOptionsReal("-dipc_pc_reuse_setup_cost",
+                             "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)", "",
+                             setup_cost, &setup_cost, nullptr));
   PetscOptionsEnd();
-  enabled_ = flag;
-  if (!enabled_) PetscFunctionReturn(0);
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_lag_preconditioner", &lag_set));
+  enabled_ = flag && !(lag_set && !flag_set);  // a fixed lag the user asked for beats the default
+  if (!enabled_) PetscFunctionReturn(0);
+  cycle_ = ReuseCycle(setup_cost);
   PetscCheck(!lag_set, comm, PETSC_ERR_ARG_INCOMP,
              "-dipc_pc_reuse decides when to rebuild the preconditioner itself; drop -snes_lag_preconditioner");
   PetscCall(SNESGetMaxLinearSolveFailures(snes, &user_max_failures_));
   KSP ksp;
   PetscCall(SNESGetKSP(snes, &ksp));
+  PetscReal rtol, abstol, dtol;
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &user_max_it_));
   PetscCall(KSPSetPostSolve(ksp, after_solve, this));
   PetscFunctionReturn(0);
 }
@@ -51,30 +82,39 @@ PetscErrorCode PreconditionerReuse::begin_iteration(SNES snes, PetscInt iteratio
   if (iteration == 0) reuse_failures_ = 0;  // SNESSolve has reset its failure count
   const bool rebuild = cycle_.decide(new_pattern);
   if (rebuild) ++rebuilds_;
-  PetscCall(PetscInfo(snes, "dipc_pc_reuse: %s the preconditioner (last solve %g s, cycle average %g s)\n",
-                      rebuild ? "rebuilding" : "reusing", cycle_.last_seconds(), cycle_.average_seconds()));
+  const PetscInt max_it =
+      rebuild ? user_max_it_ : static_cast<PetscInt>(std::min<long long>(user_max_it_, cycle_.reused_solve_limit()));
+  PetscCall(PetscInfo(snes,
+                      "dipc_pc_reuse: %s the preconditioner (last iteration cost %g, cycle average %g CG "
+                      "iterations; setup %g; at most %" PetscInt_FMT " CG iterations)\n",
+                      rebuild ? "rebuilding" : "reusing", cycle_.last_cost(), cycle_.average_cost(),
+                      cycle_.setup_cost(), max_it));
   // Lag -2: rebuild for this Jacobian, then reuse; -1: reuse (SNESComputeJacobian applies it).
   PetscCall(SNESSetLagPreconditioner(snes, rebuild ? -2 : -1));
   // A failure with a reused preconditioner gets one extra allowance (see the header); the
   // stop condition is then "failures with fresh preconditioners >= the user's maximum".
   PetscCall(SNESSetMaxLinearSolveFailures(snes, user_max_failures_ + reuse_failures_ + (rebuild ? 0 : 1)));
-  timing_ = true;
-  iteration_start_ = MPI_Wtime();
+  KSP ksp;
+  PetscReal rtol, abstol, dtol;
+  PetscInt current_max_it;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &current_max_it));
+  PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, max_it));
+  counting_ = true;
   PetscFunctionReturn(0);
 }
 
-// KSP post-solve hook: times the iteration's Jacobian + solve on the slowest rank.
+// KSP post-solve hook: records the iteration's CG count, the same on every rank.
 PetscErrorCode PreconditionerReuse::after_solve(KSP ksp, Vec, Vec, void* ctx) {
   PetscFunctionBeginUser;
   auto* self = static_cast<PreconditionerReuse*>(ctx);
-  if (!self->timing_) PetscFunctionReturn(0);  // a solve outside SNES's iterations
-  self->timing_ = false;
-  const double local = MPI_Wtime() - self->iteration_start_;
-  double slowest;
-  PetscCallMPI(MPI_Allreduce(&local, &slowest, 1, MPI_DOUBLE, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(ksp))));
+  if (!self->counting_) PetscFunctionReturn(0);  // a solve outside SNES's iterations
+  self->counting_ = false;
+  PetscInt its;
   KSPConvergedReason reason;
+  PetscCall(KSPGetIterationNumber(ksp, &its));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
-  self->cycle_.record(slowest, reason < 0);
+  self->cycle_.record(its, reason < 0);
   if (reason < 0 && !self->cycle_.rebuilding()) ++self->reuse_failures_;
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,9 @@
 // -dipc_pc_reuse (keep the preconditioner while that pays) on the default scene, which has
 // contact and so changes the Hessian's pattern: the run keeps its preconditioner across
-// iterations (fewer rebuilds than Newton iterations) and ends where the run that rebuilds at
-// every iteration ends, to well within the Newton tolerance. On the test's ranks (1 and 2).
+// iterations (fewer rebuilds than Newton iterations), ends where the run that rebuilds at
+// every iteration ends, to well within the Newton tolerance, and, since its decisions come
+// from CG iteration counts and not from clocks, a second run ends bit for bit where the first
+// did. On the test's ranks (1 and 2).
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
@@ -24,19 +26,36 @@ RunOptions twenty_quiet_steps() {
   return options;
 }
 
-TEST(PcReuse, KeepsThePreconditionerAndReachesTheSameStates) {
+PetscErrorCode run_with_reuse(const Scene& scene, RunResult* result) {
+  PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "1");
+  const PetscErrorCode ierr = run_scene(scene, PETSC_COMM_WORLD, twenty_quiet_steps(), result);
+  PetscOptionsClearValue(nullptr, "-dipc_pc_reuse");
+  return ierr;
+}
+
+TEST(PcReuse, KeepsThePreconditionerAndReachesTheSameStatesReproducibly) {
   const Scene scene = default_scene();
-  RunResult fresh, reused, rest;
+  RunResult fresh, reused, again, rest;
+  PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "0");  // explicit, whatever the default
   ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, twenty_quiet_steps(), &fresh), 0);
+  PetscOptionsClearValue(nullptr, "-dipc_pc_reuse");
   ASSERT_TRUE(fresh.failure.empty()) << fresh.failure;
   EXPECT_EQ(fresh.preconditioner_rebuilds, 0);  // the policy is off: SNES rebuilds, uncounted
 
-  PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "1");
-  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, twenty_quiet_steps(), &reused), 0);
-  PetscOptionsClearValue(nullptr, "-dipc_pc_reuse");
+  ASSERT_EQ(run_with_reuse(scene, &reused), 0);
   ASSERT_TRUE(reused.failure.empty()) << reused.failure;
   EXPECT_GE(reused.preconditioner_rebuilds, 1);
   EXPECT_LT(reused.preconditioner_rebuilds, reused.newton_iterations);
+
+  // The same run again: the same decisions, iterations and final state, compared exactly.
+  ASSERT_EQ(run_with_reuse(scene, &again), 0);
+  ASSERT_TRUE(again.failure.empty()) << again.failure;
+  EXPECT_EQ(again.preconditioner_rebuilds, reused.preconditioner_rebuilds);
+  EXPECT_EQ(again.newton_iterations, reused.newton_iterations);
+  EXPECT_EQ(again.linear_iterations, reused.linear_iterations);
+  EXPECT_EQ(again.dt_cuts, reused.dt_cuts);
+  EXPECT_TRUE(again.positions == reused.positions) << "final positions differ between two identical runs";
+  EXPECT_TRUE(again.velocities == reused.velocities) << "final velocities differ between two identical runs";
 
   RunOptions zero = twenty_quiet_steps();
   zero.setup_only = true;
@@ -46,9 +65,11 @@ TEST(PcReuse, KeepsThePreconditionerAndReachesTheSameStates) {
   if (rank == 0) {
     const DisplacementDifference d = displacement_difference(fresh, reused, rest);
     std::printf("pc reuse: %lld rebuilds in %lld Newton iterations (%lld without reuse), %lld/%lld CG iterations; "
-                "max |u_reuse - u_fresh| / max |u| = %.3e\n",
+                "max |u_reuse - u_fresh| / max |u| = %.3e; a second run %s\n",
                 reused.preconditioner_rebuilds, reused.newton_iterations, fresh.newton_iterations,
-                reused.linear_iterations, fresh.linear_iterations, d.relative());
+                reused.linear_iterations, fresh.linear_iterations, d.relative(),
+                again.positions == reused.positions ? "identical" : "DIFFERENT");
+    ASSERT_FALSE(reused.positions.empty());
     EXPECT_GT(d.max_displacement, 0.0);
     EXPECT_LE(d.relative(), 1e-6);
   }
