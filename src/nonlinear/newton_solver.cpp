@@ -137,7 +137,9 @@ PetscErrorCode NewtonSolver::record_user_snes_options() {
       if (std::isalpha(static_cast<unsigned char>(c))) { end = next; break; }
       end = next + 2;
     }
-    user_snes_options_.push_back(text.substr(pos, end - pos));
+    std::string option = text.substr(pos, end - pos);
+    option.erase(option.find_last_not_of(' ') + 1);
+    user_snes_options_.push_back(option);
     pos = end;
   }
   PetscBool rtol, atol, stol;
