@@ -13,12 +13,11 @@ std::vector<double> scaled_body_forces(const std::vector<double>& node_mass, int
 BodyForceForm::BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
                              const std::array<double, 3>& acceleration, double scale)
     : node_mass_(node_mass.begin(), node_mass.begin() + num_owned_nodes),
-      num_owned_nodes_(num_owned_nodes),
       acceleration_(acceleration),
       force_(scaled_body_forces(node_mass, num_owned_nodes, acceleration, scale)) {}
 
 void BodyForceForm::set_time_step(double h) {
-  force_ = scaled_body_forces(node_mass_, num_owned_nodes_, acceleration_, h * h);
+  force_ = scaled_body_forces(node_mass_, static_cast<int>(node_mass_.size()), acceleration_, h * h);
 }
 
 bool BodyForceForm::value(const double* x, double* energy) {

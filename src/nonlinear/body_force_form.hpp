@@ -24,8 +24,7 @@ class BodyForceForm : public Form {
   void set_time_step(double h) override;
 
  private:
-  std::vector<double> node_mass_;
-  int num_owned_nodes_;
+  std::vector<double> node_mass_;  // owned nodes
   std::array<double, 3> acceleration_;
   std::vector<double> force_;  // scale · m_i g, owned nodes, 3 per node
 };

@@ -131,13 +131,12 @@ bool DeviceConsistentInertiaForm::hessian(const double*, double* values) {
 DeviceBodyForceForm::DeviceBodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
                                          const std::array<double, 3>& acceleration, double scale)
     : node_mass_(node_mass.begin(), node_mass.begin() + num_owned_nodes),
-      num_owned_nodes_(num_owned_nodes),
       acceleration_(acceleration) {
   force_.upload(scaled_body_forces(node_mass, num_owned_nodes, acceleration, scale));
 }
 
 void DeviceBodyForceForm::set_time_step(double h) {
-  force_.upload(scaled_body_forces(node_mass_, num_owned_nodes_, acceleration_, h * h));
+  force_.upload(scaled_body_forces(node_mass_, static_cast<int>(node_mass_.size()), acceleration_, h * h));
 }
 
 bool DeviceBodyForceForm::value(const double* x, double* energy) {

@@ -98,8 +98,7 @@ class DeviceBodyForceForm : public Form {
   void set_time_step(double h) override;
 
  private:
-  std::vector<double> node_mass_;
-  int num_owned_nodes_;
+  std::vector<double> node_mass_;  // owned nodes
   std::array<double, 3> acceleration_;
   device::Array<double> force_{"body forces"};  // scale · m_i g, owned dofs
   device::Reducer reducer_;

@@ -45,8 +45,6 @@ StepRecovery::StepRecovery(TimeIntegrator& integrator, double dt_min)
     throw std::invalid_argument("the smallest step must be in (0, dt = " + std::to_string(dt_) + "]");
 }
 
-double StepRecovery::current_dt() const { return std::ldexp(dt_, -level_); }
-
 PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();

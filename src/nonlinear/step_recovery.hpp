@@ -26,8 +26,6 @@ class StepRecovery {
   PetscErrorCode step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep = {});
 
   int steps_taken() const { return steps_taken_; }
-  // The current sub-step length (the scene's dt unless a cut is still in force).
-  double current_dt() const;
 
  private:
   TimeIntegrator& integrator_;

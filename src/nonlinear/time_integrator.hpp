@@ -83,7 +83,6 @@ class TimeIntegrator {
   PetscErrorCode measure(PhysicalQuantities* q);
 
   double time() const { return time_; }
-  bool is_static() const { return problem_.is_static; }
   double scene_dt() const { return problem_.dt; }
   const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
   const std::vector<std::string>& form_names() const { return form_names_; }
