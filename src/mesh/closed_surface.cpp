@@ -41,22 +41,24 @@ void check_closed_surface(const TriangleSurface& surface) {
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-    const std::string edge =
-        "edge " + point(surface.vertices[edges[i].lo]) + "-" + point(surface.vertices[edges[i].hi]);
+    auto edge = [&] {  // built for a message only: formatting every edge would be slow
+      return "edge " + point(surface.vertices[edges[i].lo]) + "-" +
+             point(surface.vertices[edges[i].hi]);
+    };
     auto at = [&](std::size_t e) { return describe_triangle(surface, edges[e].triangle); };
     if (j - i == 1)
-      throw MeshError(surface.source + ": the surface is not closed: " + edge +
+      throw MeshError(surface.source + ": the surface is not closed: " + edge() +
                       " belongs to one triangle only (" + at(i) +
                       "); a solid needs a closed surface");
     if (j - i > 2) {
       std::string where;
       for (std::size_t e = i; e < j; ++e) where += (e > i ? ", " : "") + at(e);
-      throw MeshError(surface.source + ": the surface is not manifold: " + edge + " is shared by " +
-                      std::to_string(j - i) + " triangles (" + where + ")");
+      throw MeshError(surface.source + ": the surface is not manifold: " + edge() +
+                      " is shared by " + std::to_string(j - i) + " triangles (" + where + ")");
     }
     if (edges[i].forward == edges[i + 1].forward)
       throw MeshError(surface.source + ": the surface is not consistently oriented: triangles " +
-                      at(i) + " and " + at(i + 1) + " run along their shared " + edge +
+                      at(i) + " and " + at(i + 1) + " run along their shared " + edge() +
                       " in the same direction (one of them is flipped)");
     i = j;
   }

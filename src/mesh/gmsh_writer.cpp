@@ -3,6 +3,7 @@
 #include "mesh/gmsh_writer.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 
 #include "mesh/mesh_error.hpp"
@@ -47,7 +48,17 @@ void write_gmsh(const std::string& path, const HexMesh& mesh, const std::string&
   const std::size_t nn = mesh.nodes.size();
   out << "$Nodes\n1 " << nn << " 1 " << nn << "\n3 1 0 " << nn << "\n";
   for (std::size_t i = 0; i < nn; ++i) out << i + 1 << "\n";
-  for (const Vec3& p : mesh.nodes) out << p[0] << " " << p[1] << " " << p[2] << "\n";
+  // Shortest text that reads back as the same double (std::to_chars), and much faster than
+  // an ostream at 17 digits on meshes of a million nodes.
+  char line[3 * 32];
+  for (const Vec3& p : mesh.nodes) {
+    char* end = line;
+    for (int d = 0; d < 3; ++d) {
+      end = std::to_chars(end, line + sizeof line, p[d]).ptr;
+      *end++ = d < 2 ? ' ' : '\n';
+    }
+    out.write(line, end - line);
+  }
   out << "$EndNodes\n";
 
   std::size_t total = mesh.hexes.size();

@@ -18,9 +18,9 @@ struct QuadGroup {
 };
 
 // Writes the nodes and hexahedra of `mesh` (node tags = id + 1, hexahedra in a physical volume
-// named `volume_name`) and one physical surface per group. Coordinates are written with 17
-// significant digits, so they read back bit for bit. Throws MeshError when the file cannot be
-// written or a group name is empty or contains '"'.
+// named `volume_name`) and one physical surface per group. Coordinates are written as the
+// shortest text that reads back as the same double, so they read back bit for bit. Throws
+// MeshError when the file cannot be written or a group name is empty or contains '"'.
 void write_gmsh(const std::string& path, const HexMesh& mesh, const std::string& volume_name,
                 const std::vector<QuadGroup>& groups);
 

@@ -245,6 +245,9 @@ HexMesh voxel_mesh(const VoxelGrid& grid, const std::vector<char>& inside) {
         if (inside[static_cast<std::size_t>(grid.cell_index(i, j, k))])
           for (int c = 0; c < 8; ++c) node(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)) = 0;
   HexMesh mesh;
+  const auto cells = static_cast<std::size_t>(std::count(inside.begin(), inside.end(), 1));
+  mesh.hexes.reserve(cells);
+  mesh.nodes.reserve(cells + cells / 4);
   for (std::int64_t k = 0; k <= nz; ++k)
     for (std::int64_t j = 0; j <= ny; ++j)
       for (std::int64_t i = 0; i <= nx; ++i)

@@ -2,7 +2,8 @@
 // box of gmsh_box.geo, clamped by its physical surface "bottom" and swinging under sideways
 // gravity for 5 steps, on the ranks of the test's communicator (CTest: 1 and 2). Each flavour
 // must give the trajectory of the ASCII MSH 4.1 file on the same ranks, and, run on all ranks,
-// the trajectory of rank 0 alone.
+// the trajectory of rank 0 alone. Likewise a voxelised STL tetrahedron, written as dipc-voxelize
+// writes it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,22 +11,22 @@
 
 #include "app/simulation.hpp"
 #include "io/scene.hpp"
+#include "mesh/boundary_faces.hpp"
+#include "mesh/gmsh_writer.hpp"
+#include "mesh/triangle_surface_reader.hpp"
+#include "mesh/voxelizer.hpp"
 
 namespace dipc {
 namespace {
 
-Scene box_scene(const std::string& mesh_file) {
-  const std::string text = R"({
-    "materials": [{"name": "rubber", "E": 1e5, "nu": 0.3, "rho": 1000}],
-    "geometry": [{"name": "box", "mesh": ")" +
-                           mesh_file + R"(", "material": "rubber"}],
-    "boundary_conditions": {
-      "gravity": [0, -9.81, -9.81],
-      "dirichlet": [{"selection": "box.bottom", "type": "fixed"}]
-    },
-    "time": {"dt": 0.02, "steps": 5},
-    "contact": {"enabled": false}
-  })";
+// The body "box" from `mesh_file`, clamped by its node set `clamped`.
+Scene box_scene(const std::string& mesh_file, const std::string& clamped = "bottom") {
+  const std::string text =
+      R"({"materials": [{"name": "rubber", "E": 1e5, "nu": 0.3, "rho": 1000}],)"
+      R"( "geometry": [{"name": "box", "mesh": ")" + mesh_file + R"(", "material": "rubber"}],)"
+      R"( "boundary_conditions": {"gravity": [0, -9.81, -9.81],)"
+      R"( "dirichlet": [{"selection": "box.)" + clamped + R"(", "type": "fixed"}]},)"
+      R"( "time": {"dt": 0.02, "steps": 5}, "contact": {"enabled": false}})";
   return parse_scene_text(text, "mesh_formats_test",
                           std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data");
 }
@@ -96,6 +97,50 @@ INSTANTIATE_TEST_SUITE_P(GmshWritten, MeshFormats,
                            std::string n = info.param;
                            return n.substr(0, n.size() - 4);
                          });
+
+// The binary STL tetrahedron (0.5,0.5,0.5) + 2 {0, e_x, e_y, e_z} voxelised at cell size 0.2
+// (rank 0 writes the file), clamped by its boundary faces on the bottom layer.
+TEST(VoxelisedMesh, RunsAndMatchesOneRank) {
+  MPI_Comm world = PETSC_COMM_WORLD;
+  int rank;
+  MPI_Comm_rank(world, &rank);
+  const std::string path = ::testing::TempDir() + "voxelised_tetrahedron.msh";
+  if (rank == 0) {
+    const HexMesh mesh =
+        voxelize(read_triangle_surface(std::string(DIPC_SOURCE_DIR) +
+                                       "/tests/mesh/data/surfaces/tetrahedron_binary.stl"),
+                 0, 0.2);
+    QuadGroup bottom{"base", {}};
+    for (const BoundaryFace& f : extract_boundary_faces(mesh)) {
+      if (f.face != 4) continue;  // zeta = -1: the faces looking down
+      const auto local = hex_face_nodes(f.face);
+      std::array<std::int64_t, 4> quad;
+      for (int c = 0; c < 4; ++c) quad[c] = mesh.hexes[f.element][local[c]];
+      if (mesh.nodes[quad[0]][2] < 0.6) bottom.quads.push_back(quad);
+    }
+    ASSERT_FALSE(bottom.quads.empty());
+    write_gmsh(path, mesh, "solid", {bottom});
+  }
+  MPI_Barrier(world);
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-13");
+  PetscOptionsSetValue(nullptr, "-ksp_atol", "1e-50");
+  const Scene scene = box_scene(path, "base");
+  const RunResult parallel = run(scene, world);
+  MPI_Comm self;
+  MPI_Comm_split(world, rank == 0 ? 0 : MPI_UNDEFINED, 0, &self);
+  if (rank == 0) {
+    const RunResult rest = run(scene, self, true);
+    const RunResult serial = run(scene, self);
+    EXPECT_GT(rest.positions.size(), 3u * 50u);  // a mesh of some size, not a single cell
+    const double vs_serial =
+        relative_difference(parallel.positions, serial.positions, rest.positions);
+    std::printf("voxelised tetrahedron (%zu nodes): vs one rank %.3e\n", rest.positions.size() / 3,
+                vs_serial);
+    EXPECT_LE(vs_serial, 1e-8);
+    MPI_Comm_free(&self);
+  }
+  for (const char* o : {"-ksp_rtol", "-ksp_atol"}) PetscOptionsClearValue(nullptr, o);
+}
 
 }  // namespace
 }  // namespace dipc
