@@ -60,6 +60,24 @@ TEST(VoxelizeCli, BinaryStlByCellSize) {
   EXPECT_NEAR(test::mesh_volume(mesh), 4.0 / 3, 0.05);
 }
 
+TEST(VoxelizeCli, SnapKeepsTheMeshReadable) {
+  const std::string stl = test::mesh_data("surfaces/tetrahedron_binary.stl");
+  const std::string plain = ::testing::TempDir() + "tetra_plain.msh";
+  const std::string snapped = ::testing::TempDir() + "tetra_snapped.msh";
+  ASSERT_EQ(voxelize(stl + " " + plain + " --cell-size 0.1").status, 0);
+  const Outcome o = voxelize(stl + " " + snapped + " --cell-size 0.1 --snap");
+  ASSERT_EQ(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("boundary nodes"), std::string::npos) << o.output;
+  const HexMesh a = read_gmsh(plain, 0), b = read_gmsh(snapped, 0);  // check_mesh: det J > 0
+  ASSERT_EQ(a.hexes, b.hexes);                                       // same cells, some nodes moved
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  std::size_t moved = 0;
+  for (std::size_t v = 0; v < a.nodes.size(); ++v) moved += a.nodes[v] != b.nodes[v];
+  EXPECT_GT(moved, 0u);
+  // The tetrahedron's volume is 4/3; the staircase of 0.1 cells misses it by up to ~A h.
+  EXPECT_NEAR(test::mesh_volume(b), 4.0 / 3, 0.1);
+}
+
 TEST(VoxelizeCli, BadInputExitsWithStatusOne) {
   const std::string open = ::testing::TempDir() + "open_square.obj";
   std::ofstream(open) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
