@@ -1,6 +1,6 @@
 // TriangleSurface: a triangle surface read from an OBJ or STL file (obstacles, closed shapes
 // for the voxeliser). Open surfaces are allowed; closedness is the caller's concern
-// (check_closed_surface in mesh/surface_topology.hpp).
+// (check_closed_surface in mesh/closed_surface.hpp).
 #pragma once
 #include <array>
 #include <cstdint>
