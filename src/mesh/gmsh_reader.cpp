@@ -1,6 +1,6 @@
 // Gmsh MSH 4.1 and 2.2 reader, ASCII and binary (see gmsh_reader.hpp). Section layouts
 // follow the Gmsh reference manual, "MSH file format" (version 4.1) and "Legacy formats"
-// (MSH file format version 2):
+// (MSH file format version 2). MSH 4.1:
 //   $MeshFormat     version file-type data-size
 //   $PhysicalNames  n, then n x { dim tag "name" }
 //   $Entities       #points #curves #surfaces #volumes, then per entity its tag, position or
@@ -12,7 +12,7 @@
 // In binary 4.1 files $Entities, $Nodes and $Elements hold the same values as raw data:
 // counts and node/element tags as size_t (the data size of $MeshFormat, 4 or 8 bytes),
 // dimensions, entity tags, types and physical tags as int (4 bytes), coordinates as double.
-// MSH 2.2:
+// MSH 2.2 ($MeshFormat and $PhysicalNames as in 4.1, no $Entities):
 //   $Nodes          n, then n x { tag x y z }  (binary: int tag, 3 doubles)
 //   $Elements       n, then n x { tag type #tags tags... node-tags... }, the tags being the
 //                   physical group, the elementary entity and optional partition data
