@@ -65,6 +65,15 @@ TEST(GmshFormats, InstalledGmshOutputMatchesCommittedAscii41) {
 }
 #endif
 
+// Binary MSH 4.1 from a writer whose size_t has 4 bytes (data/make_binary_size4.py).
+TEST(GmshFormats, Binary41WithFourByteSizeT) {
+  const HexMesh mesh = read_gmsh(mesh_data("binary_size4.msh"), 0);
+  ASSERT_EQ(mesh.hexes.size(), 1u);
+  EXPECT_EQ(mesh.hexes[0], (Hex{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(mesh.nodes[6], (Vec3{1, 1, 1}));
+  EXPECT_DOUBLE_EQ(test::mesh_volume(mesh), 1.0);
+}
+
 // MSH 2 writes an element once per physical group of its entity (under a new tag): one
 // hexahedron in two volume groups must stay one element, in both node sets.
 TEST(GmshFormats, Msh2ElementInTwoPhysicalGroupsIsOneElement) {
