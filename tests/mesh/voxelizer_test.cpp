@@ -164,6 +164,36 @@ TEST(Voxelizer, RowsAlongSurfaceEdgesAreDecidedCorrectly) {
   EXPECT_EQ(by_size.hexes.size(), 64u);
 }
 
+// The octahedron |x| + |y| + |z| <= 1 at odd resolutions: grid rows run through its vertices
+// and along its edges (y = 0, z = 0, ...), and many centres lie on its faces. Every cell whose
+// centre is clearly inside or outside must be classified as the exact test says.
+TEST(Voxelizer, RowsThroughVerticesMatchTheExactInsideTest) {
+  const std::string path = ::testing::TempDir() + "octahedron.obj";
+  std::ofstream(path) << "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                         "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  const TriangleSurface s = read_obj(path);
+  EXPECT_DOUBLE_EQ(signed_enclosed_volume(s), 4.0 / 3);
+  for (int n : {3, 9, 15}) {
+    SCOPED_TRACE(n);
+    VoxelGrid grid = make_voxel_grid(s, n, 0);
+    const VoxelClassification c = classify_cells(s, grid);
+    int checked = 0;
+    for (std::int64_t k = 0; k < n; ++k)
+      for (std::int64_t j = 0; j < n; ++j)
+        for (std::int64_t i = 0; i < n; ++i) {
+          const Vec3 p = grid.centre(i, j, k);
+          const double level = std::abs(p[0]) + std::abs(p[1]) + std::abs(p[2]) - 1;
+          if (std::abs(level) < 1e-9) continue;  // on a face: either answer is right
+          ++checked;
+          EXPECT_EQ(bool(c.inside[grid.cell_index(i, j, k)]), level < 0)
+              << i << " " << j << " " << k;
+        }
+    EXPECT_GT(checked, n * n * n / 2);
+    EXPECT_GT(c.solid_angle_cells, 0);
+  }
+  EXPECT_EQ(voxelize(s, 3, 0).hexes.size(), 7u);  // the centre cell and its 6 face neighbours
+}
+
 // Meshed volume against the volume the triangle surface encloses, as the resolution
 // doubles. Centre sampling misclassifies only cells cut by the surface, so
 // |V_h - V| <= (cells cut) h^3 ~ C A h: first order, sometimes better where errors cancel.
