@@ -47,17 +47,9 @@ TEST(Hex8MeanDilatation, GradientIsCentralDifferenceOfEnergy) {
   for (const ElementCase& c : element_cases(41)) {
     double e, g[24];
     ASSERT_TRUE(hex8_mean_dilatation(c.X.data(), c.x.data(), c.lambda, c.mu, &e, g, nullptr));
-    const double h = 1e-6 * characteristic_length(c.X);
     double g_fd[24];
-    for (int k = 0; k < 24; ++k) {
-      Nodes xp = c.x, xm = c.x;
-      xp[k] += h;
-      xm[k] -= h;
-      double ep, em;
-      ASSERT_TRUE(hex8_mean_dilatation(c.X.data(), xp.data(), c.lambda, c.mu, &ep, nullptr, nullptr));
-      ASSERT_TRUE(hex8_mean_dilatation(c.X.data(), xm.data(), c.lambda, c.mu, &em, nullptr, nullptr));
-      g_fd[k] = (ep - em) / (2 * h);
-    }
+    ASSERT_TRUE(test::central_difference_gradient(hex8_mean_dilatation, c.X, c.x, c.lambda, c.mu,
+                                                  1e-6 * characteristic_length(c.X), g_fd));
     EXPECT_LT(test::max_abs_difference(g, g_fd, 24), 1e-6 * test::max_abs(g, 24));
   }
 }
@@ -66,17 +58,9 @@ TEST(Hex8MeanDilatation, ExactHessianIsCentralDifferenceOfGradient) {
   for (const ElementCase& c : element_cases(42)) {
     double H[576];
     ASSERT_TRUE(hex8_mean_dilatation_exact_hessian(c.X.data(), c.x.data(), c.lambda, c.mu, nullptr, nullptr, H));
-    const double h = 1e-6 * characteristic_length(c.X);
     double H_fd[576];
-    for (int l = 0; l < 24; ++l) {
-      Nodes xp = c.x, xm = c.x;
-      xp[l] += h;
-      xm[l] -= h;
-      double gp[24], gm[24];
-      ASSERT_TRUE(hex8_mean_dilatation(c.X.data(), xp.data(), c.lambda, c.mu, nullptr, gp, nullptr));
-      ASSERT_TRUE(hex8_mean_dilatation(c.X.data(), xm.data(), c.lambda, c.mu, nullptr, gm, nullptr));
-      for (int k = 0; k < 24; ++k) H_fd[24 * k + l] = (gp[k] - gm[k]) / (2 * h);
-    }
+    ASSERT_TRUE(test::central_difference_hessian(hex8_mean_dilatation, c.X, c.x, c.lambda, c.mu,
+                                                 1e-6 * characteristic_length(c.X), H_fd));
     EXPECT_LT(test::max_abs_difference(H, H_fd, 576), 1e-6 * test::max_abs(H, 576));
     EXPECT_EQ(test::max_asymmetry(H, 24), 0.0);
   }
