@@ -43,7 +43,8 @@ measure that other work on a shared machine disturbs least (1 rank: no MPI polli
 and CG iterations; dt cuts. `repeat_identical` says whether the repeats wrote bit-identical
 displacements (the runs are deterministic on the CPU). Writes <out>/speed_accuracy_<scene>.csv
 and .png (err_max against cpu_s, log-log, Pareto front in CPU time and error marked, each point
-labelled) and prints a Markdown table. --steps caps the scene's steps (the
+labelled) and prints a Markdown table. A run still going after --timeout times the reference's
+process time (at least 10 s) is stopped and recorded with status 124. --steps caps the scene's steps (the
 CSV's steps and scene_steps columns say so).
 """
 import argparse
@@ -52,6 +53,7 @@ import csv
 import json
 import os
 import resource
+import signal
 import statistics
 import subprocess
 import sys
@@ -114,13 +116,21 @@ def read_run(outdir):
     return rows, fields, mesh
 
 
-def run_once(binary, scene, ranks, steps, outdir, extra):
+def run_once(binary, scene, ranks, steps, outdir, extra, timeout=None):
     cmd = ['mpiexec', '--oversubscribe', '--allow-run-as-root', '-n', str(ranks), binary]
     if scene:
         cmd.append(scene)
     cmd += ['-dipc_quiet', '-dipc_output', outdir, '-dipc_steps', str(steps)] + extra
     start, cpu0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    # Its own process group, so that a run past `timeout` is stopped with every process it started.
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        output, _ = proc.communicate(timeout=timeout)
+        status = proc.returncode
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        output, _ = proc.communicate()
+        status, output = 124, f'dipc: stopped: still running after {timeout:g} s\n' + output
     process_s = time.time() - start
     cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu_s = (cpu1.ru_utime + cpu1.ru_stime) - (cpu0.ru_utime + cpu0.ru_stime)
@@ -132,20 +142,20 @@ def run_once(binary, scene, ranks, steps, outdir, extra):
     energy = [float(r['kinetic_energy']) + float(r['elastic_energy']) + float(r['gravity_energy']) for r in rows]
     gaps = [float(r['min_distance_over_dhat']) for r in rows if r.get('min_distance_over_dhat') not in (None, '')]
     kappa = [float(r['kappa']) for r in rows if r.get('kappa') not in (None, '')]
-    err = next((l for l in (proc.stdout + proc.stderr).splitlines() if l.startswith('dipc: ')
+    err = next((l for l in output.splitlines() if l.startswith('dipc: ')
                 and ('error' in l or 'failed' in l or 'stop' in l)), '')
     wall, linear = total('wall_s'), total('linear_solve_s')
     contact = total('broad_phase_s', 'ccd_s', 'barrier_s', 'exchange_s')
-    return {'status': proc.returncode, 'steps': len(rows), 'newton': total('newton_its'), 'ksp': total('ksp_its'),
+    return {'status': status, 'steps': len(rows), 'newton': total('newton_its'), 'ksp': total('ksp_its'),
             'cuts': total('dt_cuts'), 'wall': wall, 'linear': linear, 'contact': contact,
             'other': wall - linear - contact, 'process': process_s, 'cpu': cpu_s, 'energy': energy,
             'min_gap': min(gaps) if gaps else float('nan'), 'kappa_max': max(kappa) if kappa else float('nan'),
             'fields': fields, 'mesh': mesh, 'message': err}
 
 
-def run(binary, scene, ranks, steps, outdir, extra, repeat):
+def run(binary, scene, ranks, steps, outdir, extra, repeat, timeout=None):
     """`repeat` runs; the first one's results with the median of the times."""
-    runs = [run_once(binary, scene, ranks, steps, f'{outdir}_{i}', extra) for i in range(repeat)]
+    runs = [run_once(binary, scene, ranks, steps, f'{outdir}_{i}', extra, timeout) for i in range(repeat)]
     r = runs[0]
     for key in ('wall', 'linear', 'contact', 'other', 'process', 'cpu'):
         r[key + '_all'] = [x[key] for x in runs]
@@ -265,6 +275,8 @@ def main():
     ap.add_argument('--repeat', type=int, default=1, help='runs per setting; times are their median')
     ap.add_argument('--out', default=os.path.join(ROOT, 'bench', 'results'))
     ap.add_argument('--options', default='', help='extra options for every run')
+    ap.add_argument('--timeout', type=float, default=10,
+                    help="stop a run after this many times the reference's process time (status 124)")
     ap.add_argument('--plot-only', action='store_true', help='redraw the PNG from the CSV of an earlier study')
     args = ap.parse_args()
     name = os.path.splitext(os.path.basename(args.scene))[0] if args.scene else 'default'
@@ -363,7 +375,8 @@ def main():
             ref_errors[k] = compare(ref, ref, down)[0][k]
         rows = [row('reference', 'reference', options(REFERENCE), ref, ref_errors, len(ref['fields']) - 1)]
         for i, (setting, knob, sc, steps, opts) in enumerate(plan):
-            r = run(args.binary, sc, args.ranks, steps, os.path.join(tmp, f'run{i}'), opts + extra, args.repeat)
+            r = run(args.binary, sc, args.ranks, steps, os.path.join(tmp, f'run{i}'), opts + extra, args.repeat,
+                    args.timeout * max(ref['process'], 10.0))
             errors, ncmp = compare(r, ref, down)
             rows.append(row(setting, knob, opts, r, errors, ncmp))
             note = f" exit {r['status']}: {r['message']}" if r['status'] else ''
