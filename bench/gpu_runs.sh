@@ -142,6 +142,8 @@ case "${1:-}" in
     awk -F, 'NR == FNR && FNR > 1 { n[$1] = $8; k[$1] = $9; t[$1] = $19; next }
              FNR > 1 { printf "%-30s newton %s/%s ksp %s/%s %s  s/newton %s %s\n", $1, n[$1], $8, k[$1], $9,
                        (n[$1] == $8 && k[$1] == $9) ? "same" : "DIFFER", t[$1], $19 }' \
-      "$out/repro_1.csv" "$out/repro_2.csv" | tee "$out/repro_summary.txt" ;;
+      "$out/repro_1.csv" "$out/repro_2.csv" | tee "$out/repro_summary.txt"
+    # The per-variant CSVs are in repro_1/2.csv now (and the device tool returns at most 8 files).
+    for v in "${variants[@]}"; do rm -f "$out/amg_${v%%|*}.csv"; done ;;
   *) sed -n '2,22p' "$0"; exit 2 ;;
 esac
