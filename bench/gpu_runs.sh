@@ -15,6 +15,11 @@
 #   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
 #                                  AMG_SIZES, default 1000000; AMG_VARIANTS picks variants by name)
 #   bench/gpu_runs.sh reuse        the same, 10 steps, AMG reuse (-dipc_pc_reuse) and looser CG (CUDA PETSc build)
+#   bench/gpu_runs.sh presets      the same, 10 steps, each -dipc_preset and the built-in values before presets
+#                                  (CUDA PETSc build; AMG_SIZES as for amgsweep)
+#   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
+#                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
+#                                  300000; AMG_VARIANTS picks variants by name)
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -110,5 +115,35 @@ case "${1:-}" in
     # reuse across steps counts (README "GPU"); AMG_SIZES and AMG_VARIANTS as for amgsweep.
     sweep amg_reuse ${REUSE_STEPS:-10} "default|" "reuse|-dipc_pc_reuse" "reuse_rtol4|-dipc_pc_reuse -ksp_rtol 1e-4" \
       "reuse_rtol3|-dipc_pc_reuse -ksp_rtol 1e-3" ;;
-  *) sed -n '2,17p' "$0"; exit 2 ;;
+  presets)
+    # What each preset costs per Newton iteration on the device (bench_step_breakdown applies
+    # -dipc_preset as dipc does, balanced without it): the issue-12 target is <= 0.2 s per
+    # Newton iteration for the default at 1M elements on one H100. "builtin" names the values
+    # dipc had before presets (0.665 s there, bench/results/amg_reuse_count_rule_h100_1m.csv).
+    sweep presets ${REUSE_STEPS:-10} "builtin|-dipc_velocity_tol_rel 1e-5 -ksp_rtol 1e-8 -dipc_pc_reuse 0" \
+      "fast|-dipc_preset fast" "balanced|" "accurate|-dipc_preset accurate" ;;
+  repro)
+    # Two runs of each variant; "same" when Newton and CG counts repeat (the CPU runs repeat bit for
+    # bit, app_default_reproducible_tests). dipc's device gradient kernels add element and contact
+    # contributions with atomicAdd (element_kernels.cu, contact_kernels.cu), whose order varies, so
+    # "cpu_assembly" (host assembly, device matrix and AMG) separates dipc's part from hypre's; the
+    # rest are hypre switches that PETSc reaches (README "Speed or accuracy", reproducibility).
+    variants=(
+      "balanced|"
+      "cpu_assembly|-dipc_backend cpu"
+      "keept|-pc_hypre_boomeramg_keeptranspose 1"
+      "spgemm_cusparse|-pc_mg_galerkin_mat_product_algorithm cusparse"
+      "keept_spgemm_cusparse|-pc_hypre_boomeramg_keeptranspose 1 -pc_mg_galerkin_mat_product_algorithm cusparse"
+      "cpu_assembly_keept_cusparse|-dipc_backend cpu -pc_hypre_boomeramg_keeptranspose 1 -pc_mg_galerkin_mat_product_algorithm cusparse"
+    )
+    AMG_SIZES=${REPRO_SIZES:-300000}
+    for rep in 1 2; do sweep repro_$rep ${REPRO_STEPS:-3} "${variants[@]}"; done
+    # Compare the two runs of each variant: Newton and CG counts, and the time per Newton iteration.
+    awk -F, 'NR == FNR && FNR > 1 { n[$1] = $8; k[$1] = $9; t[$1] = $19; next }
+             FNR > 1 { printf "%-30s newton %s/%s ksp %s/%s %s  s/newton %s %s\n", $1, n[$1], $8, k[$1], $9,
+                       (n[$1] == $8 && k[$1] == $9) ? "same" : "DIFFER", t[$1], $19 }' \
+      "$out/repro_1.csv" "$out/repro_2.csv" | tee "$out/repro_summary.txt"
+    # The per-variant CSVs are in repro_1/2.csv now (and the device tool returns at most 8 files).
+    for v in "${variants[@]}"; do rm -f "$out/amg_${v%%|*}.csv"; done ;;
+  *) sed -n '2,22p' "$0"; exit 2 ;;
 esac

@@ -6,6 +6,8 @@
 //   mpirun -n R bench_step_breakdown [-elements 10000,100000] [-steps 3] [-csv out.csv]
 //                                    [-dipc_backend cpu|cuda|auto] [PETSc options]
 // With -vec_type cuda -mat_type aijcusparse (a CUDA PETSc) vectors and matrix stay on the device.
+// The solver settings are the program's: -dipc_preset (balanced when not given) fills in what
+// the command line leaves unset, and -dipc_velocity_tol_rel etc. are read as dipc reads them.
 #include <petscksp.h>
 #include <sys/resource.h>
 
@@ -14,7 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "app/run_options.hpp"
 #include "app/simulation.hpp"
+#include "app/solver_presets.hpp"
 #include "nonlinear/log_stages.hpp"
 
 namespace {
@@ -75,6 +79,11 @@ int main(int argc, char** argv) {
   char backend[16] = "cpu", mat_type[64] = "aij";
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-dipc_backend", backend, sizeof(backend), nullptr));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-mat_type", mat_type, sizeof(mat_type), nullptr));
+  std::string preset;
+  std::vector<std::string> preset_inserted;
+  PetscCall(dipc::apply_solver_preset(PETSC_COMM_WORLD, &preset, &preset_inserted));
+  dipc::RunOptions from_options;
+  PetscCall(dipc::read_run_options(PETSC_COMM_WORLD, &from_options));
   int ranks, rank;
   MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -90,13 +99,13 @@ int main(int argc, char** argv) {
     std::fprintf(csv, "backend,mat_type,ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,"
                       "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s,pc_setups,per_step_s\n");
   }
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "backend %s, Mat %s\n", backend, mat_type));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "backend %s, Mat %s, solver preset %s\n", backend, mat_type, preset.c_str()));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks",
                         "elements", "dofs", "newton", "ksp", "assembly", "coo_ins", "lsearch", "amg_setup",
                         "ksp_solve", "total", "s/newton"));
   for (PetscInt i = 0; i < nsizes; ++i) {
     dipc::Scene scene = box_scene(sizes[i]);
-    dipc::RunOptions options;
+    dipc::RunOptions options = from_options;
     options.steps = static_cast<int>(steps);
     options.write_output = false;
     options.quiet = true;

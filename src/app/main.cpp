@@ -9,6 +9,7 @@
 #include "app/option_checks.hpp"
 #include "app/options_files.hpp"
 #include "app/simulation.hpp"
+#include "app/solver_presets.hpp"
 
 static const char help[] =
     "dipc: implicit neo-Hookean elastodynamics of hexahedral meshes, distributed with MPI + PETSc.\n"
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
   try {
     dipc::check_option_values();  // before anything reads them
     dipc::RunOptions options;
+    std::vector<std::string> preset_inserted;
+    PetscCall(dipc::apply_solver_preset(comm, &options.preset, &preset_inserted));  // before the options are read
     PetscCall(dipc::read_run_options(comm, &options));
     PetscBool help_requested = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));

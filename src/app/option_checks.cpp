@@ -102,6 +102,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       positive_real("-dipc_dt_min"),
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),
+      one_of("-dipc_preset", "fast balanced accurate"),  // read in app/solver_presets.cpp
   };
   return specs;
 }

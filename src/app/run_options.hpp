@@ -26,6 +26,7 @@ struct RunOptions {
   double dt_min = -1;
   double alpha_floor = 1e-6;      // -dipc_alpha_floor: line-search stall floor (newton_solver.hpp)
   bool output_substeps = false;   // -dipc_output_substeps: also write the sub-steps of cut steps
+  std::string preset;             // the -dipc_preset applied (app/solver_presets.hpp); "" for none
   std::string backend = "auto";   // -dipc_backend cpu | cuda | auto (app/backend.hpp)
   long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
 };

@@ -205,6 +205,9 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps, recovery down to dt %g | Newton: |p|_inf/h < %g, stalled below alpha %g\n",
                         scene.is_static ? "static" : "implicit Euler", scene.dt,
                         options.steps > 0 ? options.steps : scene.steps, dt_min, velocity_tol, options.alpha_floor));
+  if (!options.preset.empty())
+    PetscCall(PetscPrintf(comm, "  solver preset %s (-dipc_preset; options given explicitly win over it)\n",
+                          options.preset.c_str()));
   // The user's -snes_ options are honoured; -snes_rtol/atol/stol let PETSc's tests end a solve.
   std::string snes;
   for (const auto& o : integrator.user_snes_options()) snes += (snes.empty() ? "" : " ") + o;

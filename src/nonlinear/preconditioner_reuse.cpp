@@ -13,9 +13,6 @@ namespace {
 // per CG iteration).
 constexpr double kDeviceSetupCost = 40;  // one H100, 1M elements: 0.36 s against 9 ms
 constexpr double kHostSetupCost = 5;     // one CPU core: 4-6 at 20K elements, 9-10 below 500
-// -dipc_pc_reuse when not given. With true, -dipc_pc_reuse 0 turns the reuse off, and a
-// -snes_lag_preconditioner given without -dipc_pc_reuse turns it off instead of being refused.
-constexpr bool kReuseByDefault = false;
 }  // namespace
 
 // Rebuild when nothing is known about the current preconditioner (first solve; or the last
@@ -51,18 +48,20 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(snes));
   Mat J;
   PetscCall(SNESGetJacobian(snes, &J, nullptr, nullptr, nullptr));
-  PetscBool flag = kReuseByDefault ? PETSC_TRUE : PETSC_FALSE, flag_set, lag_set;
+  // Off unless asked for; the default preset (app/solver_presets.hpp) asks for it, except when
+  // the user gave -snes_lag_preconditioner.
+  PetscBool flag = PETSC_FALSE, lag_set;
   PetscReal setup_cost = J && matrix_on_device(J) ? kDeviceSetupCost : kHostSetupCost;
   // Read inside an options block so that -help lists them with the run options.
   PetscOptionsBegin(comm, nullptr, "dipc preconditioner reuse", "SNES");
   PetscCall(PetscOptionsBool("-dipc_pc_reuse", "Keep the preconditioner across Newton iterations while that is cheaper",
-                             "", flag, &flag, &flag_set));
+                             "", flag, &flag, nullptr));
   PetscCall(PetscOptionsReal("-dipc_pc_reuse_setup_cost",
                              "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)", "",
                              setup_cost, &setup_cost, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_lag_preconditioner", &lag_set));
-  enabled_ = flag && !(lag_set && !flag_set);  // a fixed lag the user asked for beats the default
+  enabled_ = flag;
   if (!enabled_) PetscFunctionReturn(0);
   cycle_ = ReuseCycle(setup_cost);
   PetscCheck(!lag_set, comm, PETSC_ERR_ARG_INCOMP,

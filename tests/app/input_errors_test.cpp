@@ -83,6 +83,8 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"negative_gpu_elements", "small_box.json", "-dipc_auto_gpu_elements -5",
                      {"-dipc_auto_gpu_elements -5"}},
             BadInput{"unknown_backend", "small_box.json", "-dipc_backend foo", {"-dipc_backend foo", "cpu, cuda, auto"}},
+            BadInput{"unknown_preset", "small_box.json", "-dipc_preset quick",
+                     {"-dipc_preset quick", "fast, balanced, accurate"}},
             BadInput{"non_boolean_flag", "small_box.json", "-dipc_pc_reuse abc", {"-dipc_pc_reuse abc"}},
             BadInput{"empty_output", "small_box.json", "-dipc_output", {"-dipc_output needs a value"}},
             BadInput{"unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
@@ -110,6 +112,29 @@ TEST(Options, OptionsFileIsRead) {
   EXPECT_NE(o.output.find("type: gamg"), std::string::npos) << o.output;
   const Outcome d = run_dipc("cube_good.json", "-snes_view");
   EXPECT_NE(d.output.find("HYPRE BoomerAMG"), std::string::npos) << d.output;
+}
+
+// -dipc_preset: balanced without it; the named preset's options otherwise; and the user's own
+// options, on the command line or in an -options_file, win over the preset's. Seen in the run
+// header (the preset) and in -snes_view (the KSP's relative tolerance).
+TEST(Options, PresetFillsInOnlyWhatTheUserLeftUnset) {
+  struct Case {
+    std::string extra, preset, ksp_rtol;
+  };
+  const std::string user_file = "-options_file " + data_dir + "ksp_rtol_1e-5.opts";
+  for (const Case& c : {Case{"", "balanced", "relative=0.0001,"}, Case{"-dipc_preset fast", "fast", "relative=0.001,"},
+                        Case{"-dipc_preset accurate", "accurate", "relative=1e-08,"},
+                        Case{"-dipc_preset fast -ksp_rtol 1e-6", "fast", "relative=1e-06,"},
+                        Case{"-ksp_rtol 1e-6 -dipc_preset accurate", "accurate", "relative=1e-06,"},
+                        Case{"-dipc_preset fast " + user_file, "fast", "relative=1e-05,"}}) {
+    const Outcome o = run_dipc("cube_good.json", c.extra + " -snes_view");
+    EXPECT_EQ(o.status, 0) << c.extra << "\n" << o.output;
+    EXPECT_NE(o.output.find("solver preset " + c.preset + " "), std::string::npos) << c.extra << "\n" << o.output;
+    EXPECT_NE(o.output.find("tolerances:  " + c.ksp_rtol), std::string::npos) << c.extra << "\n" << o.output;
+  }
+  // A fixed lag replaces the preconditioner reuse that balanced sets (the two are refused together).
+  const Outcome lag = run_dipc("cube_good.json", "-snes_lag_preconditioner 2");
+  EXPECT_EQ(lag.status, 0) << lag.output;
 }
 
 // A step that step recovery cannot take (no room to halve: -dipc_dt_min = dt, and a 100 m/s
@@ -144,7 +169,8 @@ TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
 TEST(Options, HelpListsDipcOptions) {
   const Outcome o = run_dipc("cube_good.json", "-help");
   EXPECT_EQ(o.status, 0) << o.output;
-  for (const char* opt : {"-dipc_velocity_tol", "-dipc_steps", "-dipc_output", "-snes_type", "-ksp_type"})
+  for (const char* opt : {"-dipc_velocity_tol", "-dipc_steps", "-dipc_output", "-dipc_preset", "fast balanced accurate",
+                          "-snes_type", "-ksp_type"})
     EXPECT_NE(o.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(o.output.find("step     1"), std::string::npos) << "-help must not run steps";
 }

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""The README's "Speed or accuracy" tables from the studies' CSVs (bench/speed_accuracy.py).
+
+    bench/speed_accuracy_summary.py [bench/results]
+
+Prints two Markdown tables: per scene, each preset's error (err_max: max over the run of the
+displacement error relative to the largest displacement of the reference) and its CPU time
+relative to the built-in solver values; and per knob setting, the range of its error and of its
+CPU time relative to the built-in values over the scenes that have it.
+"""
+import csv
+import glob
+import math
+import os
+import sys
+
+PRESETS = ('fast', 'balanced', 'accurate')
+
+
+def load(directory):
+    studies = {}
+    for path in sorted(glob.glob(os.path.join(directory, 'speed_accuracy_*.csv'))):
+        rows = list(csv.DictReader(open(path)))
+        if not rows or 'cpu_s' not in rows[0]:
+            continue  # an older study without the columns used here
+        studies[rows[0]['scene']] = rows
+    return studies
+
+
+def num(x):
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def fmt(x):
+    return '—' if not math.isfinite(x) else ('0' if x == 0 else f'{x:.1e}')
+
+
+def main():
+    directory = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), 'results')
+    studies = load(directory)
+    print('| scene | steps run | ' + ' | '.join(f'{p}: error, CPU' for p in PRESETS) +
+          ' | built-in: error, CPU [s] | min gap/d̂ (ref → fast) |')
+    print('|---|---|' + '---|' * len(PRESETS) + '---|---|')
+    worst = {p: 0.0 for p in PRESETS}
+    for scene, rows in studies.items():
+        by = {r['setting']: r for r in rows}
+        base = num(by['built-in']['cpu_s'])
+        cells = []
+        for p in PRESETS:
+            e, c = num(by[p]['err_max']), num(by[p]['cpu_s'])
+            worst[p] = max(worst[p], e) if math.isfinite(e) else worst[p]
+            status = '' if by[p]['status'] == '0' else f" (exit {by[p]['status']})"
+            cells.append(f'{fmt(e)}, {c / base:.2f}×{status}')
+        gap = f"{num(by['reference']['min_gap']):.2g} → {num(by['fast']['min_gap']):.2g}" \
+            if math.isfinite(num(by['reference']['min_gap'])) else '—'
+        print(f"| {scene} | {by['reference']['steps']} of {by['reference']['scene_steps']} | " + ' | '.join(cells) +
+              f" | {fmt(num(by['built-in']['err_max']))}, {base:.2f} | {gap} |")
+    print('\nlargest error of each preset: ' + ', '.join(f'{p} {worst[p]:.1e}' for p in PRESETS))
+
+    settings = []
+    for rows in studies.values():
+        for r in rows:
+            if r['knob'] not in ('reference', 'built-in', 'preset') and r['setting'] not in settings:
+                settings.append(r['setting'])
+    print('\n| setting | scenes | error (min – max) | CPU vs built-in (min – max) | Newton vs built-in | failed |')
+    print('|---|---|---|---|---|---|')
+    for s in settings:
+        errs, cpus, newton, failed, n = [], [], [], 0, 0
+        for rows in studies.values():
+            by = {r['setting']: r for r in rows}
+            if s not in by:
+                continue
+            n += 1
+            r, b = by[s], by['built-in']
+            if r['status'] != '0':
+                failed += 1
+                continue
+            errs.append(num(r['err_max']))
+            cpus.append(num(r['cpu_s']) / num(b['cpu_s']))
+            newton.append(num(r['newton_its']) / max(num(b['newton_its']), 1))
+        rng = lambda v, f: f'{f(min(v))} – {f(max(v))}' if v else '—'
+        print(f"| {s} | {n} | {rng(errs, fmt)} | {rng(cpus, lambda x: f'{x:.2f}')} | "
+              f"{rng(newton, lambda x: f'{x:.2f}')} | {failed or ''} |")
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
