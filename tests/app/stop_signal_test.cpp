@@ -35,16 +35,16 @@ const std::string scene = std::string(DIPC_SOURCE_DIR) + "/tests/app/data/small_
 
 std::string launcher(int ranks) { return ranks > 1 ? std::string(DIPC_MPIEXEC) + " -n 2 " : ""; }
 
-// Starts a long run in `dir`, waits until it has written 3 steps, sends `signal` to `target`
-// (the launched process, or "rank": the first rank under mpiexec) and reports the run's status
-// as the script's own.
-Outcome run_and_signal(const std::string& dir, int ranks, const std::string& signal, const std::string& target) {
+// Starts a long run in `dir` (scene options `extra`), waits until it has written 3 steps, runs
+// `kill_command` (shell; $pid is the launched process, $rank the first rank under mpiexec) and
+// reports the run's status as the script's own.
+Outcome run_and_signal(const std::string& dir, int ranks, const std::string& kill_command,
+                       const std::string& extra = "") {
   std::filesystem::remove_all(dir);
-  const std::string victim = target == "rank" ? "$(pgrep -P $pid | head -n 1)" : "$pid";
   return shell(launcher(ranks) + DIPC_BINARY + " " + scene + " -dipc_quiet -dipc_steps 100000 -dipc_output " + dir +
-               " & pid=$!; "
+               " " + extra + " & pid=$!; "
                "while [ \"$(cat " + dir + "/stats.csv 2>/dev/null | wc -l)\" -lt 4 ]; do sleep 0.05; done; "
-               "kill -" + signal + " " + victim + "; wait $pid; exit $?");
+               "rank=$(pgrep -P $pid | head -n 1); " + kill_command + "; wait $pid; exit $?");
 }
 
 std::vector<std::string> steps_in(const std::string& stats) {
@@ -74,19 +74,21 @@ void expect_stopped_and_resumable(const Outcome& o, const std::string& dir, int 
 }
 
 TEST(StopSignal, SigtermToOneRankStopsBothWithACheckpoint) {
-  expect_stopped_and_resumable(run_and_signal("signal_term_rank", 2, "TERM", "rank"), "signal_term_rank", 2);
+  expect_stopped_and_resumable(run_and_signal("signal_term_rank", 2, "kill -TERM $rank"), "signal_term_rank", 2);
 }
 
 TEST(StopSignal, Sigusr1ToMpiexecIsForwardedToTheRanks) {
-  expect_stopped_and_resumable(run_and_signal("signal_usr1_mpiexec", 2, "USR1", "launcher"), "signal_usr1_mpiexec", 2);
+  expect_stopped_and_resumable(run_and_signal("signal_usr1_mpiexec", 2, "kill -USR1 $pid"), "signal_usr1_mpiexec", 2);
 }
 
 TEST(StopSignal, SigintToOneProcess) {
-  expect_stopped_and_resumable(run_and_signal("signal_int_serial", 1, "INT", "launcher"), "signal_int_serial", 1);
+  expect_stopped_and_resumable(run_and_signal("signal_int_serial", 1, "kill -INT $pid"), "signal_int_serial", 1);
 }
 
 TEST(StopSignal, SecondSignalExitsAtOnce) {
-  const Outcome o = run_and_signal("signal_twice", 1, "TERM $pid; kill -TERM", "launcher");
+  // Steps of about a second (1024 elements), so that the second signal, 0.2 s after the first,
+  // comes while the first waits for the end of the step.
+  const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.2; kill -TERM $pid", "-dipc_refine 8");
   EXPECT_EQ(o.status, 128 + 15) << o.output;
 }
 
