@@ -10,7 +10,8 @@ every kill.
    onto a box on a ground plane) run uninterrupted on 2 ranks.
 2. Rounds: a fresh output folder; the run is started with -dipc_checkpoint_every 1
    -dipc_restart auto and SIGKILLed (mpiexec and both ranks, by process id) after a random delay
-   in [0, max-delay] s, again and again, until it completes; then its final step is compared
+   in [0, max-delay] s, counted from the launch for one kill in four and from the end of the
+   set-up (the run header) for the others, again and again, until it completes; then its final step is compared
    with the reference's (displacement and velocity to 1e-12, every step's time exactly). Rounds
    go on until --kills kills were made (a run that completes before its kill ends the round).
 3. After every kill: the .xmf parses and every step it lists is read in full from the .h5 with
@@ -27,6 +28,7 @@ import shlex
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import h5py
@@ -34,6 +36,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "kill_restart_scene.json")
+HEADER = re.compile(r"^dipc \S+ \| PETSc")  # the run header: set up, about to step
 
 
 def command(args, out, extra):
@@ -120,28 +123,50 @@ def main():
         while True:
             proc = subprocess.Popen(command(args, out, ["-dipc_checkpoint_every", "1", "-dipc_restart", "auto"]),
                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
-            delay = rng.uniform(0, args.max_delay) if kills < args.kills else None
-            try:
-                output, _ = proc.communicate(timeout=delay)
-            except subprocess.TimeoutExpired:
-                for pid in session_pids(proc.pid):
-                    try:
-                        os.kill(pid, signal.SIGKILL)
-                    except ProcessLookupError:
-                        pass
-                proc.communicate()
+            lines, stepping = [], threading.Event()
+
+            def read(proc=proc, lines=lines, stepping=stepping):
+                for line in proc.stdout:
+                    lines.append(line)
+                    if HEADER.match(line):
+                        stepping.set()
+                stepping.set()
+
+            reader = threading.Thread(target=read, daemon=True)
+            reader.start()
+            killed = False
+            if kills < args.kills:
+                # One kill in four at any moment from the launch (start-up, reading the
+                # checkpoint, continuing the output); the others once the run is set up and
+                # stepping (its header printed), so that most land in steps and their output.
+                from_launch = rng.random() < 0.25
+                delay = rng.uniform(0, args.max_delay)
+                if not from_launch:
+                    stepping.wait()
+                time.sleep(delay)
+                if proc.poll() is None:
+                    for pid in session_pids(proc.pid):
+                        try:
+                            os.kill(pid, signal.SIGKILL)
+                        except ProcessLookupError:
+                            pass
+                    killed = True
+            proc.wait()
+            reader.join()
+            if killed:
                 kills += 1
                 try:
                     check_readable(out)
                 except Exception as e:  # noqa: BLE001 (any failure to read is the finding)
-                    print("kill %d (after %.2f s): output not readable: %r" % (kills, delay, e))
+                    print("kill %d: output not readable: %r" % (kills, e))
                     return 1
                 stats = os.path.join(out, "stats.csv")
                 done = sum(1 for _ in open(stats)) - 1 if os.path.exists(stats) else 0
-                print("kill %2d after %.2f s: %d steps in stats.csv, readable" % (kills, delay, done), flush=True)
+                print("kill %2d %.2f s after %s: %d steps in stats.csv, readable"
+                      % (kills, delay, "the launch" if from_launch else "set-up", done), flush=True)
                 continue
             if proc.returncode != 0:
-                print("round %d: a run ended with status %d:\n%s" % (rounds, proc.returncode, output))
+                print("round %d: a run ended with status %d:\n%s" % (rounds, proc.returncode, "".join(lines)))
                 return 1
             break
         times, u, v = final_state(out)
