@@ -103,6 +103,9 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),
       one_of("-dipc_preset", "fast balanced accurate"),  // read in app/solver_presets.cpp
+      integer_at_least("-dipc_checkpoint_every", 1),
+      positive_real("-dipc_checkpoint_minutes"),
+      text("-dipc_restart"),
   };
   return specs;
 }
