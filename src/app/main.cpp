@@ -9,6 +9,7 @@
 #include "app/option_checks.hpp"
 #include "app/options_files.hpp"
 #include "app/simulation.hpp"
+#include "app/stop_signals.hpp"
 
 static const char help[] =
     "dipc: implicit neo-Hookean elastodynamics of hexahedral meshes, distributed with MPI + PETSc.\n"
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   }
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   MPI_Comm comm = PETSC_COMM_WORLD;
+  dipc::install_stop_signal_handlers();  // after PETSc's, which would abort on SIGTERM
 
   int status = 0;
   try {
@@ -54,10 +56,19 @@ int main(int argc, char** argv) {
     dipc::RunResult result;
     PetscCall(dipc::run_scene(scene, comm, options, &result));
     // Exit status: 1 bad input, 2 a step that step recovery could not take, 3 a violated
-    // invariant (an inverted element or an intersection after a step: a solver defect).
+    // invariant (an inverted element or an intersection after a step: a solver defect), 4
+    // stopped on a signal with a checkpoint written.
     if (!result.failure.empty()) {
       PetscCall(PetscPrintf(comm, "dipc: error: %s\n", result.failure.c_str()));
       status = result.fatal ? 3 : 2;
+    }
+    // 4: stopped on a signal at a step boundary, with a checkpoint to resume from.
+    if (result.stop_signal) {
+      PetscCall(PetscPrintf(comm,
+                            "dipc: stopped on signal %d after step %d; checkpoint written to %s; resume with "
+                            "-dipc_restart auto (same -dipc_output)\n",
+                            result.stop_signal, result.steps_taken, result.checkpoint_path.c_str()));
+      status = 4;
     }
     if (!result.xdmf_path.empty())
       PetscCall(PetscPrintf(comm, "dipc: %d steps written to %s (open it in ParaView)\n", result.steps_taken,

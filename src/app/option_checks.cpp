@@ -102,6 +102,9 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       positive_real("-dipc_dt_min"),
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),
+      integer_at_least("-dipc_checkpoint_every", 1),
+      positive_real("-dipc_checkpoint_minutes"),
+      text("-dipc_restart"),
   };
   return specs;
 }

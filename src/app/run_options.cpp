@@ -48,6 +48,22 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscCall(PetscOptionsBool("-dipc_output_substeps", "Also write the sub-steps of steps that recovery cut", "", substeps,
                              &substeps, nullptr));
   o->output_substeps = substeps;
+  PetscInt every = o->checkpoint_every;
+  PetscCall(PetscOptionsInt("-dipc_checkpoint_every",
+                            "Write a checkpoint every N steps into the output directory (the newest two are kept)", "",
+                            every, &every, nullptr));
+  o->checkpoint_every = static_cast<int>(every);
+  PetscCall(PetscOptionsReal("-dipc_checkpoint_minutes",
+                             "Write a checkpoint at the first step boundary after M wall-clock minutes since the last "
+                             "(rank 0's clock)",
+                             "", o->checkpoint_minutes, &o->checkpoint_minutes, nullptr));
+  char restart[PETSC_MAX_PATH_LEN] = "";
+  PetscBool restart_set = PETSC_FALSE;
+  PetscCall(PetscOptionsString("-dipc_restart",
+                               "Continue from a checkpoint: a file, or auto (the newest in the output directory; "
+                               "none there: start from step 0)",
+                               "", restart, restart, sizeof(restart), &restart_set));
+  if (restart_set) o->restart = restart;
   PetscOptionsEnd();
   o->steps = static_cast<int>(steps);
   o->refine = static_cast<int>(refine);

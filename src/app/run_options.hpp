@@ -28,6 +28,11 @@ struct RunOptions {
   bool output_substeps = false;   // -dipc_output_substeps: also write the sub-steps of cut steps
   std::string backend = "auto";   // -dipc_backend cpu | cuda | auto (app/backend.hpp)
   long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
+  // Checkpoints (app/checkpoint.hpp), in the output directory: every N steps and/or every M
+  // wall-clock minutes (0: not by that rule); a stop signal always writes one.
+  int checkpoint_every = 0;
+  double checkpoint_minutes = 0;
+  std::string restart;  // -dipc_restart FILE | auto (the newest checkpoint in the output directory)
 };
 
 // Values are taken as given: check_option_values (app/option_checks.hpp), which refuses those

@@ -12,9 +12,12 @@
 #include <vector>
 
 #include "app/backend.hpp"
+#include "app/checkpoint.hpp"
+#include "app/natural_order.hpp"
 #include "app/option_checks.hpp"
 #include "app/problem_builder.hpp"
 #include "app/scene_mesh.hpp"
+#include "app/stop_signals.hpp"
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
@@ -84,29 +87,52 @@ PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::v
   PetscFunctionReturn(0);
 }
 
-// Output of one run: XDMF/HDF5 fields and stats.csv.
+// Output of one run: XDMF/HDF5 fields and stats.csv. Rows of the HDF5 file are in the input
+// mesh's numbering (NaturalOrder), so the file is the same on any rank count and a restart on
+// other ranks continues it. A restarted run (keep_steps >= 0) continues the files: the first
+// keep_steps written steps and the stats rows up to keep_through_step stay, later ones (written
+// after the checkpoint by the stopped run) are replaced.
 class RunOutput {
  public:
-  RunOutput(const Scene& scene, const RunOptions& options, const DistributedMesh& mesh, double dhat)
-      : mesh_(mesh), contact_(scene.contact.enabled), dhat_(dhat) {
-    const std::string dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
+  RunOutput(const Scene& scene, const std::string& dir, const DistributedMesh& mesh, NaturalOrder& order, double dhat,
+            long keep_steps = -1, long keep_through_step = -1)
+      : mesh_(mesh), order_(order), contact_(scene.contact.enabled), dhat_(dhat) {
     std::vector<double> coords;
     for (int n = 0; n < mesh.num_owned_nodes; ++n) coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
-    std::vector<std::int64_t> nodes;
-    for (const auto& e : mesh.elements)
-      for (std::int32_t n : e) nodes.push_back(mesh.local_to_global[n]);
+    std::vector<double> block_coords;
+    throw_on_petsc_error(order.nodes_to_blocks(coords.data(), &block_coords));
+    // Element fields in the input numbering: the 8 input node ids of each element, its body
+    // and its rank (ids below 2^53 pass through doubles exactly).
+    const int ne = mesh.num_elements(), nb = order.num_elements();
+    std::vector<std::int64_t> nodes(8 * static_cast<std::size_t>(nb));
+    std::vector<double> local(ne), block;
+    for (int corner = 0; corner < 8; ++corner) {
+      for (int e = 0; e < ne; ++e) local[e] = static_cast<double>(mesh.node_input_id[mesh.elements[e][corner]]);
+      throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
+      for (int e = 0; e < nb; ++e) nodes[8 * static_cast<std::size_t>(e) + corner] = static_cast<std::int64_t>(block[e]);
+    }
+    std::vector<int> body(nb), rank(nb);
+    for (int e = 0; e < ne; ++e) local[e] = mesh.element_body[e];
+    throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
+    for (int e = 0; e < nb; ++e) body[e] = static_cast<int>(block[e]);
+    int my_rank;
+    MPI_Comm_rank(mesh.comm, &my_rank);
+    std::fill(local.begin(), local.end(), double(my_rank));
+    throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
+    for (int e = 0; e < nb; ++e) rank[e] = static_cast<int>(block[e]);
     OutputMesh om;
     om.comm = mesh.comm;
     om.num_global_nodes = mesh.num_global_nodes;
-    om.node_offset = mesh.node_offset;
-    om.num_owned_nodes = mesh.num_owned_nodes;
-    om.owned_coordinates = coords.data();
+    om.node_offset = order.node_offset();
+    om.num_owned_nodes = order.num_nodes();
+    om.owned_coordinates = block_coords.data();
     om.num_global_elements = mesh.num_global_elements;
-    om.element_offset = mesh.element_offset;
-    om.num_elements = mesh.num_elements();
+    om.element_offset = order.element_offset();
+    om.num_elements = nb;
     om.element_nodes = nodes.data();
-    om.element_body = mesh.element_body.data();
-    writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om);
+    om.element_body = body.data();
+    om.element_rank = rank.data();
+    writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om, keep_steps);
     std::vector<std::string> columns{"step", "t", "dt", "substeps", "dt_cuts", "converged_by", "newton_its", "ksp_its",
                                      "alpha_min", "energy", "min_volume_ratio", "wall_s", "linear_solve_s",
                                      "kinetic_energy", "elastic_energy", "gravity_energy", "momentum_x", "momentum_y",
@@ -114,7 +140,7 @@ class RunOutput {
     if (contact_)
       columns.insert(columns.end(), {"contact_pairs", "min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd",
                                      "broad_phase_s", "ccd_s", "barrier_s", "exchange_s"});
-    stats_ = std::make_unique<StatsCsv>(dir + "/stats.csv", columns, mesh.comm);
+    stats_ = std::make_unique<StatsCsv>(dir + "/stats.csv", columns, mesh.comm, keep_through_step);
   }
 
   PetscErrorCode write_fields(TimeIntegrator& integrator) {
@@ -124,16 +150,22 @@ class RunOutput {
     PetscCall(VecDuplicate(integrator.positions(), &u));
     PetscCall(VecWAXPY(u, -1.0, integrator.reference_positions(), integrator.positions()));
     const PetscScalar *ua, *va;
+    std::vector<double> u_block, v_block, ratio_block;
     PetscCall(VecGetArrayRead(u, &ua));
+    PetscCall(order_.nodes_to_blocks(ua, &u_block));
+    PetscCall(VecRestoreArrayRead(u, &ua));
     PetscCall(VecGetArrayRead(integrator.velocities(), &va));
+    PetscCall(order_.nodes_to_blocks(va, &v_block));
+    PetscCall(VecRestoreArrayRead(integrator.velocities(), &va));
     std::vector<double> ratio;
     PetscCall(integrator.element_volume_ratios(&ratio));
-    writer_->write_step(integrator.time(), ua, va, ratio.data());
-    PetscCall(VecRestoreArrayRead(integrator.velocities(), &va));
-    PetscCall(VecRestoreArrayRead(u, &ua));
+    PetscCall(order_.elements_to_blocks(ratio.data(), &ratio_block));
+    writer_->write_step(integrator.time(), u_block.data(), v_block.data(), ratio_block.data());
     PetscCall(VecDestroy(&u));
     PetscFunctionReturn(0);
   }
+
+  std::size_t steps_written() const { return writer_->num_steps_written(); }
 
   void write_stats(const StepReport& r, const PhysicalQuantities& q) {
     std::vector<StatsCsv::Cell> row{double(r.step), r.time, r.dt, double(r.substeps), double(r.dt_cuts),
@@ -150,7 +182,12 @@ class RunOutput {
   std::string xdmf_path() const { return writer_->xdmf_path(); }
 
  private:
+  static void throw_on_petsc_error(PetscErrorCode code) {
+    if (code) throw std::runtime_error("PETSc error " + std::to_string(code) + " while ordering the output");
+  }
+
   const DistributedMesh& mesh_;
+  NaturalOrder& order_;
   bool contact_;
   double dhat_;
   std::unique_ptr<XdmfWriter> writer_;
@@ -233,12 +270,18 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   // Mesh and partition: rank 0 builds the whole mesh, METIS splits it, each rank gets its part.
   DistributedMesh mesh;
   double diagonal = 0;
+  std::uint64_t fingerprint = 0;
   double t_partition = MPI_Wtime();
   {
     StageScope stage(stages.partition);
     HexMesh whole;
-    on_rank0_collectively(comm, [&] { whole = build_scene_mesh(scene); diagonal = bounding_box_diagonal(whole); });
+    on_rank0_collectively(comm, [&] {
+      whole = build_scene_mesh(scene);
+      diagonal = bounding_box_diagonal(whole);
+      fingerprint = scene_fingerprint(scene, whole);
+    });
     MPI_Bcast(&diagonal, 1, MPI_DOUBLE, 0, comm);
+    MPI_Bcast(&fingerprint, 1, MPI_UINT64_T, 0, comm);
     mesh = distribute_mesh(whole, comm, scene.contact.enabled);  // the contact surface only for contact
   }
   t_partition = MPI_Wtime() - t_partition;
@@ -276,15 +319,69 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   if (options.report)
     PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use));
 
-  std::unique_ptr<RunOutput> output;
+  const std::string output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
+  NaturalOrder order;
+  PetscCall(order.setup(mesh));
+  CheckpointRun run;
+  run.fingerprint = fingerprint;
+  run.scene = scene.source;
+  {
+    char* all = nullptr;
+    PetscCall(PetscOptionsGetAll(nullptr, &all));
+    run.options = all ? all : "";
+    PetscCall(PetscFree(all));
+  }
   double t_output = MPI_Wtime();
+  // Restart: the state, recovery's level and the output's extent from a checkpoint.
+  bool restarted = false;
+  CheckpointRun stored;
+  if (!options.restart.empty() && !options.setup_only) {
+    const bool automatic = options.restart == "auto";
+    const std::vector<std::string> candidates =
+        automatic ? list_checkpoints(comm, output_dir, scene.output_name) : std::vector<std::string>{options.restart};
+    if (candidates.empty())
+      PetscCall(PetscPrintf(comm, "dipc: -dipc_restart auto: no checkpoint of \"%s\" in %s, starting from step 0\n",
+                            scene.output_name.c_str(), output_dir.c_str()));
+    for (std::size_t i = 0; i < candidates.size() && !restarted; ++i) {
+      try {
+        PetscCall(read_checkpoint(comm, candidates[i], order, integrator, recovery, run, &stored));
+        restarted = true;
+        PetscCall(PetscPrintf(comm, "dipc: restarting from %s: step %d, t %.10g\n", candidates[i].c_str(),
+                              recovery.steps_taken(), integrator.time()));
+      } catch (const CheckpointError& e) {
+        // auto falls back on the older checkpoint when the newest is damaged; a checkpoint of
+        // another scene, or a file the user named, is refused.
+        if (!automatic || e.kind() == CheckpointError::Kind::mismatched || i + 1 == candidates.size()) throw;
+        PetscCall(PetscPrintf(comm, "dipc: skipping %s, trying the one before\n", e.what()));
+      }
+    }
+  }
+  std::unique_ptr<RunOutput> output;
   if (options.write_output && !options.setup_only) {
     StageScope stage(stages.output);
-    output = std::make_unique<RunOutput>(scene, options, mesh, problem.contact_parameters.dhat);
-    PetscCall(output->write_fields(integrator));
+    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem.contact_parameters.dhat,
+                                                     stored.output_steps, recovery.steps_taken())
+                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem.contact_parameters.dhat);
+    if (output->steps_written() == 0) PetscCall(output->write_fields(integrator));
     result->xdmf_path = output->xdmf_path();
   }
   t_output = MPI_Wtime() - t_output;
+  const bool checkpointing = options.checkpoint_every > 0 || options.checkpoint_minutes > 0;
+  double last_checkpoint_wall = MPI_Wtime();
+  int last_checkpoint_step = restarted ? recovery.steps_taken() : -1;
+  // Collective: a checkpoint of the current state (between steps).
+  auto checkpoint = [&]() -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    const double t0 = MPI_Wtime();
+    run.output_steps = output ? static_cast<long>(output->steps_written()) : 0;
+    result->checkpoint_path = checkpoint_path(output_dir, scene.output_name, recovery.steps_taken());
+    PetscCall(write_checkpoint(comm, result->checkpoint_path, order, integrator, recovery, run, scene.output_name));
+    last_checkpoint_step = recovery.steps_taken();
+    last_checkpoint_wall = MPI_Wtime();
+    result->checkpoint_seconds += last_checkpoint_wall - t0;
+    t_output += last_checkpoint_wall - t0;
+    PetscFunctionReturn(0);
+  };
 
   const int steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
   const int every = std::max(1, scene.output_every);
@@ -292,7 +389,22 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   std::function<PetscErrorCode(const StepReport&)> on_substep;
   if (output && options.output_substeps)
     on_substep = [&](const StepReport&) { return output->write_fields(integrator); };
-  for (int s = 0; s < steps; ++s) {
+  for (int s = recovery.steps_taken();; ++s) {
+    // Step boundary: the ranks agree on a stop signal and on rank 0's wall-clock rule; a
+    // checkpoint is due by either, every -dipc_checkpoint_every steps, and at the end.
+    const bool minutes_due =
+        options.checkpoint_minutes > 0 && MPI_Wtime() - last_checkpoint_wall >= 60 * options.checkpoint_minutes;
+    const StopDecision stop = agree_on_stop(comm, minutes_due);
+    const bool at_end = s >= steps;
+    const bool every_due = options.checkpoint_every > 0 && s > 0 && s % options.checkpoint_every == 0;
+    if ((stop.signal || stop.checkpoint_due || every_due || (at_end && checkpointing)) && s != last_checkpoint_step &&
+        !options.setup_only)
+      PetscCall(checkpoint());
+    if (stop.signal) {
+      result->stop_signal = stop.signal;
+      break;
+    }
+    if (at_end) break;
     StepReport r;
     PetscCall(recovery.step(&r, on_substep));
     result->newton_iterations += r.newton.iterations;

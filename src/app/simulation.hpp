@@ -37,6 +37,9 @@ struct RunResult {
   // input mesh (input numbering, independent of the partition).
   std::vector<double> positions, velocities;
   std::string xdmf_path;  // empty without output
+  int stop_signal = 0;          // the signal that stopped the run at a step boundary (0: none)
+  std::string checkpoint_path;  // the last checkpoint written (empty: none)
+  double checkpoint_seconds = 0;  // writing checkpoints (part of the output time)
   PhaseTimes times;
   long long newton_iterations = 0, linear_iterations = 0;
   long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)

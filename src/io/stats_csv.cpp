@@ -4,14 +4,16 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "io/collective_error.hpp"
 
 namespace dipc {
 
-StatsCsv::StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm)
+StatsCsv::StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm, long keep_through_step)
     : path_(path), columns_(std::move(columns)) {
   if (columns_.empty()) throw std::invalid_argument("StatsCsv '" + path_ + "': no columns");
   for (const std::string& c : columns_) {
@@ -34,19 +36,50 @@ StatsCsv::StatsCsv(const std::string& path, std::vector<std::string> columns, MP
     const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
     std::error_code ec;
     if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    file_.reset(std::fopen(path_.c_str(), "w"));
-    if (!file_) {
+    std::string header;
+    for (const std::string& c : columns_) header += (header.empty() ? "" : ",") + c;
+    header += "\n";
+    if (keep_through_step >= 0 && std::filesystem::exists(path_)) {
+      error = continue_table(header, keep_through_step);
+    } else if (file_.reset(std::fopen(path_.c_str(), "w")), !file_) {
       error = "cannot create '" + path_ + "': " + std::strerror(errno);
     } else {
-      std::string header;
-      for (const std::string& c : columns_) header += (header.empty() ? "" : ",") + c;
-      header += "\n";
       if (std::fputs(header.c_str(), file_.get()) < 0 || std::fflush(file_.get()) != 0) {
         error = "cannot write '" + path_ + "': " + std::strerror(errno);
       }
     }
   }
   check(error);
+}
+
+std::string StatsCsv::continue_table(const std::string& header, long keep_through_step) {
+  std::ifstream in(path_);
+  std::string line, kept;
+  if (!std::getline(in, line) || line + "\n" != header)
+    return "cannot continue '" + path_ + "': its header is not this run's (" + line + ")";
+  kept = header;
+  // A line cut short by a killed run has no line break at the end; it is dropped with the
+  // rows after the checkpoint.
+  while (std::getline(in, line) && !in.eof()) {
+    char* end = nullptr;
+    const double step = std::strtod(line.c_str(), &end);
+    if (end == line.c_str() || step > static_cast<double>(keep_through_step)) break;
+    kept += line + "\n";
+  }
+  in.close();
+  const std::string temporary = path_ + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << kept;
+    out.close();
+    if (!out) return "cannot write '" + temporary + "'";
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path_, ec);
+  if (ec) return "cannot rename '" + temporary + "' to '" + path_ + "': " + ec.message();
+  file_.reset(std::fopen(path_.c_str(), "a"));
+  if (!file_) return "cannot open '" + path_ + "' to append: " + std::strerror(errno);
+  return {};
 }
 
 StatsCsv::Cell::Cell(double value) {

@@ -17,7 +17,11 @@ class StatsCsv {
   // directory if needed, truncates `path` and writes the header. Throws std::runtime_error
   // naming the path on every rank if rank 0 cannot, and std::invalid_argument for an empty
   // column list or a column name holding a comma, a quote or a line break.
-  StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm = MPI_COMM_WORLD);
+  // keep_through_step >= 0 continues an existing table instead (a restart): its header must be
+  // this one, rows whose first value (the step) is at most keep_through_step stay, later ones
+  // are dropped; where the file does not exist a new one is created.
+  StatsCsv(const std::string& path, std::vector<std::string> columns, MPI_Comm comm = MPI_COMM_WORLD,
+           long keep_through_step = -1);
 
   // One value of a row: a number (%.10g) or a text (quoted as CSV requires when it holds a
   // comma, a quote or a line break).
@@ -41,6 +45,8 @@ class StatsCsv {
 
  private:
   void check(const std::string& local_error) const;
+  // Rank 0: rewrites the table with the kept rows (temporary file + rename), opens it to append.
+  std::string continue_table(const std::string& header, long keep_through_step);
 
   std::string path_;
   std::vector<std::string> columns_;

@@ -9,97 +9,11 @@
 #include <stdexcept>
 
 #include "io/collective_error.hpp"
+#include "io/hdf5_rows.hpp"
 #include "io/xdmf_text.hpp"
 
 namespace dipc {
 namespace {
-
-// Turns off HDF5's automatic error-stack printing while a writer call runs (restoring the
-// caller's handler after); the stack itself stays available to hdf5_error_text().
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-// The outermost and innermost descriptions on HDF5's error stack, e.g. "unable to create
-// file: unable to open file: name = '...', errno = 2, error message = 'No such file...'".
-std::string hdf5_error_text() {
-  struct Ends {
-    std::string first, last;
-  } ends;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_DOWNWARD,
-      [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
-        auto* out = static_cast<Ends*>(data);
-        if (e->desc != nullptr && *e->desc != '\0') {
-          if (out->first.empty()) out->first = e->desc;
-          out->last = e->desc;
-        }
-        return 0;
-      },
-      &ends);
-  if (ends.first.empty()) return "HDF5 error";
-  return ends.first == ends.last ? ends.first : ends.first + ": " + ends.last;
-}
-
-std::string hdf5_failure(const std::string& what, const std::string& path) {
-  return what + " in '" + path + "': " + hdf5_error_text();
-}
-
-// One rank's contiguous block of rows [row_offset, row_offset + local_rows) of a
-// global_rows x columns dataset (columns == 0: one-dimensional), written collectively.
-struct RowBlock {
-  hsize_t global_rows, columns, row_offset, local_rows;
-};
-
-// Returns an error message, empty on success.
-std::string write_rows(hid_t parent, const std::string& dataset_path, hid_t file_type, hid_t memory_type,
-                       const RowBlock& block, const void* data, const std::string& h5_path) {
-  const int rank = block.columns == 0 ? 1 : 2;
-  const hsize_t global_dims[2] = {block.global_rows, block.columns};
-  Hdf5Handle file_space(H5Screate_simple(rank, global_dims, nullptr), H5Sclose);
-  Hdf5Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (!file_space.valid() || !dcpl.valid()) return hdf5_failure("cannot create dataspace for " + dataset_path, h5_path);
-  // Every element is written by some rank, so HDF5's fill pass would be a wasted second write.
-  H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER);
-  Hdf5Handle dataset(H5Dcreate2(parent, dataset_path.c_str(), file_type, file_space.get(), H5P_DEFAULT,
-                                dcpl.get(), H5P_DEFAULT),
-                     H5Dclose);
-  if (!dataset.valid()) return hdf5_failure("cannot create dataset " + dataset_path, h5_path);
-
-  const hsize_t start[2] = {block.row_offset, 0};
-  const hsize_t count[2] = {block.local_rows, block.columns};
-  // A rank with no rows still takes part in the collective write, with empty selections.
-  const hsize_t memory_dims[2] = {block.local_rows > 0 ? block.local_rows : 1, block.columns};
-  Hdf5Handle memory_space(H5Screate_simple(rank, memory_dims, nullptr), H5Sclose);
-  if (!memory_space.valid()) return hdf5_failure("cannot create memory dataspace for " + dataset_path, h5_path);
-  herr_t status = 0;
-  if (block.local_rows > 0) {
-    status = H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr);
-  } else {
-    status = std::min(H5Sselect_none(file_space.get()), H5Sselect_none(memory_space.get()));
-  }
-  if (status < 0) return hdf5_failure("cannot select rows of " + dataset_path, h5_path);
-
-  Hdf5Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
-  if (!transfer.valid() || H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_COLLECTIVE) < 0) {
-    return hdf5_failure("cannot set collective transfer for " + dataset_path, h5_path);
-  }
-  if (H5Dwrite(dataset.get(), memory_type, memory_space.get(), file_space.get(), transfer.get(), data) < 0) {
-    return hdf5_failure("cannot write dataset " + dataset_path, h5_path);
-  }
-  return {};
-}
 
 std::string missing_array(const char* what, int count) {
   return std::string("XdmfWriter: ") + what + " is null but this rank has " + std::to_string(count) + " entries";
@@ -132,7 +46,8 @@ std::string check_tiling(MPI_Comm comm, const char* what, std::int64_t global, s
 
 }  // namespace
 
-XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh)
+XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh,
+                       std::int64_t keep_steps)
     : comm_(mesh.comm),
       directory_(directory.empty() ? "." : directory),
       name_(name),
@@ -165,13 +80,23 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
   }
   throw_if_failed_anywhere(comm_, error);
 
+  // Continue only a file that exists (rank 0 looks; every rank follows its answer).
+  int existing = 0;
+  if (rank_ == 0 && keep_steps >= 0) existing = std::filesystem::exists(h5_path());
+  MPI_Bcast(&existing, 1, MPI_INT, 0, comm_);
+  if (existing)
+    continue_file(keep_steps);
+  else
+    create_file(mesh);
+  write_xdmf_on_rank0();
+}
+
+void XdmfWriter::create_file(const OutputMesh& mesh) {
   const std::string h5 = h5_path();
+  std::string error;
   {
-    Hdf5Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    // Collective metadata writes: one rank writes each metadata block instead of all
-    // ranks racing on it (HDF5 >= 1.10 parallel I/O guidance).
-    if (!access.valid() || H5Pset_fapl_mpio(access.get(), comm_, MPI_INFO_NULL) < 0 ||
-        H5Pset_coll_metadata_write(access.get(), true) < 0 || H5Pset_all_coll_metadata_ops(access.get(), true) < 0) {
+    Hdf5Handle access(mpio_file_access(comm_), H5Pclose);
+    if (!access.valid()) {
       error = hdf5_failure("cannot set up MPI-IO file access", h5);
     } else {
       file_ = Hdf5Handle(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
@@ -189,18 +114,81 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
   const auto nodes = RowBlock{hsize_t(num_global_nodes_), 3, hsize_t(node_offset_), hsize_t(num_owned_nodes_)};
   const auto hex = RowBlock{hsize_t(num_global_elements_), 8, hsize_t(element_offset_), hsize_t(num_elements_)};
   const auto cells = RowBlock{hsize_t(num_global_elements_), 0, hsize_t(element_offset_), hsize_t(num_elements_)};
-  const std::vector<int> owner(static_cast<std::size_t>(num_elements_), rank_);
+  const std::vector<int> own_rank(static_cast<std::size_t>(num_elements_), rank_);
+  const int* owner = mesh.element_rank != nullptr ? mesh.element_rank : own_rank.data();
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                                              nodes, mesh.owned_coordinates, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/topology", H5T_STD_I64LE, H5T_NATIVE_INT64, hex,
                                              mesh.element_nodes, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/rank", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
-                                             owner.data(), h5));
+                                             owner, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/body", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
                                              mesh.element_body, h5));
   if (H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) error = hdf5_failure("cannot flush", h5);
   throw_if_failed_anywhere(comm_, error);
-  write_xdmf_on_rank0();
+}
+
+// A restarted run's output: the steps before the checkpoint stay, later ones (written after
+// the checkpoint by the run that was stopped) are unlinked, and writing goes on from there.
+// The mesh must have the node and element counts of this run; its rows are in the input
+// numbering (the driver's choice), so any rank count may continue any file.
+void XdmfWriter::continue_file(std::int64_t keep_steps) {
+  const std::string h5 = h5_path();
+  std::string error;
+  {
+    Hdf5Handle access(mpio_file_access(comm_), H5Pclose);
+    if (!access.valid()) {
+      error = hdf5_failure("cannot set up MPI-IO file access", h5);
+    } else {
+      file_ = Hdf5Handle(H5Fopen(h5.c_str(), H5F_ACC_RDWR, access.get()), H5Fclose);
+      if (!file_.valid()) error = "cannot open the output '" + h5 + "' to continue it: " + hdf5_error_text();
+    }
+  }
+  throw_if_failed_anywhere(comm_, error);
+  for (const auto& [path, rows] : {std::pair<const char*, std::int64_t>{"/mesh/coordinates", num_global_nodes_},
+                                   {"/mesh/body", num_global_elements_}}) {
+    Hdf5Handle dataset(H5Dopen2(file_.get(), path, H5P_DEFAULT), H5Dclose);
+    Hdf5Handle space(dataset.valid() ? H5Dget_space(dataset.get()) : H5I_INVALID_HID, H5Sclose);
+    hsize_t dims[2] = {0, 0};
+    if (!space.valid() || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0 ||
+        dims[0] != static_cast<hsize_t>(rows)) {
+      error = "the output '" + h5 + "' to continue has " + std::to_string(dims[0]) + " rows in " + path + ", this run " +
+              std::to_string(rows) + " (another mesh)";
+      break;
+    }
+  }
+  throw_if_failed_anywhere(comm_, error);
+  // The kept steps' times, then the later steps unlinked (all ranks alike: metadata is collective).
+  hsize_t existing = 0;
+  {
+    Hdf5Handle steps(H5Gopen2(file_.get(), "/steps", H5P_DEFAULT), H5Gclose);
+    H5G_info_t info;
+    if (!steps.valid() || H5Gget_info(steps.get(), &info) < 0)
+      error = hdf5_failure("cannot read group /steps", h5);
+    else
+      existing = info.nlinks;
+  }
+  throw_if_failed_anywhere(comm_, error);
+  if (static_cast<std::int64_t>(existing) < keep_steps)
+    error = "the output '" + h5 + "' holds " + std::to_string(existing) + " steps, the checkpoint was written after " +
+            std::to_string(keep_steps);
+  throw_if_failed_anywhere(comm_, error);
+  step_times_.clear();
+  for (std::int64_t k = 0; k < keep_steps && error.empty(); ++k) {
+    const std::string step = "/steps/" + std::to_string(k);
+    double time = 0;
+    Hdf5Handle attribute(H5Aopen_by_name(file_.get(), step.c_str(), "time", H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    if (!attribute.valid() || H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0)
+      error = hdf5_failure("cannot read " + step + "/time", h5);
+    step_times_.push_back(time);
+  }
+  for (hsize_t k = static_cast<hsize_t>(keep_steps); k < existing && error.empty(); ++k) {
+    const std::string step = "/steps/" + std::to_string(k);
+    if (H5Lexists(file_.get(), step.c_str(), H5P_DEFAULT) > 0 && H5Ldelete(file_.get(), step.c_str(), H5P_DEFAULT) < 0)
+      error = hdf5_failure("cannot remove " + step, h5);
+  }
+  if (error.empty() && H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) error = hdf5_failure("cannot flush", h5);
+  throw_if_failed_anywhere(comm_, error);
 }
 
 XdmfWriter::~XdmfWriter() {

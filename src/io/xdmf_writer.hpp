@@ -7,8 +7,9 @@
 //   /steps/<k>/displacement  N x 3 double   (attribute "time" on /steps/<k>)
 //   /steps/<k>/velocity      N x 3 double
 //   /steps/<k>/volume_ratio  E double       min det F over the element's quadrature points
-// Rows follow the partition-ordered global numbering: rank r writes its owned nodes and its
-// elements as one contiguous block each.
+// Rows follow the numbering the caller gives: rank r writes its block of nodes and of elements
+// as one contiguous block each (dipc's driver passes blocks of the input mesh's numbering, so
+// that a file does not depend on the rank count and a restart on other ranks can continue it).
 #pragma once
 #include <mpi.h>
 
@@ -29,6 +30,7 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
   int num_elements = 0;
   const std::int64_t* element_nodes = nullptr;  // 8*num_elements global node ids
   const int* element_body = nullptr;            // num_elements
+  const int* element_rank = nullptr;            // num_elements owning ranks; null: this rank
 };
 
 class XdmfWriter {
@@ -37,7 +39,11 @@ class XdmfWriter {
   // <directory>/<name>.h5 with the /mesh datasets, and <directory>/<name>.xmf with no time
   // steps yet. Throws std::runtime_error naming the path on every rank if any rank fails,
   // or if the ranks' parts do not tile the global numbering.
-  XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh);
+  // keep_steps >= 0 continues an existing <name>.h5 instead (a restart): its first keep_steps
+  // steps stay, later ones are removed, the mesh datasets must have this mesh's row counts;
+  // where no such file exists a new one is created.
+  XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh,
+             std::int64_t keep_steps = -1);
   ~XdmfWriter();  // collective: closes the HDF5 file
   XdmfWriter(const XdmfWriter&) = delete;
   XdmfWriter& operator=(const XdmfWriter&) = delete;
@@ -56,6 +62,8 @@ class XdmfWriter {
 
  private:
   void write_xdmf_on_rank0() const;
+  void create_file(const OutputMesh& mesh);
+  void continue_file(std::int64_t keep_steps);
 
   MPI_Comm comm_;
   int rank_ = 0;

@@ -27,6 +27,18 @@ class StepRecovery {
 
   int steps_taken() const { return steps_taken_; }
 
+  // Where recovery stands between scene steps (checkpoints): the sub-step level carries over
+  // from one step to the next until two sub-steps in a row succeed.
+  struct State {
+    int steps_taken = 0, level = 0, successes_at_level = 0;
+  };
+  State state() const { return {steps_taken_, level_, successes_at_level_}; }
+  void resume(const State& s) {
+    steps_taken_ = s.steps_taken;
+    level_ = s.level;
+    successes_at_level_ = s.successes_at_level;
+  }
+
  private:
   TimeIntegrator& integrator_;
   double dt_, dt_min_;

@@ -242,6 +242,22 @@ void TimeIntegrator::set_time_step(double h) {
   newton_.set_step_length(h);
 }
 
+TimeIntegrator::ResumeState TimeIntegrator::resume_state() const {
+  ResumeState s;
+  s.time = time_;
+  s.step_length = h_;
+  s.kappa = contact_ ? contact_->kappa() : 0.0;
+  s.previous_min_distance2 = previous_min_distance2_;
+  return s;
+}
+
+void TimeIntegrator::resume(const ResumeState& s) {
+  time_ = s.time;
+  set_time_step(s.step_length);
+  if (contact_) contact_->set_kappa(s.kappa);
+  previous_min_distance2_ = s.previous_min_distance2;
+}
+
 PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();

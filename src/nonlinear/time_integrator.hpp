@@ -82,6 +82,19 @@ class TimeIntegrator {
   // Collective: the physical quantities of the current state.
   PetscErrorCode measure(PhysicalQuantities* q);
 
+  // The state beyond positions and velocities that the next step depends on: what a
+  // checkpoint stores and a restart restores (with x and v written into positions() and
+  // velocities()). Friction's lagged pairs are not in it: every step re-freezes them from its
+  // start state x_n (update_friction_lag), so they follow from x.
+  struct ResumeState {
+    double time = 0;
+    double step_length = 0;             // h of the last step (forms and Newton's velocity test)
+    double kappa = 0;                   // barrier stiffness (contact; never lowered in a run)
+    double previous_min_distance2 = -1; // κ's growth test (initialize_barrier_stiffness)
+  };
+  ResumeState resume_state() const;
+  void resume(const ResumeState& state);
+
   double time() const { return time_; }
   double scene_dt() const { return problem_.dt; }
   const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
