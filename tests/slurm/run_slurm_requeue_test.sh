@@ -93,7 +93,7 @@ cleanup() {
   fi
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-  [[ -f $work/munged.pid ]] && kill "$(cat "$work/munged.pid")" 2>/dev/null || true
+  if [[ -f $work/munged.pid ]]; then kill "$(cat "$work/munged.pid")" 2>/dev/null || true; fi
   if [[ ${DIPC_SLURM_TEST_KEEP:-0} == 1 ]]; then
     say "kept $work"
   else
@@ -275,7 +275,12 @@ check "the comparison notices a lost step" bash -c "! /usr/bin/python3 '$here/co
 # -dipc_backend cuda, and an empty DIPC_DEVICE_OPTS must drop -vec_type cuda -mat_type hypre
 # (this CPU build and Debian's PETSc would refuse either). No GPU resource is requested, as on
 # a site whose GPU resource has another name.
-gpu_job=$(CUDA_VISIBLE_DEVICES=0,1 DIPC_DEVICE_OPTS= sbatch --parsable -J gpu_script --ntasks-per-node=2 \
+# DIPC_BIN is a probe that reports which GPUs each rank sees, then becomes dipc.
+# shellcheck disable=SC2016 # the probe expands them
+printf '#!/bin/bash\necho "rank $SLURM_PROCID (local $SLURM_LOCALID) sees CUDA_VISIBLE_DEVICES=${CUDA_VISIBLE_DEVICES-unset}"\nexec %q "$@"\n' \
+  "$dipc" >"$work/gpu_probe"
+chmod +x "$work/gpu_probe"
+gpu_job=$(CUDA_VISIBLE_DEVICES=0,1 DIPC_DEVICE_OPTS='' DIPC_BIN=$work/gpu_probe sbatch --parsable -J gpu_script --ntasks-per-node=2 \
   --cpus-per-task=1 --time=5 "$root/jobs/dipc_gpu.slurm" -dipc_steps 3 -dipc_backend cpu)
 submitted+=("$gpu_job")
 wait_for 300 "the GPU script's job $gpu_job" job_done "$gpu_job"
@@ -285,6 +290,8 @@ check "GPU script: completed with the user's -dipc_backend cpu and no device opt
 check "GPU script: 2 GPUs found, bound by local rank, no -vec_type" \
   bash -c "grep -q '2 GPU(s) per node, binding local_rank' '$gpu_log' && ! grep -q -- '-vec_type' '$gpu_log'"
 check "GPU script: the user's backend won" grep -q 'backend cpu (requested)' "$gpu_log"
+check "GPU script: rank 0 sees GPU 0 only, rank 1 GPU 1 only" bash -c \
+  "grep -q 'rank 0 (local 0) sees CUDA_VISIBLE_DEVICES=0\$' '$gpu_log' && grep -q 'rank 1 (local 1) sees CUDA_VISIBLE_DEVICES=1\$' '$gpu_log'"
 if ! command -v nvidia-smi >/dev/null; then
   nogpu_job=$(env -u CUDA_VISIBLE_DEVICES sbatch --parsable -J no_gpu --ntasks-per-node=2 --cpus-per-task=1 \
     --time=5 "$root/jobs/dipc_gpu.slurm" -dipc_steps 3)
