@@ -116,14 +116,17 @@ PetscErrorCode write_checkpoint(MPI_Comm comm, const std::string& path, NaturalO
   c.num_global_nodes = n / 3;
   c.node_offset = order.node_offset();
   c.num_block_nodes = order.num_nodes();
-  for (const auto& [field, vec] : {std::pair<const char*, Vec>{"position", integrator.positions()},
-                                   {"velocity", integrator.velocities()}}) {
+  const TimeIntegrator::ResumeState s = integrator.resume_state();
+  std::vector<std::pair<const char*, Vec>> fields{{"position", integrator.positions()},
+                                                  {"velocity", integrator.velocities()},
+                                                  {"previous_position", integrator.previous_positions()}};
+  if (s.friction_lagged) fields.emplace_back("friction_lag_position", integrator.friction_lag_positions());
+  for (const auto& [field, vec] : fields) {
     const PetscScalar* a;
     PetscCall(VecGetArrayRead(vec, &a));
     PetscCall(order.nodes_to_blocks(a, &c.node_fields[field]));
     PetscCall(VecRestoreArrayRead(vec, &a));
   }
-  const TimeIntegrator::ResumeState s = integrator.resume_state();
   const StepRecovery::State r = recovery.state();
   int size;
   MPI_Comm_size(comm, &size);
@@ -131,6 +134,7 @@ PetscErrorCode write_checkpoint(MPI_Comm comm, const std::string& path, NaturalO
                 {"recovery_level", r.level},
                 {"recovery_successes_at_level", r.successes_at_level},
                 {"output_steps", run.output_steps},
+                {"friction_lagged", s.friction_lagged ? 1 : 0},
                 {"ranks", size}};
   c.reals = {{"time", s.time},
              {"dt", integrator.scene_dt()},
@@ -169,16 +173,20 @@ PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOr
   c.num_global_nodes = n / 3;
   c.node_offset = order.node_offset();
   c.num_block_nodes = order.num_nodes();
-  c.integers = {{"step", 0}, {"recovery_level", 0}, {"recovery_successes_at_level", 0}, {"output_steps", 0}};
+  c.integers = {{"step", 0}, {"recovery_level", 0}, {"recovery_successes_at_level", 0}, {"output_steps", 0},
+                {"friction_lagged", 0}};
   c.reals = {{"time", 0}, {"dt", 0}, {"step_length", 0}, {"kappa", 0}, {"previous_min_distance2", 0}};
   c.texts = {{"scene_fingerprint", ""}, {"options", ""}, {"scene", ""}};
-  c.node_fields = {{"position", {}}, {"velocity", {}}};
   // The fingerprint is checked before the node data: another scene is "mismatched", even when
   // it also has another node count.
   {
     CheckpointContents header;
     header.texts = {{"scene_fingerprint", ""}, {"scene", ""}};
+    header.integers = {{"friction_lagged", 0}};
     read_checkpoint_file(comm, path, &header);
+    c.node_fields = {{"position", {}}, {"velocity", {}}, {"previous_position", {}}};
+    if (header.integers["friction_lagged"] && integrator.friction_lag_positions())
+      c.node_fields["friction_lag_position"] = {};
     if (header.texts["scene_fingerprint"] != hex(run.fingerprint))
       throw CheckpointError(CheckpointError::Kind::mismatched,
                             "checkpoint '" + path + "' was written for another scene or mesh (" +
@@ -187,7 +195,10 @@ PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOr
   }
   read_checkpoint_file(comm, path, &c);
   for (const auto& [field, vec] : {std::pair<const char*, Vec>{"position", integrator.positions()},
-                                   {"velocity", integrator.velocities()}}) {
+                                   {"velocity", integrator.velocities()},
+                                   {"previous_position", integrator.previous_positions()},
+                                   {"friction_lag_position", integrator.friction_lag_positions()}}) {
+    if (!c.node_fields.count(field)) continue;
     PetscScalar* a;
     PetscCall(VecGetArray(vec, &a));
     PetscCall(order.nodes_from_blocks(c.node_fields[field], a));
@@ -198,7 +209,8 @@ PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOr
   s.step_length = c.reals["step_length"];
   s.kappa = c.reals["kappa"];
   s.previous_min_distance2 = c.reals["previous_min_distance2"];
-  integrator.resume(s);
+  s.friction_lagged = c.node_fields.count("friction_lag_position") > 0;
+  PetscCall(integrator.resume(s));
   StepRecovery::State r;
   r.steps_taken = static_cast<int>(c.integers["step"]);
   r.level = static_cast<int>(c.integers["recovery_level"]);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -380,6 +381,12 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     last_checkpoint_wall = MPI_Wtime();
     result->checkpoint_seconds += last_checkpoint_wall - t0;
     t_output += last_checkpoint_wall - t0;
+    if (!options.quiet) {
+      std::error_code ec;
+      const auto bytes = std::filesystem::file_size(result->checkpoint_path, ec);  // rank 0 prints
+      PetscCall(PetscPrintf(comm, "checkpoint: step %d written to %s (%.2f MB, %.3f s)\n", recovery.steps_taken(),
+                            result->checkpoint_path.c_str(), ec ? 0.0 : bytes / 1e6, last_checkpoint_wall - t0));
+    }
     PetscFunctionReturn(0);
   };
 

@@ -56,6 +56,7 @@ TimeIntegrator::~TimeIntegrator() {
   VecDestroy(&v_);
   VecDestroy(&x_hat_);
   VecDestroy(&x_local_);
+  VecDestroy(&x_lag_);
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
@@ -141,6 +142,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecDuplicate(X_, &v_));
   if (!problem.is_static) PetscCall(VecDuplicate(X_, &x_hat_));  // x̂ = x_n + h v_n: dynamic runs only
   PetscCall(exchange_.create_local_vec(&x_local_));
+  if (friction_) PetscCall(VecDuplicate(X_, &x_lag_));
   std::vector<int> node_body(mesh.num_local_nodes(), 0);
   for (int e = 0; e < mesh.num_elements(); ++e)
     for (std::int32_t n : mesh.elements[e]) node_body[n] = mesh.element_body[e];
@@ -248,14 +250,19 @@ TimeIntegrator::ResumeState TimeIntegrator::resume_state() const {
   s.step_length = h_;
   s.kappa = contact_ ? contact_->kappa() : 0.0;
   s.previous_min_distance2 = previous_min_distance2_;
+  s.friction_lagged = friction_lagged_;
   return s;
 }
 
-void TimeIntegrator::resume(const ResumeState& s) {
+PetscErrorCode TimeIntegrator::resume(const ResumeState& s) {
+  PetscFunctionBeginUser;
   time_ = s.time;
   set_time_step(s.step_length);
   if (contact_) contact_->set_kappa(s.kappa);
   previous_min_distance2_ = s.previous_min_distance2;
+  // Friction's pairs as the last step left them: frozen at x_lag_ from x_n_ with this κ and h.
+  if (friction_ && s.friction_lagged) PetscCall(update_friction_lag(x_lag_));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
@@ -459,6 +466,8 @@ PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
 PetscErrorCode TimeIntegrator::update_friction_lag(Vec x_lag) {
   PetscFunctionBeginUser;
   PetscCall(potential_.prepare_point(x_lag));
+  if (x_lag != x_lag_) PetscCall(VecCopy(x_lag, x_lag_));  // for a checkpoint (resume_state)
+  friction_lagged_ = true;
   std::vector<double> start;
   PetscCall(potential_.with_local(x_n_, [&](const double* xl, std::size_t n) { start.assign(xl, xl + n); }));
   PetscCall(potential_.with_local(x_lag, [&](const double* xl, std::size_t) { friction_->update_lag(xl, start.data()); }));

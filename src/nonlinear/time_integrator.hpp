@@ -83,17 +83,23 @@ class TimeIntegrator {
   PetscErrorCode measure(PhysicalQuantities* q);
 
   // The state beyond positions and velocities that the next step depends on: what a
-  // checkpoint stores and a restart restores (with x and v written into positions() and
-  // velocities()). Friction's lagged pairs are not in it: every step re-freezes them from its
-  // start state x_n (update_friction_lag), so they follow from x.
+  // checkpoint stores and a restart restores. Besides these scalars it is three node fields,
+  // written by the caller into positions(), velocities(), previous_positions() and, when
+  // friction_lagged, friction_lag_positions() before resume(): the next step's κ balances the
+  // barrier against the gradient of the other terms, friction's included, whose pairs are still
+  // those frozen in the last step (at friction_lag_positions(), from previous_positions(), the
+  // start of the last sub-step), so resume() freezes them again from those two fields.
   struct ResumeState {
     double time = 0;
     double step_length = 0;             // h of the last step (forms and Newton's velocity test)
     double kappa = 0;                   // barrier stiffness (contact; never lowered in a run)
     double previous_min_distance2 = -1; // κ's growth test (initialize_barrier_stiffness)
+    bool friction_lagged = false;       // friction pairs were frozen (a step was attempted)
   };
   ResumeState resume_state() const;
-  void resume(const ResumeState& state);
+  PetscErrorCode resume(const ResumeState& state);
+  Vec previous_positions() const { return x_n_; }
+  Vec friction_lag_positions() const { return x_lag_; }  // null without friction
 
   double time() const { return time_; }
   double scene_dt() const { return problem_.dt; }
@@ -149,6 +155,8 @@ class TimeIntegrator {
   std::vector<std::string> form_names_;
   Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
   Vec x_local_ = nullptr;
+  Vec x_lag_ = nullptr;      // where friction's pairs were last frozen (friction runs)
+  bool friction_lagged_ = false;
   bool check_invariants_ = false;
   double previous_min_distance2_ = -1;  // at the start of the previous step (κ update)
   double time_ = 0;

@@ -3,7 +3,12 @@
 // option — and no PETSc error trace — on 1 and 2 ranks.
 #include <gtest/gtest.h>
 
+#include <hdf5.h>
+
 #include <array>
+#include <cstdlib>
+#include <filesystem>
+#include <iterator>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -41,6 +46,57 @@ struct BadInput {
 };
 
 const std::string data_dir = std::string(DIPC_SOURCE_DIR) + "/tests/app/data/";
+
+// Bad checkpoints for -dipc_restart, made before the tests run from a real one (one step of
+// small_box.json): truncated (its first half), corrupt (one byte of /nodes/position's data
+// changed, found with H5Dget_offset), foreign (an HDF5 file without dipc's format attribute,
+// and a file that is not HDF5 at all), mismatched (read with another scene).
+const std::string bad_dir = "bad_checkpoints";
+const std::string good_checkpoint = bad_dir + "/run/dipc.checkpoint.000001.h5";
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+class BadCheckpoints : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    std::filesystem::remove_all(bad_dir);
+    const std::string cmd = std::string(DIPC_BINARY) + " " + data_dir + "small_box.json -dipc_quiet -dipc_steps 1 "
+                            "-dipc_checkpoint_every 1 -dipc_output " + bad_dir + "/run > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string good = read_bytes(good_checkpoint);
+    ASSERT_GT(good.size(), 1000u);
+    write_bytes(bad_dir + "/truncated.h5", good.substr(0, good.size() / 2));
+    // Corrupt: flip one byte of the position data, where HDF5 reads it back without complaint.
+    hid_t file = H5Fopen(good_checkpoint.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t dataset = H5Dopen2(file, "/nodes/position", H5P_DEFAULT);
+    const haddr_t offset = H5Dget_offset(dataset);
+    H5Dclose(dataset);
+    H5Fclose(file);
+    ASSERT_NE(offset, HADDR_UNDEF);
+    std::string corrupt = good;
+    corrupt[offset + 5] = static_cast<char>(corrupt[offset + 5] ^ 0x10);
+    write_bytes(bad_dir + "/corrupt.h5", corrupt);
+    // Foreign: an HDF5 file of someone else's.
+    file = H5Fcreate((bad_dir + "/foreign.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t n = 4;
+    const double values[4] = {1, 2, 3, 4};
+    hid_t space = H5Screate_simple(1, &n, nullptr);
+    dataset = H5Dcreate2(file, "values", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values);
+    H5Dclose(dataset);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
+};
+
+[[maybe_unused]] ::testing::Environment* const bad_checkpoints = ::testing::AddGlobalTestEnvironment(new BadCheckpoints);
 
 class InputErrors : public ::testing::TestWithParam<std::tuple<BadInput, int>> {};
 
@@ -91,7 +147,22 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"missing_options_file", "small_box.json", "-options_file " + data_dir + "none.opts",
                      {"-options_file", "none.opts: no such file"}},
             BadInput{"missing_nested_options_file", "small_box.json", "-options_file " + data_dir + "missing_nested.opts",
-                     {"does_not_exist.opts (named in", "missing_nested.opts): no such file"}}),
+                     {"does_not_exist.opts (named in", "missing_nested.opts): no such file"}},
+            BadInput{"zero_checkpoint_every", "small_box.json", "-dipc_checkpoint_every 0", {"-dipc_checkpoint_every 0"}},
+            BadInput{"negative_checkpoint_minutes", "small_box.json", "-dipc_checkpoint_minutes -1",
+                     {"-dipc_checkpoint_minutes -1", "must be > 0"}},
+            BadInput{"missing_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/none.h5",
+                     {"none.h5", "does not exist"}},
+            BadInput{"truncated_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/truncated.h5",
+                     {"truncated.h5", "is truncated"}},
+            BadInput{"corrupt_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/corrupt.h5",
+                     {"corrupt.h5", "is corrupt", "/nodes/position", "checksum"}},
+            BadInput{"foreign_hdf5_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/foreign.h5",
+                     {"foreign.h5", "not a dipc checkpoint"}},
+            BadInput{"not_hdf5_checkpoint", "small_box.json", "-dipc_restart " + data_dir + "small_box.json",
+                     {"small_box.json", "not an HDF5 file", "not a dipc checkpoint"}},
+            BadInput{"mismatched_checkpoint", "small_box.json", "-dipc_refine 2 -dipc_restart " + good_checkpoint,
+                     {"dipc.checkpoint.000001.h5", "another scene or mesh"}}),
         ::testing::Values(1, 2)),
     [](const auto& info) {
       return std::string(std::get<0>(info.param).name) + "_np" + std::to_string(std::get<1>(info.param));
@@ -144,7 +215,8 @@ TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
 TEST(Options, HelpListsDipcOptions) {
   const Outcome o = run_dipc("cube_good.json", "-help");
   EXPECT_EQ(o.status, 0) << o.output;
-  for (const char* opt : {"-dipc_velocity_tol", "-dipc_steps", "-dipc_output", "-snes_type", "-ksp_type"})
+  for (const char* opt : {"-dipc_velocity_tol", "-dipc_steps", "-dipc_output", "-dipc_checkpoint_every",
+                          "-dipc_checkpoint_minutes", "-dipc_restart", "-snes_type", "-ksp_type"})
     EXPECT_NE(o.output.find(opt), std::string::npos) << opt;
   EXPECT_EQ(o.output.find("step     1"), std::string::npos) << "-help must not run steps";
 }
