@@ -4,7 +4,8 @@
 # directory), then:
 #   1. runs the default scene on 2 ranks through the job script, uninterrupted (the reference);
 #   2. submits the same job under another name and, once it has written a checkpoint,
-#      requeues it with `scontrol requeue` (Slurm kills the ranks; the job resumes from the
+#      requeues it with `scontrol requeue` (Slurm sends TERM to the job and SIGKILL KillWait
+#      seconds later; the ranks checkpoint if they can in between; the job resumes from the
 #      newest complete checkpoint);
 #   3. once the resumed run has gone on, sends USR1 to the batch shell
 #      (`scancel --signal=USR1 --batch`, what `--signal=B:USR1@margin` sends before a time
@@ -14,14 +15,17 @@
 #      written step of the interrupted job (HDF5, XDMF, stats.csv) equals the reference's;
 #   5. runs jobs/dipc_gpu.slurm on this CPU node with the user's -dipc_backend cpu and an empty
 #      DIPC_DEVICE_OPTS (the user's options win, the device options are cleared) and, where no
-#      nvidia-smi is installed, once without GPUs (refused with a message, exit 1).
+#      nvidia-smi is installed, once without GPUs (refused with a message, exit 1);
+#   6. with DIPC_SLURM_TEST_TIME_LIMIT=1, runs a job into its time limit: Slurm's own
+#      --signal=B:USR1 leads to checkpoint, exit 4, requeue and resume.
 #
 #   tests/slurm/run_slurm_requeue_test.sh build/src/app/dipc
 #
 # Needs root: installs slurm-wlm, munge, python3-h5py and python3-numpy with apt-get where
 # missing (without starting Debian's services), and starts its own daemons, which it stops on
 # exit. Exit status 0 passed, 1 failed, 77 cannot run here (not root, fewer than 2 CPUs).
-# DIPC_SLURM_TEST_KEEP=1 keeps the temporary directory (logs, outputs) for inspection.
+# DIPC_SLURM_TEST_KEEP=1 keeps the temporary directory (logs, outputs) for inspection;
+# DIPC_SLURM_TEST_TIME_LIMIT=1 adds phase 6 (1-2 minutes more).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -193,6 +197,15 @@ wait_for() {
 }
 job_done() { [[ $(job_field "$1" JobState) =~ ^(COMPLETED|FAILED|CANCELLED|TIMEOUT|NODE_FAIL|OUT_OF_MEMORY)$ ]]; }
 running_with_restarts() { [[ $(job_field "$1" JobState) == RUNNING && $(job_field "$1" Restarts) == "$2" ]]; }
+# Like running_with_restarts, but a job that ended instead of being requeued fails at once.
+running_again() {
+  running_with_restarts "$1" "$2" && return 0
+  if job_done "$1"; then
+    say "FAIL: job $1 ended ($(job_field "$1" JobState), exit code $(job_field "$1" ExitCode)) instead of running again"
+    exit 1
+  fi
+  return 1
+}
 checkpoint_at_least() { (($(newest_checkpoint "$1") >= $2)); }
 
 # The job environment: the reference and the interrupted job alike. Open MPI polls while it
@@ -221,14 +234,14 @@ scontrol requeue "$job"
 say "requeued job $job (newest checkpoint: step $before_requeue)"
 
 # --- 3. USR1 to the batch shell of the second run ---------------------------------------------
-wait_for 300 "job $job to run again" running_with_restarts "$job" 1
+wait_for 300 "job $job to run again" running_again "$job" 1
 wait_for 300 "the resumed job $job to checkpoint beyond step $before_requeue" \
   checkpoint_at_least interrupted $((before_requeue + 2 * every))
 before_signal=$(newest_checkpoint interrupted)
 ((before_signal < steps)) || { say "FAIL: the run ended before the signal; this machine is too fast for $steps steps"; exit 1; }
 scancel --signal=USR1 --batch "$job"
 say "sent USR1 to the batch shell of job $job (newest checkpoint: step $before_signal)"
-wait_for 300 "job $job to run a third time" running_with_restarts "$job" 2
+wait_for 300 "job $job to run a third time" running_again "$job" 2
 wait_for 600 "job $job to end" job_done "$job"
 say "job $job ended: $(job_field "$job" JobState), exit code $(job_field "$job" ExitCode), restarts $(job_field "$job" Restarts), $((SECONDS - t0)) s"
 
@@ -299,6 +312,31 @@ if ! command -v nvidia-smi >/dev/null; then
   wait_for 120 "the GPU script's job $nogpu_job" job_done "$nogpu_job"
   check "GPU script without GPUs: exit 1 and a message naming the sbatch options" bash -c \
     "[[ '$(job_field "$nogpu_job" ExitCode)' == 1:0 ]] && grep -q 'no GPU in this job: submit with --gpus-per-node' '$work/submit/dipc-no_gpu-$nogpu_job.out'"
+fi
+
+# --- 6. optional: the time-limit signal itself ----------------------------------------------------
+# DIPC_SLURM_TEST_TIME_LIMIT=1: a job with --time=2 and --signal=B:USR1@45 (in place of the
+# script's 300 s margin) must get USR1 from Slurm before its time limit, write a checkpoint,
+# exit 4, requeue itself and resume from that checkpoint. slurmctld looks at time limits every
+# 30 s and sends the signal once margin + 30 s are left: here 45-75 s after the start (with
+# --time=1 it came at once, before dipc had its handler: status 138). Off by default: it takes
+# 1-2 minutes however fast the machine is.
+if [[ ${DIPC_SLURM_TEST_TIME_LIMIT:-0} == 1 ]]; then
+  limit_job=$(sbatch --parsable -J time_limit --ntasks=2 --time=2 --signal=B:USR1@45 "$script" \
+    -dipc_steps 100000 -dipc_checkpoint_every 1000)
+  submitted+=("$limit_job")
+  limit_log=$work/submit/dipc-time_limit-$limit_job.out
+  wait_for 300 "job $limit_job to be requeued at its time limit and run again" running_again "$limit_job" 1
+  wait_for 120 "the requeued job $limit_job to resume" grep -q '^dipc: restarting from' "$limit_log"
+  scancel "$limit_job"
+  limit_section=$(awk '/run 1 .*got USR1/ {on = 1} on {print} /run 1 .*requeueing the job/ {exit}' "$limit_log")
+  stopped_at=$(sed -n 's/^dipc: stopped on signal 10 after step \([0-9]*\);.*/\1/p' <<<"$limit_section")
+  resumed_at=$(sed -n 's/^dipc: restarting from .*: step \([0-9]*\),.*/\1/p' "$limit_log" | head -n 1)
+  check "time limit: Slurm's USR1 reached the batch shell, dipc stopped after step ${stopped_at:-none}, the script requeued the job" \
+    bash -c "[[ -n '$stopped_at' ]] && grep -q 'requeueing the job' <<<'$limit_section'"
+  check "time limit: run 2 resumed from that step (${resumed_at:-none})" test "${resumed_at:-x}" == "${stopped_at:-y}"
+  echo "----- job log $limit_log (without the step lines)"
+  grep -v '^step ' "$limit_log"
 fi
 
 echo "----- job log $log"
