@@ -7,10 +7,10 @@
 #      requeues it with `scontrol requeue` (Slurm sends TERM to the job and SIGKILL KillWait
 #      seconds later; the ranks checkpoint if they can in between; the job resumes from the
 #      newest complete checkpoint);
-#   3. once the resumed run has gone on, sends USR1 to the batch shell
+#   3. once the resumed run has gone on, sends USR1 to the batch shell twice
 #      (`scancel --signal=USR1 --batch`, what `--signal=B:USR1@margin` sends before a time
-#      limit): the script forwards it, dipc writes a checkpoint and exits 4, the script requeues
-#      the job, and the third run resumes from that checkpoint and finishes;
+#      limit): the script forwards the first only, dipc writes a checkpoint and exits 4, the
+#      script requeues the job, and the third run resumes from that checkpoint and finishes;
 #   4. checks the log for each of these, and with tests/slurm/compare_outputs.py that every
 #      written step of the interrupted job (HDF5, XDMF, stats.csv) equals the reference's;
 #   5. runs jobs/dipc_gpu.slurm on this CPU node with the user's -dipc_backend cpu and an empty
@@ -240,7 +240,10 @@ wait_for 300 "the resumed job $job to checkpoint beyond step $before_requeue" \
 before_signal=$(newest_checkpoint interrupted)
 ((before_signal < steps)) || { say "FAIL: the run ended before the signal; this machine is too fast for $steps steps"; exit 1; }
 scancel --signal=USR1 --batch "$job"
-say "sent USR1 to the batch shell of job $job (newest checkpoint: step $before_signal)"
+# A second USR1 right behind it (as when the time limit's follows the user's own): the script
+# must not pass it on, or dipc would exit at once without its checkpoint.
+scancel --signal=USR1 --batch "$job"
+say "sent USR1 twice to the batch shell of job $job (newest checkpoint: step $before_signal)"
 wait_for 300 "job $job to run a third time" running_again "$job" 2
 wait_for 600 "job $job to end" job_done "$job"
 say "job $job ended: $(job_field "$job" JobState), exit code $(job_field "$job" ExitCode), restarts $(job_field "$job" Restarts), $((SECONDS - t0)) s"
@@ -264,7 +267,8 @@ check "run 2 resumed from the newest checkpoint before the requeue (step ${first
 # Run 2's lines from the forwarded signal to the requeue.
 signal_section=$(awk '/run 2 .*got USR1/ {on = 1} on {print} /run 2 .*requeueing the job/ {exit}' "$log")
 section_has() { grep -Eq "$1" <<<"$signal_section"; }
-check "run 2: the batch shell forwarded USR1" section_has 'got USR1'
+check "run 2: the batch shell forwarded USR1" section_has 'got USR1: asking dipc'
+check "run 2: the batch shell did not pass the second USR1 on" section_has 'got USR1 again: dipc is already stopping'
 # srun reports the tasks' exit codes ("tasks 0-1: Exited with exit code 4", or one line per
 # task): every rank must have ended with 4, none at once (128 + signal) on a second signal.
 task_codes() { grep -o 'Exited with exit code [0-9]*' <<<"$signal_section" | awk '{print $5}' | sort -u | tr '\n' ' '; }
