@@ -51,7 +51,7 @@ std::uint64_t scene_fingerprint(const Scene& scene, const HexMesh& mesh) {
   h.value(mesh.hexes.size());
   h.bytes(mesh.hexes.data(), mesh.hexes.size() * sizeof(mesh.hexes[0]));
   h.bytes(mesh.body.data(), mesh.body.size() * sizeof(int));
-  for (const Material& m : scene.materials) h.value(m.E), h.value(m.nu), h.value(m.rho);
+  for (const Material& m : scene.materials) h.value(m.E), h.value(m.nu), h.value(m.rho), h.value(m.mean_dilatation);
   for (const Body& b : scene.bodies) {
     h.text(b.name);
     h.value(b.initial_velocity), h.value(b.initial_angular_velocity), h.value(b.spin_center);

@@ -12,6 +12,13 @@ DeviceElementData::DeviceElementData(const ElementData& elements) : num_elements
   reference_.upload(elements.reference);
   lambda_.upload(elements.lambda);
   mu_.upload(elements.mu);
+  // Uploaded only when some element is not the standard one: the kernels take the plain
+  // variant when block().volumetric is null.
+  for (VolumetricTerm t : elements.volumetric)
+    if (t != VolumetricTerm::gauss_points) {
+      volumetric_.upload(elements.volumetric);
+      break;
+    }
 }
 
 ElementBlock DeviceElementData::block() const {
@@ -21,11 +28,12 @@ ElementBlock DeviceElementData::block() const {
   b.reference = reference_.data();
   b.lambda = lambda_.data();
   b.mu = mu_.data();
+  b.volumetric = volumetric_.size() ? volumetric_.data() : nullptr;
   return b;
 }
 
 std::size_t DeviceElementData::bytes() const {
-  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes();
+  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes() + volumetric_.bytes();
 }
 
 // ---- elastic ------------------------------------------------------------------------------

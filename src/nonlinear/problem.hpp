@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "assembly/hex8_mean_dilatation.hpp"
 #include "nonlinear/contact_parameters.hpp"
 
 namespace dipc {
 
 struct BodyMaterial {
   double lambda = 0, mu = 0, rho = 0;  // Lamé parameters [Pa] and density [kg/m³]
+  VolumetricTerm volumetric = VolumetricTerm::gauss_points;
 };
 
 // Where a Dirichlet node is at time t, given its position X at t = 0.

@@ -3,9 +3,11 @@
 // single process — finishes the step it is in, writes a checkpoint, says how to resume and
 // exits with status 4; `-dipc_restart auto` then continues from that checkpoint and the stats
 // table holds every step once. A second signal while the first is pending ends the process at
-// once (status 128 + signo). `-dipc_restart auto` with no checkpoint starts from step 0.
+// once (status 128 + signo). `-dipc_restart auto` with no checkpoint starts from step 0;
+// -dipc_checkpoint_minutes writes checkpoints by rank 0's clock, and the newest two are kept.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -90,6 +92,23 @@ TEST(StopSignal, SecondSignalExitsAtOnce) {
   // comes while the first waits for the end of the step.
   const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.2; kill -TERM $pid", "-dipc_refine 8");
   EXPECT_EQ(o.status, 128 + 15) << o.output;
+}
+
+// -dipc_checkpoint_minutes (rank 0's clock, broadcast): with a rule shorter than any step, a
+// checkpoint at every step boundary on both ranks alike; the newest two are kept.
+TEST(Checkpoints, WallClockRuleAndTheNewestTwoKept) {
+  std::filesystem::remove_all("checkpoint_minutes");
+  const Outcome o = shell(launcher(2) + DIPC_BINARY + " " + scene +
+                          " -dipc_steps 4 -dipc_checkpoint_minutes 1e-9 -dipc_output checkpoint_minutes");
+  EXPECT_EQ(o.status, 0) << o.output;
+  for (int k = 1; k <= 4; ++k)
+    EXPECT_NE(o.output.find("checkpoint: step " + std::to_string(k) + " written"), std::string::npos) << o.output;
+  std::vector<std::string> kept;
+  for (const auto& entry : std::filesystem::directory_iterator("checkpoint_minutes"))
+    if (entry.path().filename().string().find(".checkpoint.") != std::string::npos)
+      kept.push_back(entry.path().filename().string());
+  std::sort(kept.begin(), kept.end());
+  EXPECT_EQ(kept, (std::vector<std::string>{"dipc.checkpoint.000003.h5", "dipc.checkpoint.000004.h5"}));
 }
 
 TEST(StopSignal, AutoRestartWithoutCheckpointStartsFresh) {

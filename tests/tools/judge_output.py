@@ -18,9 +18,10 @@ det J and det F) and exits 1 on any violation, 2 on unreadable input.
     judge_output.py OUTPUT.h5 SCENE.json [--ids-from ONE_RANK.h5] [--cutoff LENGTH]
 
 Quads are split as dipc splits them, along the diagonal through the smallest input node id.
-A 1-rank run's file numbers nodes by input id; a run on more ranks numbers them by partition,
-so pass --ids-from with a 1-rank file of the same scene to recover the input ids (nodes are
-matched by reference coordinates). Without it the file's ids are taken, which can split a
+dipc's files number nodes by input id on any rank count; files written by dipc before
+checkpoints (issue 13) numbered them by partition on more than one rank: for those pass
+--ids-from with a 1-rank file of the same scene to recover the input ids (nodes are matched by
+reference coordinates). Without it the file's ids are taken, which can split a
 non-planar quad along the other diagonal: a difference of the order of the quad's warp.
 """
 import argparse
