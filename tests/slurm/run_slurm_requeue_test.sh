@@ -97,7 +97,15 @@ cleanup() {
   fi
   for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-  if [[ -f $work/munged.pid ]]; then kill "$(cat "$work/munged.pid")" 2>/dev/null || true; fi
+  if [[ -f $work/munged.pid ]]; then
+    local munged_pid
+    munged_pid=$(cat "$work/munged.pid")
+    kill "$munged_pid" 2>/dev/null || true
+    for _ in $(seq 1 50); do
+      kill -0 "$munged_pid" 2>/dev/null || break
+      sleep 0.1
+    done
+  fi
   if [[ ${DIPC_SLURM_TEST_KEEP:-0} == 1 ]]; then
     say "kept $work"
   else
