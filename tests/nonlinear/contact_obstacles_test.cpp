@@ -263,3 +263,29 @@ TEST(ContactObstacles, CcdStepNeverCrossesAnObstacleOnAPath) {
 
 }  // namespace
 }  // namespace dipc
+
+namespace dipc {
+namespace {
+
+// Path motion: piecewise linear through the keyframes, the right-hand slope as velocity, held
+// after the last keyframe.
+TEST(PrescribedMotionPath, InterpolatesAndHolds) {
+  PrescribedMotion m;
+  m.kind = PrescribedMotion::Kind::Path;
+  m.path = {{0, 0, 0, 0}, {0.5, 1, 0, 0}, {1.5, 1, 2, 0}};
+  const std::array<double, 3> X{1, 1, 1};
+  auto expect_near = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-15) << c;
+  };
+  expect_near(m.position(X, 0.0), {1, 1, 1});
+  expect_near(m.position(X, 0.25), {1.5, 1, 1});
+  expect_near(m.position(X, 0.5), {2, 1, 1});
+  expect_near(m.position(X, 1.0), {2, 2, 1});
+  expect_near(m.position(X, 9.0), {2, 3, 1});
+  expect_near(m.velocity_at(X, 0.0), {2, 0, 0});
+  expect_near(m.velocity_at(X, 0.5), {0, 2, 0});
+  expect_near(m.velocity_at(X, 1.5), {0, 0, 0});
+}
+
+}  // namespace
+}  // namespace dipc
