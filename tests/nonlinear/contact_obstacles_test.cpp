@@ -5,6 +5,8 @@
 // and whose slopes lie under its bottom vertices (body vertex–obstacle triangle pairs).
 //  - barrier gradient and (unprojected) Hessian against finite differences, every pair kind
 //    present; the projected Hessian symmetric PSD; only body rows and columns;
+//  - lagged friction with a sliding obstacle: the obstacle's motion alone drags the body, and
+//    barrier + friction match finite differences;
 //  - the same energy and gradient on every rank count;
 //  - CCD conformance: the body and an obstacle (static, moving at a velocity, or along the
 //    second piece of a path) approach each other; the full step would cross, the step CCD
@@ -18,6 +20,7 @@
 
 #include "mesh/box_generator.hpp"
 #include "nonlinear/contact_form.hpp"
+#include "nonlinear/friction_form.hpp"
 #include "nonlinear/incremental_potential.hpp"
 
 namespace dipc {
@@ -59,12 +62,20 @@ struct ObstacleFixture {
   ContactForm* contact = nullptr;
   Mat H = nullptr;
 
-  ObstacleFixture(ContactParameters params, MPI_Comm comm = PETSC_COMM_WORLD) {
+  FrictionForm* friction = nullptr;
+
+  // With mu > 0 also lagged friction (ε_v = 1e-3, h = 0.01).
+  ObstacleFixture(ContactParameters params, MPI_Comm comm = PETSC_COMM_WORLD, double mu = 0) {
     mesh = distribute_mesh(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0.21, 0.17, 0.3}, 0, "box"), comm);
     auto form = std::make_unique<ContactForm>(mesh, params);
     contact = form.get();
     std::vector<std::unique_ptr<Form>> forms;
     forms.push_back(std::move(form));
+    if (mu > 0) {
+      auto f = std::make_unique<FrictionForm>(*contact, mu, 1e-3, 0.01);
+      friction = f.get();
+      forms.push_back(std::move(f));
+    }
     EXPECT_EQ(potential.setup(mesh, std::move(forms), std::vector<char>(3 * mesh.num_local_nodes(), 0)), 0);
     EXPECT_EQ(potential.create_matrix(&H), 0);
   }
@@ -140,6 +151,82 @@ TEST(ContactObstacles, GradientAndExactHessianMatchDifferences) {
   VecNorm(gp, NORM_INFINITY, &diff);
   EXPECT_LT(diff, 1e-4 * ref);
   for (Vec* v : {&x, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDestroy(v);
+}
+
+// The roof slides along x at 0.05 m/s; friction is lagged at the step's start x_start with the
+// roof at t = 0 and evaluated with the roof at t = h = 0.01.
+TEST(ContactObstacles, FrictionAgainstASlidingObstacleMatchesDifferences) {
+  PrescribedMotion slide;
+  slide.kind = PrescribedMotion::Kind::Velocity;
+  slide.velocity = {0.05, 0.02, 0};
+  ContactParameters params = obstacle_parameters(slide);
+  params.project_hessian = false;
+  ObstacleFixture f(params, PETSC_COMM_WORLD, 0.5);
+  Vec x_start, x, d, g, gp, gm, Hd, w, twice;
+  f.potential.create_global_vec(&x);
+  for (Vec* v : {&x_start, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDuplicate(x, v);
+  f.fill(x_start, 3e-3, 1, true);
+  f.contact->start_obstacle_step(0.0);
+  ASSERT_EQ(f.potential.prepare_point(x_start), 0);
+  f.potential.with_local(x_start, [&](const double* xl, std::size_t) { f.friction->update_lag(xl, xl); });
+  long pairs = static_cast<long>(f.friction->num_pairs()), total = 0;
+  MPI_Allreduce(&pairs, &total, 1, MPI_LONG, MPI_SUM, f.mesh.comm);
+  EXPECT_GT(total, 0) << "no friction pair";
+  f.contact->move_obstacles(0.01, 0.01);
+
+  // The body has not moved: only the obstacle's sliding makes a friction force, along +x, +y.
+  ASSERT_EQ(f.potential.prepare_point(x_start), 0);
+  const Form* friction = f.friction;
+  ASSERT_EQ(f.potential.partial_gradient(x_start, g, [friction](const Form& form) { return &form == friction; }), 0);
+  PetscReal sum_x = 0, sum_y = 0;
+  {
+    const PetscScalar* a;
+    VecGetArrayRead(g, &a);
+    PetscInt n;
+    VecGetLocalSize(g, &n);
+    double local[2] = {0, 0};
+    for (PetscInt i = 0; i < n; i += 3) local[0] += a[i], local[1] += a[i + 1];
+    VecRestoreArrayRead(g, &a);
+    double all[2];
+    MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, f.mesh.comm);
+    sum_x = all[0], sum_y = all[1];
+  }
+  // ∂D/∂x points against the body's motion relative to the obstacle, i.e. along the obstacle's
+  // velocity with a minus sign: the force −∂D/∂x drags the body along +x, +y.
+  EXPECT_LT(sum_x, 0);
+  EXPECT_LT(sum_y, 0);
+
+  f.fill(x, 2e-4, 7, false);
+  VecAXPY(x, 1.0, x_start);
+  f.fill(d, 1.0, 3, false);
+  const double eps = 1e-8;
+  VecWAXPY(w, -eps, d, x);
+  VecCopy(d, twice);
+  VecScale(twice, 2 * eps);
+  PetscReal alpha;
+  ASSERT_EQ(f.potential.max_step(w, twice, &alpha), 0);
+  PetscReal Ep, Em, gd;
+  VecWAXPY(w, eps, d, x);
+  f.potential.objective(w, &Ep);
+  VecWAXPY(w, -eps, d, x);
+  f.potential.objective(w, &Em);
+  f.potential.gradient(x, g);
+  VecDot(g, d, &gd);
+  EXPECT_NEAR((Ep - Em) / (2 * eps), gd, 1e-5 * std::abs(gd));
+  VecWAXPY(w, eps, d, x);
+  f.potential.gradient(w, gp);
+  VecWAXPY(w, -eps, d, x);
+  f.potential.gradient(w, gm);
+  VecAXPY(gp, -1.0, gm);
+  VecScale(gp, 1.0 / (2 * eps));
+  f.potential.hessian(x, f.H);
+  MatMult(f.H, d, Hd);
+  PetscReal diff, ref;
+  VecNorm(Hd, NORM_INFINITY, &ref);
+  VecAXPY(gp, -1.0, Hd);
+  VecNorm(gp, NORM_INFINITY, &diff);
+  EXPECT_LT(diff, 1e-4 * ref);
+  for (Vec* v : {&x_start, &x, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDestroy(v);
 }
 
 TEST(ContactObstacles, ProjectedHessianIsSymmetricPositiveSemidefinite) {
