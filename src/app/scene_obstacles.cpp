@@ -31,6 +31,8 @@ void read_obstacle(const Scene& scene, const Obstacle& o, ContactParameters::Obs
                        " is not finite once scaled and translated");
     out->rest.push_back(X);
   }
+  out->triangle_origin = surface.triangle_origin;
+  out->binary_origin = surface.binary;
   for (const Triangle& t : surface.triangles)
     out->triangles.push_back({static_cast<std::int32_t>(t[0]), static_cast<std::int32_t>(t[1]),
                               static_cast<std::int32_t>(t[2])});
@@ -67,6 +69,11 @@ std::vector<ContactParameters::Obstacle> load_scene_obstacles(const Scene& scene
     out.triangles.resize(counts[1]);
     MPI_Bcast(out.rest.data(), static_cast<int>(3 * counts[0]), MPI_DOUBLE, 0, comm);
     MPI_Bcast(out.triangles.data(), static_cast<int>(3 * counts[1]), MPI_INT32_T, 0, comm);
+    out.triangle_origin.resize(counts[1]);
+    MPI_Bcast(out.triangle_origin.data(), static_cast<int>(counts[1]), MPI_INT64_T, 0, comm);
+    int binary = out.binary_origin ? 1 : 0;
+    MPI_Bcast(&binary, 1, MPI_INT, 0, comm);
+    out.binary_origin = binary != 0;
   }
   return obstacles;
 }

@@ -736,8 +736,12 @@ std::string ContactForm::obstacle_vertex_label(std::int32_t v) const {
 
 std::string ContactForm::obstacle_face_label(std::int32_t f) const {
   const int o = obstacles_.face_obstacle[f];
-  return "triangle " + std::to_string(f - obstacles_.first_face[o]) + " of obstacle \"" +
-         parameters_.obstacles[o].name + "\" (" + parameters_.obstacles[o].source + ")";
+  const auto& ob = parameters_.obstacles[o];
+  const std::size_t t = static_cast<std::size_t>(f - obstacles_.first_face[o]);
+  std::string where = ob.source;
+  if (t < ob.triangle_origin.size())
+    where += (ob.binary_origin ? ": facet " : ":") + std::to_string(ob.triangle_origin[t]);
+  return "triangle " + std::to_string(t) + " of obstacle \"" + ob.name + "\" (" + where + ")";
 }
 
 std::string ContactForm::obstacle_edge_label(std::int32_t e) const {

@@ -121,7 +121,6 @@ class ContactForm : public Form {
     move_obstacles(t, t);
     obstacles_.mark_step_start();
   }
-  bool has_obstacles() const { return !obstacles_.empty(); }
   // Position of an ext-local node in x, or of an obstacle node (at t1).
   const double* position(const double* x, std::int32_t node) const {
     return is_obstacle_node(node) ? obstacles_.end(obstacle_vertex(node)) : x + 3 * static_cast<std::size_t>(node);
@@ -226,8 +225,8 @@ class ContactForm : public Form {
   // Candidate pairs this rank evaluates: (vertex node, face index), (edge index, edge index).
   std::vector<std::array<std::int32_t, 2>> vertex_face_, edge_edge_;
   std::vector<std::array<std::int32_t, 2>> vertex_plane_;  // (vertex node, plane), all of them, fixed
-  // Candidate pairs with obstacles: (vertex node, obstacle face), (edge index, obstacle edge),
-  // (obstacle vertex, face index).
+  // The triangle-mesh obstacles, and the candidate pairs with them: (vertex node, obstacle face),
+  // (edge index, obstacle edge), (obstacle vertex, face index).
   ObstacleSurface obstacles_;
   std::vector<std::array<std::int32_t, 2>> vertex_obstacle_face_, edge_obstacle_edge_, obstacle_vertex_face_;
   // Active pairs at the last update_pattern (their order defines the COO pattern).

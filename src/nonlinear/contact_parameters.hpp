@@ -25,6 +25,10 @@ struct ContactParameters {
     std::string source;  // the file it was read from
     std::vector<std::array<double, 3>> rest;
     std::vector<std::array<std::int32_t, 3>> triangles;
+    // Where each triangle is in the file, for messages: its face's line (OBJ, ASCII STL) or,
+    // with binary_origin, its facet index (binary STL); empty when not read from a file.
+    std::vector<std::int64_t> triangle_origin;
+    bool binary_origin = false;
     PrescribedMotion motion;
   };
   std::vector<Obstacle> obstacles;

@@ -81,7 +81,7 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"obstacle_nan", "obstacle_nan.json", "",
                      {"contact.obstacles[0].mesh", "obstacle_nan.obj:4:", "non-finite"}},
             BadInput{"obstacle_crossing", "obstacle_crossing.json", "",
-                     {"not intersection-free", "crosses triangle", "of obstacle \"floor\"", "\"cube\""}},
+                     {"not intersection-free", "crosses triangle", "of obstacle \"floor\" (", "obstacle_floor.obj:", "\"cube\""}},
             BadInput{"obstacle_on_cuda", "obstacle_floor.json", "-dipc_backend cuda",
                      {"-dipc_backend cuda", "obstacles", "CPU only"}},
             BadInput{"negative_steps", "small_box.json", "-dipc_steps -1", {"-dipc_steps -1"}},
