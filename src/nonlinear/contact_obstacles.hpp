@@ -5,10 +5,13 @@
 // pair of an obstacle primitive with a body primitive is evaluated by the rank that owns the body
 // primitive: body vertex–obstacle triangle by the vertex's owner, body edge–obstacle edge by the
 // edge's owner, obstacle vertex–body triangle by the triangle's owner. Each body primitive is
-// owned once (partition/contact_surface.hpp), so each pair is counted once, no obstacle data
-// travels between ranks, and a rank's work is that of its own surface: the broad phase only takes
-// the obstacle primitives near the rank's surface (near()). The cost is the obstacle's memory on
-// every rank (tens of bytes per triangle), small next to a body mesh of the same resolution.
+// owned once (partition/contact_surface.hpp), so each pair is counted once and no obstacle data
+// travels between ranks. A rank's pair work is that of its own surface: its broad phase takes
+// only the obstacle primitives near the rank's swept surface box (near()), found by one linear
+// pass over the obstacle per search. The costs that grow with the obstacle rather than with the
+// rank's share are that pass and the obstacle's memory on every rank (about 150 bytes per
+// triangle): fine for floors, funnels and rollers of up to a few 10⁵ triangles; an obstacle far
+// larger would want its own BVH (or a partition by space) instead.
 //
 // Node ids. ContactForm's pairs name body nodes by ext-local id (>= 0); obstacle vertex k is
 // named -2 - k (obstacle_node), so -1 keeps meaning "unused slot". Obstacle nodes have no
