@@ -44,7 +44,7 @@ PCS = {
 }
 
 DROP = """{
-  "materials": [{"name": "rubber", "E": 1e6, "nu": NU, "rho": 1000}],
+  "materials": [{"name": "rubber", "E": 1e6, "nu": NU, "rho": 1000, "volumetric": "VOL"}],
   "geometry": [{"name": "block",
      "box": {"size": [0.2, 0.2, 0.2], "resolution": [10, 10, 10], "origin": [-0.1, -0.1, 0.002]},
      "material": "rubber", "initial_velocity": [0, 0, -1]}],
@@ -58,7 +58,7 @@ DROP = """{
 """
 
 SQUEEZE = """{
-  "materials": [{"name": "rubber", "E": 1e6, "nu": NU, "rho": 1000}],
+  "materials": [{"name": "rubber", "E": 1e6, "nu": NU, "rho": 1000, "volumetric": "VOL"}],
   "geometry": [{"name": "block",
      "box": {"size": [0.1, 0.1, 0.1], "resolution": [8, 8, 8], "origin": [-0.05, -0.05, 0.0005]},
      "material": "rubber"}],
@@ -110,12 +110,14 @@ def plot(rows, path):
     keys = sorted({(r["scene"], int(r["ranks"])) for r in rows})
     fig, axes = plt.subplots(1, len(keys), figsize=(4.5 * len(keys), 4), squeeze=False)
     for ax, (scene, ranks) in zip(axes[0], keys):
-        for pc in dict.fromkeys(r["pc"] for r in rows):
+        for vol, pc in dict.fromkeys((r.get("volumetric", "gauss_points"), r["pc"]) for r in rows):
             pts = sorted((float(r["nu"]), int(r["ksp_its"])) for r in rows
-                         if r["scene"] == scene and int(r["ranks"]) == ranks and r["pc"] == pc and r["status"] == "ok")
+                         if r["scene"] == scene and int(r["ranks"]) == ranks and r["pc"] == pc
+                         and r.get("volumetric", "gauss_points") == vol and r["status"] == "ok")
             if pts:
                 # nu on a log scale of (0.5 - nu): 0.3, 0.45, 0.49, 0.499, 0.4999 spread evenly
-                ax.plot([0.5 - n for n, _ in pts], [k for _, k in pts], marker="o", label=pc)
+                ax.plot([0.5 - n for n, _ in pts], [k for _, k in pts], marker="o", label=f"{vol}, {pc}",
+                        linestyle="-" if vol == "gauss_points" else "--")
         ax.set_xscale("log")
         ax.invert_xaxis()
         ax.set_yscale("log")
@@ -135,13 +137,15 @@ def main():
     ap.add_argument("--nu", default="0,0.3,0.45,0.49,0.499,0.4999")
     ap.add_argument("--pcs", default="theta0.5,theta0.8,nodal_theta0.8,default")
     ap.add_argument("--scenes", default="drop,squeeze")
+    ap.add_argument("--volumetric", default="gauss_points,mean_dilatation",
+                    help="element kinds (scene key materials[].volumetric)")
     ap.add_argument("--out", default="bench/results")
     ap.add_argument("--csv-name", default="incompressible.csv")
     ap.add_argument("--timeout", type=float, default=300)
     ap.add_argument("--plot-only", action="store_true", help="redraw the PNG from the CSV")
     a = ap.parse_args()
     csv_path = os.path.join(a.out, a.csv_name)
-    fields = ["scene", "ranks", "pc", "nu", "steps", "newton_its", "ksp_its", "wall_s", "status", "options"]
+    fields = ["scene", "ranks", "volumetric", "pc", "nu", "steps", "newton_its", "ksp_its", "wall_s", "status", "options"]
     if not a.plot_only:
         os.makedirs(a.out, exist_ok=True)
         rows = []
@@ -149,20 +153,22 @@ def main():
             w = csv.DictWriter(f, fieldnames=fields)
             w.writeheader()
             for scene in a.scenes.split(","):
-                for nu in a.nu.split(","):
-                    path = os.path.join(tmp, f"{scene}_{nu}.json")
-                    with open(path, "w") as s:
-                        s.write(SCENES[scene].replace("NU", nu))
-                    for ranks in [int(r) for r in a.ranks.split(",")]:
-                        for pc in a.pcs.split(","):
-                            steps, newton, ksp, wall, status, cmd = run(a.dipc, ranks, path, PCS[pc], a.timeout)
-                            r = dict(scene=scene, ranks=ranks, pc=pc, nu=nu, steps=steps, newton_its=newton,
-                                     ksp_its=ksp, wall_s=wall, status=status, options=" ".join(PCS[pc]))
-                            print(f"{scene:8s} np{ranks} {pc:15s} nu={nu:7s} steps {steps:3d} newton {newton:4d} "
-                                  f"ksp {ksp:6d} wall {wall:7.2f} {status}", flush=True)
-                            w.writerow(r)
-                            f.flush()
-                            rows.append(r)
+                for vol in a.volumetric.split(","):
+                    for nu in a.nu.split(","):
+                        path = os.path.join(tmp, f"{scene}_{vol}_{nu}.json")
+                        with open(path, "w") as s:
+                            s.write(SCENES[scene].replace("NU", nu).replace("VOL", vol))
+                        for ranks in [int(r) for r in a.ranks.split(",")]:
+                            for pc in a.pcs.split(","):
+                                steps, newton, ksp, wall, status, cmd = run(a.dipc, ranks, path, PCS[pc], a.timeout)
+                                r = dict(scene=scene, ranks=ranks, volumetric=vol, pc=pc, nu=nu, steps=steps,
+                                         newton_its=newton, ksp_its=ksp, wall_s=wall, status=status,
+                                         options=" ".join(PCS[pc]))
+                                print(f"{scene:8s} np{ranks} {vol:15s} {pc:15s} nu={nu:7s} steps {steps:3d} "
+                                      f"newton {newton:4d} ksp {ksp:6d} wall {wall:7.2f} {status}", flush=True)
+                                w.writerow(r)
+                                f.flush()
+                                rows.append(r)
     with open(csv_path) as f:
         rows = list(csv.DictReader(f))
     try:

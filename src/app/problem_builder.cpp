@@ -63,6 +63,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     bm.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
     bm.mu = m.E / (2 * (1 + m.nu));
     bm.rho = m.rho;
+    bm.volumetric = m.mean_dilatation ? VolumetricTerm::mean_dilatation : VolumetricTerm::gauss_points;
     p.body_materials.push_back(bm);
     p.body_velocity.push_back(body.initial_velocity);
     p.body_angular_velocity.push_back(body.initial_angular_velocity);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "assembly/hex8_mean_dilatation.hpp"
 #include "host_device.hpp"
 
 namespace dipc {
@@ -19,6 +20,10 @@ struct ElementBlock {
   const double* reference = nullptr;    // 3*num_local_nodes reference coordinates
   const double* lambda = nullptr;       // per element
   const double* mu = nullptr;           // per element
+  const VolumetricTerm* volumetric = nullptr;  // per element; nullptr: all at the Gauss points
+  DIPC_HD VolumetricTerm volumetric_term(std::int64_t e) const {
+    return volumetric ? volumetric[e] : VolumetricTerm::gauss_points;
+  }
 };
 
 // Thrown when a global dof id does not fit PETSc's 32-bit index (3*global_node + 2 > 2^31-1).

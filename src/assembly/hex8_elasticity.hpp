@@ -32,13 +32,54 @@ DIPC_HD double hex8_quadrature_point(const double X[24], const double x[24], int
 
 namespace detail {
 
-// Psi_e = sum_q w_q |det J0_q| psi(F_q), F = (dx/dxi)(dX/dxi)^{-1} = sum_a x_a (x) G_a with the
-// reference shape gradients G_a = dN_a/dX = J0^{-T} dN_a/dxi. Because dF_ij/dx_ak = d_ik G_aj,
-//   g_ak = sum_q w|J0| sum_j P_kj G_aj,
-//   H_(ak)(bl) = sum_q w|J0| sum_jm G_aj dP_kj/dF_lm G_bm       (B^T dPdF B),
-// the total-Lagrangian discretisation of e.g. Bonet & Wood, Nonlinear Continuum Mechanics for
-// Finite Element Analysis (chapter "Discretization and solution").
-// `Project` selects the PSD-projected dP/dF (Newton) or the exact one (derivative tests).
+// The element sums of the total-Lagrangian discretisation (e.g. Bonet & Wood, Nonlinear
+// Continuum Mechanics for Finite Element Analysis, chapter "Discretization and solution"):
+// with F = sum_a x_a (x) G_a, dF_ij/dx_ak = d_ik G_aj, so a quadrature point with weighted
+// stress wP and weighted tangent wC adds
+//   g_ak += sum_j wP_kj G_aj,     H_(ak)(bl) += sum_jm G_aj wC_(kj)(lm) G_bm   (B^T C B).
+
+DIPC_HD void add_point_gradient(const double G[24], const double wP[9], double gradient[24]) {
+  for (int a = 0; a < 8; ++a)
+    for (int k = 0; k < 3; ++k)
+      gradient[3 * a + k] += wP[3 * k] * G[3 * a] + wP[3 * k + 1] * G[3 * a + 1] + wP[3 * k + 2] * G[3 * a + 2];
+}
+
+// Accumulated in component-major order Hc[(8k + a)][(8l + b)] so that the innermost loop
+// runs over 8 contiguous nodes b (vectorisable); finish_hessian permutes once at the end.
+DIPC_HD void add_point_hessian(const double G[24], double wdet, const double C[81], double Hc[576]) {
+  double Gt[24];
+  for (int a = 0; a < 8; ++a)
+    for (int j = 0; j < 3; ++j) Gt[8 * j + a] = G[3 * a + j];
+  for (int a = 0; a < 8; ++a) {
+    // T_k,(lm) = w|J0| sum_j G_aj C_(kj),(lm): contract the left index once per node a.
+    double T[27];
+    for (int k = 0; k < 3; ++k)
+      for (int lm = 0; lm < 9; ++lm)
+        T[9 * k + lm] = wdet * (G[3 * a] * C[9 * (3 * k) + lm] + G[3 * a + 1] * C[9 * (3 * k + 1) + lm] +
+                                G[3 * a + 2] * C[9 * (3 * k + 2) + lm]);
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) {
+        double* row = Hc + 24 * (8 * k + a) + 8 * l;
+        const double t0 = T[9 * k + 3 * l], t1 = T[9 * k + 3 * l + 1], t2 = T[9 * k + 3 * l + 2];
+        for (int b = 0; b < 8; ++b) row[b] += t0 * Gt[b] + t1 * Gt[8 + b] + t2 * Gt[16 + b];
+      }
+  }
+}
+
+// Back to element dof order 3a + k, symmetrised: (Hc + Hc^T)/2 equals Hc up to rounding
+// (every added tangent is symmetric) and makes the output exactly symmetric.
+DIPC_HD void finish_hessian(const double Hc[576], double hessian[576]) {
+  for (int a = 0; a < 8; ++a)
+    for (int k = 0; k < 3; ++k)
+      for (int b = 0; b < 8; ++b)
+        for (int l = 0; l < 3; ++l)
+          hessian[24 * (3 * a + k) + 3 * b + l] =
+              0.5 * (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
+}
+
+// Psi_e = sum_q w_q |det J0_q| psi(F_q) with psi the neo-Hookean energy at each of the 2x2x2
+// Gauss points. `Project` selects the PSD-projected dP/dF (Newton) or the exact one
+// (derivative tests).
 template <bool Project>
 DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
                               double* energy, double* gradient, double* hessian) {
@@ -56,10 +97,8 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
     if (gradient) {
       double P[9];
       neo_hookean_stress(F, lambda, mu, P);
-      for (int a = 0; a < 8; ++a)
-        for (int k = 0; k < 3; ++k)
-          gradient[3 * a + k] +=
-              wdet * (P[3 * k] * G[3 * a] + P[3 * k + 1] * G[3 * a + 1] + P[3 * k + 2] * G[3 * a + 2]);
+      for (int k = 0; k < 9; ++k) P[k] *= wdet;
+      add_point_gradient(G, P, gradient);
     }
     if (hessian) {
       double C[81];
@@ -67,36 +106,10 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
         neo_hookean_stress_derivative_psd(F, lambda, mu, C);
       else
         neo_hookean_stress_derivative(F, lambda, mu, C);
-      // Accumulated in component-major order Hc[(8k + a)][(8l + b)] so that the innermost
-      // loop runs over 8 contiguous nodes b (vectorisable); permuted once at the end.
-      double Gt[24];
-      for (int a = 0; a < 8; ++a)
-        for (int j = 0; j < 3; ++j) Gt[8 * j + a] = G[3 * a + j];
-      for (int a = 0; a < 8; ++a) {
-        // T_k,(lm) = w|J0| sum_j G_aj C_(kj),(lm): contract the left index once per node a.
-        double T[27];
-        for (int k = 0; k < 3; ++k)
-          for (int lm = 0; lm < 9; ++lm)
-            T[9 * k + lm] = wdet * (G[3 * a] * C[9 * (3 * k) + lm] + G[3 * a + 1] * C[9 * (3 * k + 1) + lm] +
-                                    G[3 * a + 2] * C[9 * (3 * k + 2) + lm]);
-        for (int k = 0; k < 3; ++k)
-          for (int l = 0; l < 3; ++l) {
-            double* row = Hc + 24 * (8 * k + a) + 8 * l;
-            const double t0 = T[9 * k + 3 * l], t1 = T[9 * k + 3 * l + 1], t2 = T[9 * k + 3 * l + 2];
-            for (int b = 0; b < 8; ++b) row[b] += t0 * Gt[b] + t1 * Gt[8 + b] + t2 * Gt[16 + b];
-          }
-      }
+      add_point_hessian(G, wdet, C, Hc);
     }
   }
-  if (hessian)
-    // Back to element dof order 3a + k, symmetrised: (Hc + Hc^T)/2 equals Hc up to rounding
-    // (dP/dF is symmetric) and makes the output exactly symmetric.
-    for (int a = 0; a < 8; ++a)
-      for (int k = 0; k < 3; ++k)
-        for (int b = 0; b < 8; ++b)
-          for (int l = 0; l < 3; ++l)
-            hessian[24 * (3 * a + k) + 3 * b + l] =
-                0.5 * (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
+  if (hessian) finish_hessian(Hc, hessian);
   if (energy) *energy = e;
   return true;
 }

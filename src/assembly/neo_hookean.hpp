@@ -195,15 +195,13 @@ DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double
   detail::mirror_upper(dPdF);
 }
 
-// dP/dF projected to positive semi-definite for the Newton Hessian: the exact tangent minus
-// its negative part, dPdF - sum_{lambda_k < 0} lambda_k q_k q_k^T, which equals clamping the
+// Adds to an exact tangent dPdF the correction that projects it to positive semi-definite:
+// minus its negative part, -sum_{lambda_k < 0} lambda_k q_k q_k^T, which equals clamping the
 // negative eigenvalues to 0 but only touches the (few) negative modes. The scaling block is
 // corrected by (proj(A) - A) only when A is not positive semi-definite (checked through its
-// leading principal minors / a 3x3 Jacobi solve).
-DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-  neo_hookean_stress_derivative(F, lambda, mu, dPdF);
-  NeoHookeanEigensystem es;
-  neo_hookean_eigensystem(F, lambda, mu, &es);
+// leading principal minors / a 3x3 Jacobi solve). Works for any isotropic energy whose
+// eigensystem `es` describes dPdF (neo_hookean_eigensystem, mean_dilatation_eigensystem).
+DIPC_HD void add_psd_correction(const NeoHookeanEigensystem& es, double dPdF[81]) {
   const double* A = es.scaling_hessian;
   const double minor2 = A[0] * A[4] - A[1] * A[3];
   const bool scaling_pd = A[0] > 0 && minor2 > 0 && det3x3(A) > 0;  // Sylvester's criterion
@@ -227,6 +225,14 @@ DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda,
     touched = true;
   }
   if (touched) detail::mirror_upper(dPdF);
+}
+
+// dP/dF projected to positive semi-definite for the Newton Hessian.
+DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
+  neo_hookean_stress_derivative(F, lambda, mu, dPdF);
+  NeoHookeanEigensystem es;
+  neo_hookean_eigensystem(F, lambda, mu, &es);
+  add_psd_correction(es, dPdF);
 }
 
 }  // namespace dipc

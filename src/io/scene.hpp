@@ -14,6 +14,10 @@ struct Material {
   double E = 1e6;     // Young's modulus [Pa], > 0
   double nu = 0.3;    // Poisson ratio, in (-1, 0.5)
   double rho = 1000;  // density [kg/m^3], > 0
+  // "volumetric": where the volumetric term lambda/2 (ln J)^2 is evaluated: at the Gauss points
+  // (default, the standard element) or on each element's mean volume ratio ("mean_dilatation",
+  // locking-free for nearly incompressible materials; assembly/hex8_mean_dilatation.hpp).
+  bool mean_dilatation = false;
 };
 
 // A box of hexahedra: `size` edge lengths, `resolution` elements per edge, min corner at `origin`.

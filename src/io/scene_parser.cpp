@@ -2,7 +2,8 @@
 // value, so that the solver never starts on a scene with a typo or an impossible parameter.
 //
 // Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
-//   materials            [ {name, E, nu, rho} ]                       required, >= 1
+//   materials            [ {name, E, nu, rho,
+//                           volumetric: gauss_points|mean_dilatation} ]  required, >= 1
 //   geometry             [ {name, box: {size, resolution, origin} | mesh,
 //                           translation, scale (mesh only), material, initial_velocity,
 //                           initial_spin: {angular_velocity: [wx,wy,wz], center: [x,y,z]},
@@ -62,7 +63,7 @@ std::vector<Material> parse_materials(const SceneJsonNode& node) {
   std::vector<Material> materials;
   std::map<std::string, std::string> first_path_of_name;
   for (const SceneJsonNode& item : items) {
-    item.expect_object({"name", "E", "nu", "rho"});
+    item.expect_object({"name", "E", "nu", "rho", "volumetric"});
     Material m;
     if (auto name = item.find("name")) {
       m.name = name->string();
@@ -78,6 +79,12 @@ std::vector<Material> parse_materials(const SceneJsonNode& node) {
       if (!(m.nu > -1.0 && m.nu < 0.5)) nu->fail_value("must be in (-1, 0.5)");
     }
     if (auto rho = item.find("rho")) m.rho = positive(*rho);
+    if (auto volumetric = item.find("volumetric")) {
+      const std::string v = volumetric->string();
+      if (v != "gauss_points" && v != "mean_dilatation")
+        volumetric->fail_value("must be \"gauss_points\" or \"mean_dilatation\"");
+      m.mean_dilatation = v == "mean_dilatation";
+    }
     materials.push_back(m);
   }
   return materials;

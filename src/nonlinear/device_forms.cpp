@@ -1,5 +1,7 @@
 #include "nonlinear/device_forms.hpp"
 
+#include <stdexcept>
+
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_mass.hpp"
 #include "nonlinear/body_force_form.hpp"
@@ -8,6 +10,9 @@
 namespace dipc {
 
 DeviceElementData::DeviceElementData(const ElementData& elements) : num_elements_(elements.num_elements()) {
+  for (VolumetricTerm t : elements.volumetric)
+    if (t != VolumetricTerm::gauss_points)
+      throw std::runtime_error("\"volumetric\": \"mean_dilatation\" elements have no GPU kernel yet; run with -dipc_backend cpu");
   nodes_.upload(elements.nodes);
   reference_.upload(elements.reference);
   lambda_.upload(elements.lambda);

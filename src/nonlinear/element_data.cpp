@@ -20,6 +20,7 @@ ElementData::ElementData(const DistributedMesh& mesh, const std::vector<BodyMate
     if (b < static_cast<int>(skip_body.size()) && skip_body[b]) continue;
     nodes.insert(nodes.end(), mesh.elements[e].begin(), mesh.elements[e].end());
     lambda.push_back(materials[b].lambda), mu.push_back(materials[b].mu), rho.push_back(materials[b].rho);
+    volumetric.push_back(materials[b].volumetric);
   }
 }
 
@@ -59,6 +60,7 @@ ElementBlock ElementData::block() const {
   b.reference = reference.data();
   b.lambda = lambda.data();
   b.mu = mu.data();
+  b.volumetric = volumetric.data();
   return b;
 }
 

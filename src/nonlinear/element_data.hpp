@@ -17,6 +17,7 @@ struct ElementData {
   std::vector<std::int32_t> nodes;  // 8 per element
   std::vector<double> reference;    // 3 per local node
   std::vector<double> lambda, mu, rho;
+  std::vector<VolumetricTerm> volumetric;  // per element
   std::vector<std::int64_t> local_to_global;
 
   // skip_body[b] (optional): leave out the elements of body b (kinematic bodies, whose nodes are

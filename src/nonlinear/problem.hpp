@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "assembly/hex8_mean_dilatation.hpp"
 #include "nonlinear/contact_parameters.hpp"
 #include "nonlinear/prescribed_motion.hpp"
 
@@ -12,6 +13,7 @@ namespace dipc {
 
 struct BodyMaterial {
   double lambda = 0, mu = 0, rho = 0;  // Lamé parameters [Pa] and density [kg/m³]
+  VolumetricTerm volumetric = VolumetricTerm::gauss_points;
 };
 
 struct DirichletSet {
