@@ -1,6 +1,6 @@
 // TriangleSurface: a triangle surface read from an OBJ or STL file (obstacles, closed shapes
 // for the voxeliser). Open surfaces are allowed; closedness is the caller's concern
-// (check_closed_surface in mesh/surface_topology.hpp).
+// (check_closed_surface in mesh/closed_surface.hpp).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -14,8 +14,8 @@ namespace dipc {
 using Triangle = std::array<std::int64_t, 3>;
 
 struct TriangleSurface {
-  std::string source;           // the file path, used in messages
-  std::vector<Vec3> vertices;   // every vertex is used by at least one triangle
+  std::string source;               // the file path, used in messages
+  std::vector<Vec3> vertices;       // every vertex is used by at least one triangle
   std::vector<Triangle> triangles;  // 0-based vertex ids, in the file's corner order
   // Where triangle t came from: the file line of its face (OBJ, ASCII STL: the line of the
   // face's first vertex) or, for binary STL, the 0-based facet index. Polygons give several

@@ -126,9 +126,9 @@ TriangleSurface finish(const RawSurface& raw, std::string path, bool binary,
     if (!(twice_area > 1e-12 * longest2)) {
       std::ostringstream msg;
       msg.precision(17);
-      msg << where(t) << "degenerate triangle with corners (" << a[0] << " " << a[1] << " "
-          << a[2] << "), (" << b[0] << " " << b[1] << " " << b[2] << "), (" << c[0] << " "
-          << c[1] << " " << c[2] << "): ";
+      msg << where(t) << "degenerate triangle with corners (" << a[0] << " " << a[1] << " " << a[2]
+          << "), (" << b[0] << " " << b[1] << " " << b[2] << "), (" << c[0] << " " << c[1] << " "
+          << c[2] << "): ";
       if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
         msg << "two of its corners are the same point";
       else
@@ -188,9 +188,10 @@ class LineTokens {
 
 // OBJ statements that carry nothing a triangle surface needs.
 bool obj_ignored(const std::string& keyword) {
-  static const char* const kIgnored[] = {"vt", "vn", "vp", "g", "o", "s", "mg", "usemtl", "mtllib",
-                                         "lod", "bevel", "c_interp", "d_interp", "shadow_obj",
-                                         "trace_obj", "maplib", "usemap"};
+  static const char* const kIgnored[] = {
+      "vt",       "vn",         "vp",        "g",      "o",     "s",
+      "mg",       "usemtl",     "mtllib",    "lod",    "bevel", "c_interp",
+      "d_interp", "shadow_obj", "trace_obj", "maplib", "usemap"};
   for (const char* k : kIgnored)
     if (keyword == k) return true;
   return false;
@@ -224,8 +225,8 @@ TriangleSurface read_obj(const std::string& path) {
       static const char* const kAxis[] = {"x", "y", "z"};
       for (int i = 0; i < 3; ++i) {
         if (!parse_real(tok[1 + i], p[i]))
-          fail(line, std::string("vertex ") + kAxis[i] + " coordinate is not a number: " +
-                         shown(tok[1 + i]));
+          fail(line, std::string("vertex ") + kAxis[i] +
+                         " coordinate is not a number: " + shown(tok[1 + i]));
         if (!std::isfinite(p[i]))
           fail(line, "vertex " + std::to_string(raw.vertices.size() + 1) + " has a non-finite " +
                          kAxis[i] + " coordinate");
@@ -262,7 +263,8 @@ TriangleSurface read_obj(const std::string& path) {
         }
         const std::int64_t v = values[0];
         const std::int64_t defined = static_cast<std::int64_t>(raw.vertices.size());
-        if (v == 0) fail(line, "face corner " + shown(c) + " refers to vertex 0 (OBJ counts from 1)");
+        if (v == 0)
+          fail(line, "face corner " + shown(c) + " refers to vertex 0 (OBJ counts from 1)");
         if (v < 0) {
           if (-v > defined)
             fail(line, "face corner " + shown(c) + " refers to vertex " + std::to_string(v) +
@@ -296,9 +298,8 @@ TriangleSurface read_obj(const std::string& path) {
       fail(p.line, "face refers to vertex " + std::to_string(p.reference) + " but the file has " +
                        std::to_string(total) + " vertices");
   if (raw.triangles.empty()) throw MeshError(path + ": no faces ('f' statements) in the file");
-  return finish(raw, path, false, [&](std::size_t t) {
-    return path + ":" + std::to_string(raw.origin[t]) + ": ";
-  });
+  return finish(raw, path, false,
+                [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
 }
 
 namespace {
@@ -322,8 +323,8 @@ TriangleSurface read_binary_stl(const std::string& text, const std::string& path
   raw.vertices.reserve(3 * std::size_t(count));
   const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
   auto where = [&](std::size_t facet) {
-    return path + ": facet " + std::to_string(facet) + " (byte " +
-           std::to_string(84 + 50 * facet) + "): ";
+    return path + ": facet " + std::to_string(facet) + " (byte " + std::to_string(84 + 50 * facet) +
+           "): ";
   };
   static const char* const kAxis[] = {"x", "y", "z"};
   for (std::size_t f = 0; f < count; ++f) {
@@ -370,8 +371,8 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
   };
   auto next = [&](const char* expected) -> const Token& {
     if (i >= tokens.size())
-      fail(last_line, std::string("ASCII STL is truncated: the file ends where ") + expected +
-                          " should be");
+      fail(last_line,
+           std::string("ASCII STL is truncated: the file ends where ") + expected + " should be");
     return tokens[i++];
   };
   auto expect = [&](const char* keyword) {
@@ -384,8 +385,8 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
     const Token& t = next(what);
     double v;
     if (!parse_real(t.text, v))
-      fail(t.line, std::string("ASCII STL is malformed: expected a ") + what + ", found " +
-                       shown(t.text));
+      fail(t.line,
+           std::string("ASCII STL is malformed: expected a ") + what + ", found " + shown(t.text));
     if (!std::isfinite(v)) fail(t.line, std::string("non-finite ") + what);
     return v;
   };
@@ -400,8 +401,8 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
       continue;
     }
     if (k != "facet")
-      fail(t.line, "ASCII STL is malformed: expected 'facet' or 'endsolid', found " +
-                       shown(t.text));
+      fail(t.line,
+           "ASCII STL is malformed: expected 'facet' or 'endsolid', found " + shown(t.text));
     expect("normal");
     for (int n = 0; n < 3; ++n) real("normal component");
     expect("outer");
@@ -432,9 +433,8 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
     raw.origin.push_back(facet_line);
   }
   if (raw.triangles.empty()) throw MeshError(path + ": no facets in the file");
-  return finish(raw, path, false, [&](std::size_t t) {
-    return path + ":" + std::to_string(raw.origin[t]) + ": ";
-  });
+  return finish(raw, path, false,
+                [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
 }
 
 }  // namespace
@@ -466,10 +466,9 @@ TriangleSurface read_stl(const std::string& path) {
 TriangleSurface read_triangle_surface(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   const std::size_t slash = path.find_last_of('/');
-  const std::string ext =
-      dot == std::string::npos || (slash != std::string::npos && dot < slash)
-          ? std::string()
-          : lower(std::string_view(path).substr(dot + 1));
+  const std::string ext = dot == std::string::npos || (slash != std::string::npos && dot < slash)
+                              ? std::string()
+                              : lower(std::string_view(path).substr(dot + 1));
   if (ext == "obj") return read_obj(path);
   if (ext == "stl") return read_stl(path);
   throw MeshError(path + ": unknown surface file extension '" + ext +

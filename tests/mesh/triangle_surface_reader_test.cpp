@@ -2,6 +2,8 @@
 // corners, negative references, polygons, continuation lines, seams, binary STL whose header
 // starts with "solid", multi-solid ASCII STL), and a table of bad inputs written from strings,
 // each rejected with a message naming the file and line (ASCII) or facet and byte (binary).
+#include "mesh/triangle_surface_reader.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +13,6 @@
 #include <set>
 
 #include "mesh/mesh_error.hpp"
-#include "mesh/triangle_surface_reader.hpp"
 #include "mesh_test_support.hpp"
 
 namespace dipc {
@@ -124,46 +125,47 @@ TEST_P(TriangleSurfaceRejects, WithLocatedMessage) {
 INSTANTIATE_TEST_SUITE_P(
     BadFiles, TriangleSurfaceRejects,
     ::testing::Values(
-        BadSurface{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", ":2: ",
-                   "vertex 2 has a non-finite y coordinate"},
-        BadSurface{"inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n", ":3: ",
-                   "non-finite z coordinate"},
+        BadSurface{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
+                   ":2: ", "vertex 2 has a non-finite y coordinate"},
+        BadSurface{"inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n",
+                   ":3: ", "non-finite z coordinate"},
         BadSurface{"two_numbers.obj", "v 0 0\n", ":1: ", "vertex needs 3 coordinates"},
         BadSurface{"word.obj", "v 0 zero 0\n", ":1: ", "vertex y coordinate is not a number"},
         BadSurface{"weight.obj", "v 0 0 0 2\n", ":1: ", "vertex weight w must be 1"},
-        BadSurface{"index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", ":4: ",
-                   "refers to vertex 0 (OBJ counts from 1)"},
-        BadSurface{"index_past_end.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n", ":5: ",
-                   "face refers to vertex 4 but the file has 3 vertices"},
-        BadSurface{"negative_past_start.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", ":3: ",
-                   "refers to vertex -3 but only 2 vertices precede it"},
-        BadSurface{"two_corners.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", ":3: ",
-                   "face needs at least 3 corners, found 2"},
-        BadSurface{"four_slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", ":4: ",
-                   "has more than v/vt/vn"},
-        BadSurface{"bad_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n", ":4: ",
-                   "face corner 'x3' is not v, v/vt, v//vn or v/vt/vn"},
-        BadSurface{"empty_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 /3\n", ":4: ",
-                   "face corner '/3' is not v"},
-        BadSurface{"collinear.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\n# c\nf 1 2 3\n", ":5: ",
-                   "(2 2 2): area 0, its corners are collinear"},
-        BadSurface{"repeated_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 1\n",
-                   ":5: ", "degenerate triangle with corners (0 0 0), (1 0 0), (0 0 0): two of its corners are the same point"},
+        BadSurface{"index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+                   ":4: ", "refers to vertex 0 (OBJ counts from 1)"},
+        BadSurface{"index_past_end.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n",
+                   ":5: ", "face refers to vertex 4 but the file has 3 vertices"},
+        BadSurface{"negative_past_start.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+                   ":3: ", "refers to vertex -3 but only 2 vertices precede it"},
+        BadSurface{"two_corners.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n",
+                   ":3: ", "face needs at least 3 corners, found 2"},
+        BadSurface{"four_slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n",
+                   ":4: ", "has more than v/vt/vn"},
+        BadSurface{"bad_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n",
+                   ":4: ", "face corner 'x3' is not v, v/vt, v//vn or v/vt/vn"},
+        BadSurface{"empty_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 /3\n",
+                   ":4: ", "face corner '/3' is not v"},
+        BadSurface{"collinear.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\n# c\nf 1 2 3\n",
+                   ":5: ", "(2 2 2): area 0, its corners are collinear"},
+        BadSurface{"repeated_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 1\n", ":5: ",
+                   "degenerate triangle with corners (0 0 0), (1 0 0), (0 0 0): two of its corners "
+                   "are the same point"},
         // Two vertex statements at one point are merged, so the face uses one point twice.
-        BadSurface{"coincident.obj", "v 0 0 0\nv 1 0 0\nv 1 0 0\nf 1 2 3\n", ":4: ",
-                   "two of its corners are the same point"},
+        BadSurface{"coincident.obj", "v 0 0 0\nv 1 0 0\nv 1 0 0\nf 1 2 3\n",
+                   ":4: ", "two of its corners are the same point"},
         BadSurface{"no_faces.obj", "v 0 0 0\n", ": ", "no faces ('f' statements)"},
-        BadSurface{"line_element.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n", ":3: ",
-                   "line elements are not supported"},
-        BadSurface{"freeform.obj", "cstype bspline\n", ":1: ",
-                   "free-form geometry ('cstype') is not supported"},
-        BadSurface{"unknown.obj", "v 0 0 0\nvertex 1 2 3\n", ":2: ",
-                   "unknown OBJ statement 'vertex'"},
+        BadSurface{"line_element.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n",
+                   ":3: ", "line elements are not supported"},
+        BadSurface{"freeform.obj", "cstype bspline\n",
+                   ":1: ", "free-form geometry ('cstype') is not supported"},
+        BadSurface{"unknown.obj", "v 0 0 0\nvertex 1 2 3\n",
+                   ":2: ", "unknown OBJ statement 'vertex'"},
         BadSurface{"missing.obj", nullptr, ": ", "cannot open file"},
         BadSurface{"mesh.ply", "ply\n", ": ", "unknown surface file extension 'ply'"},
         BadSurface{"truncated.stl",
-                   "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n", ":5: ",
-                   "ASCII STL is truncated: the file ends where 'vertex' should be"},
+                   "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n",
+                   ":5: ", "ASCII STL is truncated: the file ends where 'vertex' should be"},
         BadSurface{"quad.stl",
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                    "vertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n",
@@ -172,9 +174,8 @@ INSTANTIATE_TEST_SUITE_P(
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 NaN\n"
                    "vertex 1 1 0\nendloop\nendfacet\nendsolid\n",
                    ":5: ", "non-finite vertex z coordinate"},
-        BadSurface{"misspelt.stl",
-                   "solid t\nfacet normal 0 0 1\nouter lop\n", ":3: ",
-                   "expected 'loop', found 'lop'"},
+        BadSurface{"misspelt.stl", "solid t\nfacet normal 0 0 1\nouter lop\n",
+                   ":3: ", "expected 'loop', found 'lop'"},
         BadSurface{"degenerate.stl",
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                    "vertex 2 0 0\nendloop\nendfacet\nendsolid\n",
@@ -235,8 +236,8 @@ TEST(StlReader, BinaryRejectsNonFiniteWithFacetAndByte) {
   std::string stl = binary_stl(3);
   // facet 2, corner 1, y: 84 + 50*2 + 12 (normal) + 12 (corner 0) + 4
   set_float(stl, 84 + 100 + 12 + 12 + 4, std::nanf(""));
-  expect_binary_rejected("nan_binary.stl", stl, ": facet 2 (byte 184): ",
-                         "corner 1 has a non-finite y coordinate");
+  expect_binary_rejected("nan_binary.stl", stl,
+                         ": facet 2 (byte 184): ", "corner 1 has a non-finite y coordinate");
 }
 
 TEST(StlReader, BinaryRejectsDegenerateWithFacetAndByte) {
@@ -245,8 +246,8 @@ TEST(StlReader, BinaryRejectsDegenerateWithFacetAndByte) {
   // corner 2 starts after the normal and two corners: 84 + 50 + 12 + 24
   set_float(stl, 84 + 50 + 12 + 24, 1.5f);
   set_float(stl, 84 + 50 + 12 + 24 + 4, 0.0f);
-  expect_binary_rejected("degenerate_binary.stl", stl, ": facet 1 (byte 134): ",
-                         "degenerate triangle");
+  expect_binary_rejected("degenerate_binary.stl", stl,
+                         ": facet 1 (byte 134): ", "degenerate triangle");
 }
 
 TEST(StlReader, BinaryRejectsSizeMismatchAndEmpty) {
