@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "app/scene_obstacles.hpp"
+
 namespace dipc {
 
 namespace {
@@ -34,6 +36,23 @@ std::vector<std::int32_t> select_nodes(const Selection& sel, const DistributedMe
 }
 
 }  // namespace
+
+PrescribedMotion prescribed_motion(const Motion& m) {
+  PrescribedMotion motion;
+  switch (m.kind) {
+    case Motion::Kind::Fixed: motion.kind = PrescribedMotion::Kind::Fixed; break;
+    case Motion::Kind::Velocity: motion.kind = PrescribedMotion::Kind::Velocity; break;
+    case Motion::Kind::Rotation: motion.kind = PrescribedMotion::Kind::Rotation; break;
+    case Motion::Kind::Path: motion.kind = PrescribedMotion::Kind::Path; break;
+  }
+  motion.velocity = m.velocity;
+  const double norm = std::sqrt(m.axis[0] * m.axis[0] + m.axis[1] * m.axis[1] + m.axis[2] * m.axis[2]);
+  for (int c = 0; c < 3; ++c) motion.axis[c] = m.axis[c] / norm;
+  motion.center = m.center;
+  motion.angular_velocity = m.angular_velocity;
+  motion.path = m.path;
+  return motion;
+}
 
 ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, double length_scale) {
   ProblemSetup p;
@@ -69,6 +88,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
       c.body_names.push_back(body.name);
     }
     for (const Plane& plane : scene.contact.planes) c.planes.push_back({plane.point, plane.normal});
+    if (!scene.contact.obstacles.empty()) c.obstacles = load_scene_obstacles(scene, mesh.comm);
     p.friction = scene.contact.friction;
     p.friction_epsv = scene.contact.epsv;
     p.friction_iterations = scene.contact.friction_iterations;
@@ -82,16 +102,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     if (total == 0)
       throw SceneError(scene.source + ": " + bc.key_path + ".selection: " + bc.selection.describe() +
                        " selects no node");
-    switch (bc.kind) {
-      case DirichletCondition::Kind::Fixed: set.motion.kind = PrescribedMotion::Kind::Fixed; break;
-      case DirichletCondition::Kind::Velocity: set.motion.kind = PrescribedMotion::Kind::Velocity; break;
-      case DirichletCondition::Kind::Rotation: set.motion.kind = PrescribedMotion::Kind::Rotation; break;
-    }
-    set.motion.velocity = bc.velocity;
-    const double norm = std::sqrt(bc.axis[0] * bc.axis[0] + bc.axis[1] * bc.axis[1] + bc.axis[2] * bc.axis[2]);
-    for (int c = 0; c < 3; ++c) set.motion.axis[c] = bc.axis[c] / norm;
-    set.motion.center = bc.center;
-    set.motion.angular_velocity = bc.angular_velocity;
+    set.motion = prescribed_motion(bc);
     p.dirichlet.push_back(std::move(set));
   }
   return p;

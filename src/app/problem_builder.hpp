@@ -11,4 +11,7 @@ namespace dipc {
 // the mesh does not have or a selection that holds no node on any rank.
 ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, double length_scale);
 
+// The solver's form of a scene motion (Dirichlet conditions, kinematic bodies, obstacles).
+PrescribedMotion prescribed_motion(const Motion& motion);
+
 }  // namespace dipc

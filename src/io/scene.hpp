@@ -51,14 +51,21 @@ struct Selection {
   std::string describe() const;                       // for messages
 };
 
-struct DirichletCondition {
-  enum class Kind { Fixed, Velocity, Rotation };
-  Selection selection;
+// A prescribed motion as the scene gives it (Dirichlet conditions, kinematic bodies, obstacles).
+struct Motion {
+  enum class Kind { Fixed, Velocity, Rotation, Path };
   Kind kind = Kind::Fixed;
   std::array<double, 3> velocity{0, 0, 0};   // Velocity: x(t) = X + v t
   std::array<double, 3> axis{0, 0, 1};       // Rotation: about `axis` (normalised) through
   std::array<double, 3> center{0, 0, 0};     //   `center` at `angular_velocity` [rad/s]
   double angular_velocity = 0;
+  // Path: x(t) = X + d(t), piecewise linear through keyframes (t, dx, dy, dz); the first is
+  // (0, 0, 0, 0), times strictly increase, d is held after the last.
+  std::vector<std::array<double, 4>> path;
+};
+
+struct DirichletCondition : Motion {
+  Selection selection;
   std::string key_path;                      // e.g. "boundary_conditions.dirichlet[0]"
 };
 
@@ -67,6 +74,18 @@ struct DirichletCondition {
 struct Plane {
   std::array<double, 3> point{0, 0, 0};
   std::array<double, 3> normal{0, 0, 1};
+};
+
+// A triangle-mesh obstacle (OBJ or STL, open or closed): a contact surface whose positions are
+// prescribed functions of time, never unknowns. Vertices are placed as x = scale·X_file +
+// translation at t = 0 and then follow `motion`.
+struct Obstacle {
+  std::string name;       // for messages; defaults to "obstacle<i>"
+  std::string mesh_file;  // resolved relative to the scene file
+  double scale = 1.0;
+  std::array<double, 3> translation{0, 0, 0};
+  Motion motion;
+  std::string key_path;   // "contact.obstacles[0]"
 };
 
 struct ContactSettings {
@@ -82,6 +101,7 @@ struct ContactSettings {
   double epsv = 1e-3;          // friction smoothing velocity ε_v [m/s]
   int friction_iterations = 1; // lagged friction updates per time step, >= 1
   std::vector<Plane> planes;   // analytic obstacles
+  std::vector<Obstacle> obstacles;  // triangle-mesh obstacles
 };
 
 struct Scene {

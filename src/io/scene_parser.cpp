@@ -15,9 +15,12 @@
 //   output               {directory, name, every}
 //   contact              {enabled, dhat, dhat_relative, barrier_stiffness: "adaptive" | κ,
 //                         friction, epsv, friction_iterations,
-//                         planes: [ {point: [x,y,z], normal: [nx,ny,nz]} ]}
+//                         planes: [ {point: [x,y,z], normal: [nx,ny,nz]} ],
+//                         obstacles: [ {name, mesh: OBJ | STL, scale, translation,
+//                                       motion: {MOTION}} ]}
 // where MOTION is  type: fixed | velocity (with velocity) | rotation (with axis, center,
-// angular_velocity); type defaults to fixed.
+// angular_velocity) | path (with keyframes: [ {time, translation: [dx,dy,dz]} ], the first
+// {time: 0, translation: [0,0,0]}); type defaults to fixed.
 // Omitted optional values take the defaults of scene.hpp. A body's name defaults to
 // "body<i>"; its material may be omitted when the scene has exactly one. A selection is a
 // node set name ("beam.xmin") or {"box": [[xmin,ymin,zmin],[xmax,ymax,zmax]]}.
@@ -140,48 +143,76 @@ std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base
   return std::filesystem::absolute(path).lexically_normal().string();
 }
 
-// Reads the prescribed motion of a Dirichlet condition or kinematic body: "type" and the keys
-// that type takes. `other_keys` are the keys the enclosing object may hold besides these.
-void parse_motion(const SceneJsonNode& node, const std::vector<std::string>& other_keys,
-                  DirichletCondition& bc) {
+// A path's keyframes: [{time, translation}], at least two, the first (0, [0, 0, 0]) so that the
+// motion starts at the rest placement, times strictly increasing.
+std::vector<std::array<double, 4>> parse_path(const SceneJsonNode& node) {
+  const std::vector<SceneJsonNode> items = node.elements();
+  if (items.size() < 2) node.fail("a path needs at least two keyframes, got " + std::to_string(items.size()));
+  std::vector<std::array<double, 4>> path;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const SceneJsonNode& item = items[k];
+    item.expect_object({"time", "translation"});
+    const SceneJsonNode time = item.required("time");
+    const double t = time.number();
+    const std::array<double, 3> d = item.required("translation").vec3();
+    if (k == 0 && t != 0) time.fail_value("the first keyframe must be at time 0");
+    if (k == 0 && (d[0] != 0 || d[1] != 0 || d[2] != 0))
+      item.required("translation").fail_value("the first keyframe's translation must be [0, 0, 0] (the rest placement)");
+    if (k > 0 && !(t > path.back()[0]))
+      time.fail_value("keyframe times must strictly increase (previous " + format_number(path.back()[0]) + ")");
+    path.push_back({t, d[0], d[1], d[2]});
+  }
+  return path;
+}
+
+// Reads a prescribed motion (of a Dirichlet condition, kinematic body or obstacle): "type" and
+// the keys that type takes. `other_keys` are the keys the enclosing object may hold besides these.
+void parse_motion(const SceneJsonNode& node, const std::vector<std::string>& other_keys, Motion& motion) {
   std::string type = "fixed";
   if (auto t = node.find("type")) {
     type = t->string();
     if (type == "fixed") {
-      bc.kind = DirichletCondition::Kind::Fixed;
+      motion.kind = Motion::Kind::Fixed;
     } else if (type == "velocity") {
-      bc.kind = DirichletCondition::Kind::Velocity;
+      motion.kind = Motion::Kind::Velocity;
     } else if (type == "rotation") {
-      bc.kind = DirichletCondition::Kind::Rotation;
+      motion.kind = Motion::Kind::Rotation;
+    } else if (type == "path") {
+      motion.kind = Motion::Kind::Path;
     } else {
-      t->fail_value("unknown type (allowed: fixed, velocity, rotation)");
+      t->fail_value("unknown type (allowed: fixed, velocity, rotation, path)");
     }
   }
   std::vector<std::string> allowed = other_keys;
   allowed.push_back("type");
   const std::string context = "for type \"" + type + "\"";
-  switch (bc.kind) {
-    case DirichletCondition::Kind::Fixed:
+  switch (motion.kind) {
+    case Motion::Kind::Fixed:
       node.expect_object(allowed, context);
       break;
-    case DirichletCondition::Kind::Velocity:
+    case Motion::Kind::Velocity:
       allowed.push_back("velocity");
       node.expect_object(allowed, context);
-      bc.velocity = node.required("velocity").vec3();
+      motion.velocity = node.required("velocity").vec3();
       break;
-    case DirichletCondition::Kind::Rotation: {
+    case Motion::Kind::Rotation: {
       for (const char* key : {"axis", "center", "angular_velocity"}) allowed.push_back(key);
       node.expect_object(allowed, context);
       if (auto axis = node.find("axis")) {
         const std::array<double, 3> a = axis->vec3();
         const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         if (!(length > 0)) axis->fail_value("rotation axis must be non-zero");
-        bc.axis = {a[0] / length, a[1] / length, a[2] / length};
+        motion.axis = {a[0] / length, a[1] / length, a[2] / length};
       }
-      if (auto center = node.find("center")) bc.center = center->vec3();
-      bc.angular_velocity = node.required("angular_velocity").number();
+      if (auto center = node.find("center")) motion.center = center->vec3();
+      motion.angular_velocity = node.required("angular_velocity").number();
       break;
     }
+    case Motion::Kind::Path:
+      allowed.push_back("keyframes");
+      node.expect_object(allowed, context);
+      motion.path = parse_path(node.required("keyframes"));
+      break;
   }
 }
 
@@ -398,6 +429,33 @@ void parse_barrier_stiffness(const SceneJsonNode& node, ContactSettings& contact
   contact.kappa = positive(node);
 }
 
+// Triangle-mesh obstacles: [{name, mesh, scale, translation, motion}]; the file is read later
+// (app/scene_obstacles.cpp), where its faces are checked.
+std::vector<Obstacle> parse_obstacles(const SceneJsonNode& node, const std::string& base_directory) {
+  std::vector<Obstacle> obstacles;
+  std::map<std::string, std::string> first_path_of_name;
+  const std::vector<SceneJsonNode> items = node.elements();
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const SceneJsonNode& item = items[i];
+    item.expect_object({"name", "mesh", "scale", "translation", "motion"});
+    Obstacle o;
+    o.key_path = item.path();
+    o.name = "obstacle" + std::to_string(i);
+    if (auto name = item.find("name")) {
+      o.name = name->string();
+      if (o.name.empty()) name->fail("must not be empty");
+    }
+    const auto [it, inserted] = first_path_of_name.emplace(o.name, item.path());
+    if (!inserted) item.fail("duplicate obstacle name \"" + o.name + "\" (also " + it->second + ")");
+    o.mesh_file = resolve_mesh_path(item.required("mesh"), base_directory);
+    if (auto scale = item.find("scale")) o.scale = positive(*scale);
+    if (auto translation = item.find("translation")) o.translation = translation->vec3();
+    if (auto motion = item.find("motion")) parse_motion(*motion, {}, o.motion);
+    obstacles.push_back(o);
+  }
+  return obstacles;
+}
+
 std::vector<Plane> parse_planes(const SceneJsonNode& node) {
   std::vector<Plane> planes;
   for (const SceneJsonNode& item : node.elements()) {
@@ -414,9 +472,9 @@ std::vector<Plane> parse_planes(const SceneJsonNode& node) {
   return planes;
 }
 
-void parse_contact(const SceneJsonNode& node, ContactSettings& contact) {
+void parse_contact(const SceneJsonNode& node, ContactSettings& contact, const std::string& base_directory) {
   node.expect_object({"enabled", "dhat", "dhat_relative", "barrier_stiffness", "friction", "epsv",
-                      "friction_iterations", "planes"});
+                      "friction_iterations", "planes", "obstacles"});
   if (auto enabled = node.find("enabled")) contact.enabled = enabled->boolean();
   if (auto relative = node.find("dhat_relative")) contact.dhat_relative = relative->boolean();
   if (auto dhat = node.find("dhat")) {
@@ -437,6 +495,12 @@ void parse_contact(const SceneJsonNode& node, ContactSettings& contact) {
     if (contact.friction_iterations < 1) iterations->fail_value("must be >= 1");
   }
   if (auto planes = node.find("planes")) contact.planes = parse_planes(*planes);
+  if (auto obstacles = node.find("obstacles")) {
+    contact.obstacles = parse_obstacles(*obstacles, base_directory);
+    // Without contact nothing would see them: say so rather than run through them.
+    if (!contact.enabled && !contact.obstacles.empty())
+      obstacles->fail("triangle-mesh obstacles need contact (\"enabled\": true)");
+  }
 }
 
 }  // namespace
@@ -466,7 +530,7 @@ Scene parse_scene_text(const std::string& json_text, const std::string& source_n
   parse_time(root.required("time"), scene);
   if (auto solver = root.find("solver")) parse_solver(*solver, scene);
   if (auto output = root.find("output")) parse_output(*output, scene);
-  if (auto contact = root.find("contact")) parse_contact(*contact, scene.contact);
+  if (auto contact = root.find("contact")) parse_contact(*contact, scene.contact, base_directory);
   return scene;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "contact/broad_phase/find_candidates.hpp"
 #include "contact/geometry/barrier.hpp"
@@ -49,16 +50,14 @@ const double* plane_normal(const ContactForm::PairInfo& info) {
   return info.plane ? info.plane->normal.data() : nullptr;
 }
 
-// Positions of a pair's nodes, stacked.
-void gather_positions(const double* x, const std::int32_t* nodes, int count, double* out) {
-  for (int k = 0; k < count; ++k)
-    for (int c = 0; c < 3; ++c) out[3 * k + c] = x[3 * nodes[k] + c];
-}
-
 }  // namespace
 
 ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
-    : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space) {
+    : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space),
+      obstacles_(parameters_.obstacles) {
+  if (space_ == MemorySpace::device && !obstacles_.empty())
+    throw std::runtime_error("triangle-mesh obstacles (contact.obstacles) are evaluated on the CPU only: "
+                             "run with -dipc_backend cpu");
   if (space_ == MemorySpace::device) {
     if (device::device_count() == 0)
       throw device::DeviceError(device::built_with_cuda()
@@ -143,6 +142,7 @@ std::int32_t ContactForm::ext_local(std::int64_t global_node) {
 }
 
 std::int64_t ContactForm::global_node(std::int32_t ext) const {
+  if (is_obstacle_node(ext)) return ext;
   return ext < mesh_.num_local_nodes() ? mesh_.local_to_global[ext] : extra_nodes_[ext - mesh_.num_local_nodes()];
 }
 
@@ -335,43 +335,85 @@ void ContactForm::upload_surface() {
 
 void ContactForm::find_candidates(const double* x, const double* p) {
   const double start = MPI_Wtime();
-  const device::BroadPhaseSurface s = number_surface();
+  device::BroadPhaseSurface s = number_surface();
   const std::vector<std::int32_t>& node_of = s.vertex_node;
-  const std::vector<char>& owned_vertex = s.owned_vertex;
   const std::size_t nv = node_of.size();
   std::vector<double> x0(3 * nv), x1(3 * nv);
   bool moving = false;
-  for (std::size_t v = 0; v < nv; ++v)
+  Box reach = empty_box();  // the body surface over the segment
+  for (std::size_t v = 0; v < nv; ++v) {
     for (int c = 0; c < 3; ++c) {
       x0[3 * v + c] = x[3 * node_of[v] + c];
       x1[3 * v + c] = x0[3 * v + c] + p[3 * node_of[v] + c];
       moving = moving || p[3 * node_of[v] + c] != 0.0;
     }
+    grow(reach, &x0[3 * v]);
+    grow(reach, &x1[3 * v]);
+  }
+  // Obstacle primitives near this rank's surface (within d̂ of its swept box) join the search
+  // after the body's, in group −1, so the body's pairs come out as without obstacles.
+  const std::size_t body_edges = edges_.size(), body_faces = faces_.size();
+  ObstacleSurface::Near near;
+  if (!obstacles_.empty() && nv > 0) {
+    inflate(reach, parameters_.dhat);
+    near = obstacles_.near(reach);
+    moving = moving || obstacles_.moving();
+    std::unordered_map<std::int32_t, std::int32_t> compact;
+    for (std::int32_t v : near.vertices) {
+      compact[v] = static_cast<std::int32_t>(x0.size() / 3);
+      x0.insert(x0.end(), obstacles_.start(v), obstacles_.start(v) + 3);
+      x1.insert(x1.end(), obstacles_.end(v), obstacles_.end(v) + 3);
+      s.vertex_group.push_back(-1);
+    }
+    for (std::int32_t e : near.edges)
+      for (std::int32_t v : obstacles_.edges[e]) s.edges.push_back(compact.at(v));
+    for (std::int32_t f : near.faces)
+      for (std::int32_t v : obstacles_.faces[f]) s.faces.push_back(compact.at(v));
+  }
   contact::SurfaceView view;
-  view.num_vertices = static_cast<int>(nv);
+  view.num_vertices = static_cast<int>(x0.size() / 3);
   view.x0 = x0.data();
   view.x1 = moving ? x1.data() : nullptr;
-  view.num_edges = static_cast<int>(edges_.size());
+  view.num_edges = static_cast<int>(s.edges.size() / 2);
   view.edges = s.edges.data();
-  view.num_faces = static_cast<int>(faces_.size());
+  view.num_faces = static_cast<int>(s.faces.size() / 3);
   view.faces = s.faces.data();
   view.vertex_group = s.vertex_group.data();
   // The filters the device search reads as data (device_broad_phase.hpp), from the same arrays:
   // a vertex–face pair belongs to the owner of its vertex, an edge–edge pair to the owner of the
-  // edge with the smaller global id.
+  // edge with the smaller global id. With obstacles (group −1, never paired with each other):
+  // an obstacle vertex's pair to the owner of the face, an obstacle edge's to the owner of the
+  // body edge (which comes first: body edges are numbered before obstacle edges).
   contact::CandidateFilter filter;
   filter.allow_groups = [&s](int a, int b) {
-    return a != b || (a >= 0 && a < static_cast<int>(s.self_contact.size()) && s.self_contact[a]);
+    if (a < 0 || b < 0) return a >= 0 || b >= 0;
+    return a != b || (a < static_cast<int>(s.self_contact.size()) && s.self_contact[a]);
   };
-  filter.keep_vertex_face = [&](std::int32_t v, std::int32_t) { return owned_vertex[v] != 0; };
-  filter.keep_edge_edge = [&s](std::int32_t a, std::int32_t b) {
+  filter.keep_vertex_face = [&](std::int32_t v, std::int32_t f) {
+    return static_cast<std::size_t>(v) < nv ? s.owned_vertex[v] != 0 : static_cast<std::size_t>(f) < owned_faces_;
+  };
+  filter.keep_edge_edge = [&](std::int32_t a, std::int32_t b) {
+    if (static_cast<std::size_t>(b) >= body_edges) return static_cast<std::size_t>(a) < owned_edges_;
     return s.owned_edge[s.edge_gid[a] < s.edge_gid[b] ? a : b] != 0;
   };
   contact::Candidates candidates;
   contact::find_candidates(view, 0.5 * parameters_.dhat, &candidates, filter);
-  vertex_face_.clear();
-  for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({node_of[vf[0]], vf[1]});
-  edge_edge_ = candidates.edge_edge;
+  vertex_face_.clear(), vertex_obstacle_face_.clear(), obstacle_vertex_face_.clear();
+  edge_edge_.clear(), edge_obstacle_edge_.clear();
+  for (const auto& [v, f] : candidates.vertex_face) {
+    if (static_cast<std::size_t>(v) >= nv)
+      obstacle_vertex_face_.push_back({near.vertices[v - nv], f});
+    else if (static_cast<std::size_t>(f) >= body_faces)
+      vertex_obstacle_face_.push_back({node_of[v], near.faces[f - body_faces]});
+    else
+      vertex_face_.push_back({node_of[v], f});
+  }
+  for (const auto& [a, b] : candidates.edge_edge) {
+    if (static_cast<std::size_t>(b) >= body_edges)
+      edge_obstacle_edge_.push_back({a, near.edges[b - body_edges]});
+    else
+      edge_edge_.push_back({a, b});
+  }
   stats_.broad_phase_seconds += MPI_Wtime() - start;
 }
 
@@ -391,10 +433,11 @@ void ContactForm::find_candidates_on_device(const double* x, const double* p) {
 // Calls f(kind, index) for every candidate pair this rank evaluates; false if any call was.
 template <class F>
 bool ContactForm::for_each_pair(F&& f) const {
+  const std::size_t count[6] = {vertex_face_.size(),          edge_edge_.size(),          vertex_plane_.size(),
+                                vertex_obstacle_face_.size(), edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
   bool ok = true;
-  for (std::size_t i = 0; i < vertex_face_.size(); ++i) ok = f(0, i) && ok;
-  for (std::size_t i = 0; i < edge_edge_.size(); ++i) ok = f(1, i) && ok;
-  for (std::size_t i = 0; i < vertex_plane_.size(); ++i) ok = f(2, i) && ok;
+  for (int kind = 0; kind < 6; ++kind)
+    for (std::size_t i = 0; i < count[kind]; ++i) ok = f(kind, i) && ok;
   return ok;
 }
 
@@ -418,19 +461,63 @@ ContactForm::PairInfo ContactForm::describe(int kind, std::size_t i) const {
     info.weight = 0.5 * (node_area_.at(own.node[0]) + node_area_.at(own.node[1]));
     // Mollifier threshold ε_x = 1e-3 |ea0−ea1|²|eb0−eb1|² at rest (Li et al. 2020, §4.3).
     info.eps_x = 1e-3 * a.rest_length2 * b.rest_length2;
-  } else {
+  } else if (kind == 2) {
     info.nodes = {vertex_plane_[i][0], -1, -1, -1};
     info.count = 1;
     info.plane = &parameters_.planes[vertex_plane_[i][1]];
     info.weight = node_area_.at(info.nodes[0]);
+  } else if (kind == 3) {  // body vertex – obstacle triangle
+    const auto& f = obstacles_.faces[vertex_obstacle_face_[i][1]];
+    info.kind = 0;
+    info.nodes = {vertex_obstacle_face_[i][0], obstacle_node(f[0]), obstacle_node(f[1]), obstacle_node(f[2])};
+    info.count = 4;
+    info.weight = node_area_.at(info.nodes[0]);
+  } else if (kind == 4) {  // body edge – obstacle edge: the body's edge first, always
+    const Primitive& a = edges_[edge_obstacle_edge_[i][0]];
+    const std::int32_t b = edge_obstacle_edge_[i][1];
+    info.kind = 1;
+    info.nodes = {a.node[0], a.node[1], obstacle_node(obstacles_.edges[b][0]), obstacle_node(obstacles_.edges[b][1])};
+    info.count = 4;
+    info.weight = 0.5 * (node_area_.at(a.node[0]) + node_area_.at(a.node[1]));
+    info.eps_x = 1e-3 * a.rest_length2 * obstacles_.edge_rest_length2[b];
+  } else {  // obstacle vertex – body triangle
+    const std::int32_t v = obstacle_vertex_face_[i][0];
+    const auto& f = faces_[obstacle_vertex_face_[i][1]];
+    info.kind = 0;
+    info.nodes = {obstacle_node(v), f.node[0], f.node[1], f.node[2]};
+    info.count = 4;
+    info.weight = obstacles_.vertex_area[v];
   }
   return info;
+}
+
+void ContactForm::gather(const double* x, const PairInfo& info, double* X) const {
+  for (int k = 0; k < info.count; ++k) {
+    const double* xk = position(x, info.nodes[k]);
+    for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
+  }
+}
+
+void ContactForm::gather_segment(const double* x, const double* p, const PairInfo& info, double* X0,
+                                 double* X1) const {
+  for (int k = 0; k < info.count; ++k) {
+    const std::int32_t n = info.nodes[k];
+    for (int c = 0; c < 3; ++c) {
+      if (is_obstacle_node(n)) {
+        X0[3 * k + c] = obstacles_.start(obstacle_vertex(n))[c];
+        X1[3 * k + c] = obstacles_.end(obstacle_vertex(n))[c];
+      } else {
+        X0[3 * k + c] = x[3 * n + c];
+        X1[3 * k + c] = X0[3 * k + c] + p[3 * n + c];
+      }
+    }
+  }
 }
 
 bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
                         ContactPairTerms* t) const {
   double X[12];
-  gather_positions(x, info.nodes.data(), info.count, X);
+  gather(x, info, X);
   return contact_pair_terms(info.kind, X, plane_point(info), plane_normal(info), parameters_.dhat * parameters_.dhat,
                             parameters_.kappa, info.weight, info.eps_x, want_g, want_H, parameters_.project_hessian,
                             active, t);
@@ -485,7 +572,8 @@ bool ContactForm::gradient(const double* x, double* g) {
     if (!terms(info, x, true, false, &active, &t)) return false;
     if (!active) return true;
     for (int k = 0; k < info.count; ++k)
-      for (int c = 0; c < 3; ++c) g[3 * info.nodes[k] + c] += t.g[3 * k + c];
+      if (!is_obstacle_node(info.nodes[k]))
+        for (int c = 0; c < 3; ++c) g[3 * info.nodes[k] + c] += t.g[3 * k + c];
     return true;
   });
   stats_.barrier_seconds += MPI_Wtime() - start;
@@ -537,14 +625,16 @@ std::vector<std::array<std::int64_t, 5>> ContactForm::pattern_keys(const std::ve
 
 void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
   rows->clear(), cols->clear();
+  // Only the body nodes' blocks: obstacle nodes (negative ids) have no unknowns.
   for (const auto& k : pattern_key_) {
-    const int count = k[0] == 2 ? 1 : 4;
-    for (int a = 0; a < count; ++a)
+    int slots[4];
+    const int n = body_slots(k.data() + 1, k[0] == 2 ? 1 : 4, slots);
+    for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i)
-        for (int b = 0; b < count; ++b)
+        for (int b = 0; b < n; ++b)
           for (int j = 0; j < 3; ++j) {
-            rows->push_back(static_cast<PetscInt>(3 * k[1 + a] + i));
-            cols->push_back(static_cast<PetscInt>(3 * k[1 + b] + j));
+            rows->push_back(static_cast<PetscInt>(3 * k[1 + slots[a]] + i));
+            cols->push_back(static_cast<PetscInt>(3 * k[1 + slots[b]] + j));
           }
   }
 }
@@ -561,11 +651,15 @@ bool ContactForm::hessian(const double* x, double* values) {
   bool ok = true;
   for (const auto& pe : pattern_pairs_) {
     const PairInfo info = describe(pe.kind, pe.index);
-    const int n = 3 * info.count;
+    int slots[4];
+    const int n = 3 * body_slots(info.nodes.data(), info.count, slots);
     bool active;
     ContactPairTerms t;
     ok = terms(info, x, true, true, &active, &t) && ok;
-    for (int r = 0; r < n * n; ++r) values[offset + r] = active ? t.H[r] : 0.0;
+    if (active)
+      body_block(t.H, info.count, slots, n / 3, values + offset);
+    else
+      std::fill(values + offset, values + offset + n * n, 0.0);
     offset += static_cast<std::size_t>(n) * n;
   }
   stats_.barrier_seconds += MPI_Wtime() - start;
@@ -582,10 +676,8 @@ double ContactForm::max_step(const double* x, const double* p) {
     for_each_pair([&](int kind, std::size_t i) {
       const PairInfo info = describe(kind, i);
       double X0[12], X1[12];
-      gather_positions(x, info.nodes.data(), info.count, X0);
-      for (int k = 0; k < info.count; ++k)
-        for (int c = 0; c < 3; ++c) X1[3 * k + c] = X0[3 * k + c] + p[3 * info.nodes[k] + c];
-      t = std::min(t, contact_pair_time_of_impact(kind, X0, X1, plane_point(info), plane_normal(info), 1.0));
+      gather_segment(x, p, info, X0, X1);
+      t = std::min(t, contact_pair_time_of_impact(info.kind, X0, X1, plane_point(info), plane_normal(info), 1.0));
       return true;
     });
   }
@@ -604,7 +696,7 @@ double ContactForm::min_distance(const double* x) const {
   for_each_pair([&](int kind, std::size_t i) {
     const PairInfo info = describe(kind, i);
     double X[12];
-    gather_positions(x, info.nodes.data(), info.count, X);
+    gather(x, info, X);
     d2 = std::min(d2, squared_distance(info, X));
     return true;
   });
@@ -634,6 +726,31 @@ std::string ContactForm::node_label(std::int32_t n) const {
                                      : "node (global " + std::to_string(global_node(n)) + ")";
 }
 
+// Obstacle primitives by their index in their obstacle (triangles in the file's order, after
+// polygons are split into triangles; vertices after equal ones are merged).
+std::string ContactForm::obstacle_vertex_label(std::int32_t v) const {
+  const int o = obstacles_.vertex_obstacle[v];
+  return "vertex " + std::to_string(v - obstacles_.first_vertex[o]) + " of obstacle \"" +
+         parameters_.obstacles[o].name + "\"";
+}
+
+std::string ContactForm::obstacle_face_label(std::int32_t f) const {
+  const int o = obstacles_.face_obstacle[f];
+  const auto& ob = parameters_.obstacles[o];
+  const std::size_t t = static_cast<std::size_t>(f - obstacles_.first_face[o]);
+  std::string where = ob.source;
+  if (t < ob.triangle_origin.size())
+    where += (ob.binary_origin ? ": facet " : ":") + std::to_string(ob.triangle_origin[t]);
+  return "triangle " + std::to_string(t) + " of obstacle \"" + ob.name + "\" (" + where + ")";
+}
+
+std::string ContactForm::obstacle_edge_label(std::int32_t e) const {
+  const int o = obstacles_.edge_obstacle[e];
+  const std::int32_t base = obstacles_.first_vertex[o];
+  return "edge (vertex " + std::to_string(obstacles_.edges[e][0] - base) + ", vertex " +
+         std::to_string(obstacles_.edges[e][1] - base) + ") of obstacle \"" + parameters_.obstacles[o].name + "\"";
+}
+
 std::string ContactForm::closest_pair(const double* x) const {
   struct {
     double distance;
@@ -644,7 +761,7 @@ std::string ContactForm::closest_pair(const double* x) const {
   for_each_pair([&](int kind, std::size_t i) {
     const PairInfo info = describe(kind, i);
     double X[12];
-    gather_positions(x, info.nodes.data(), info.count, X);
+    gather(x, info, X);
     const double d = std::sqrt(squared_distance(info, X));
     if (d < mine.distance) mine.distance = d, closest_kind = kind, closest_index = i;
     return true;
@@ -669,11 +786,21 @@ std::string ContactForm::closest_pair(const double* x) const {
              primitive("triangle", faces_[vertex_face_[i][1]], 3);
     } else if (closest_kind == 1) {
       text = primitive("edge", edges_[edge_edge_[i][0]], 2) + " and " + primitive("edge", edges_[edge_edge_[i][1]], 2);
-    } else {
+    } else if (closest_kind == 2) {
       const std::int32_t v = vertex_plane_[i][0];
       const auto& point = parameters_.planes[vertex_plane_[i][1]].point;
       text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and the plane through (" +
              std::to_string(point[0]) + ", " + std::to_string(point[1]) + ", " + std::to_string(point[2]) + ")";
+    } else if (closest_kind == 3) {
+      const std::int32_t v = vertex_obstacle_face_[i][0];
+      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
+             obstacle_face_label(vertex_obstacle_face_[i][1]);
+    } else if (closest_kind == 4) {
+      text = primitive("edge", edges_[edge_obstacle_edge_[i][0]], 2) + " and " +
+             obstacle_edge_label(edge_obstacle_edge_[i][1]);
+    } else {
+      text = obstacle_vertex_label(obstacle_vertex_face_[i][0]) + " and " +
+             primitive("triangle", faces_[obstacle_vertex_face_[i][1]], 3);
     }
     char distance[32];
     std::snprintf(distance, sizeof distance, ", %g apart", closest.distance);
@@ -720,6 +847,7 @@ long ContactForm::count_intersections(const double* x, std::string* first) const
                  node_label(face.node[1]) + ", " + node_label(face.node[2]) + ") of body " + body_label(face.body);
     }
   }
+  count += count_obstacle_intersections(x, count == 0 ? first : nullptr);
   for (std::size_t i = 0; i < surface_.vertices.size(); ++i)
     for (const auto& plane : parameters_.planes) {
       const std::int32_t v = surface_.vertices[i];
@@ -731,6 +859,64 @@ long ContactForm::count_intersections(const double* x, std::string* first) const
                  std::to_string(plane.point[0]) + ", " + std::to_string(plane.point[1]) + ", " +
                  std::to_string(plane.point[2]) + ")";
     }
+  return count;
+}
+
+// Owned body edges against obstacle triangles, and obstacle edges against owned body triangles
+// (each crossing counted by the owner of its body primitive), by sweep and prune on x.
+long ContactForm::count_obstacle_intersections(const double* x, std::string* first) const {
+  if (obstacles_.empty()) return 0;
+  auto box_of = [&](const std::int32_t* nodes, int count) {
+    Box b = empty_box();
+    for (int k = 0; k < count; ++k) grow(b, position(x, nodes[k]));
+    return b;
+  };
+  auto sorted_by_x = [](const std::vector<Box>& boxes) {
+    std::vector<std::pair<double, std::size_t>> by_x;
+    for (std::size_t i = 0; i < boxes.size(); ++i) by_x.emplace_back(boxes[i][0], i);
+    std::sort(by_x.begin(), by_x.end());
+    return by_x;
+  };
+  long count = 0;
+  auto crossing = [&](const std::int32_t* e, const std::int32_t* t) {
+    return segment_crosses_triangle(position(x, e[0]), position(x, e[1]), position(x, t[0]), position(x, t[1]),
+                                    position(x, t[2]));
+  };
+  // Body edges against obstacle triangles.
+  std::vector<std::array<std::int32_t, 3>> tri(obstacles_.faces.size());
+  std::vector<Box> tri_box(tri.size());
+  for (std::size_t f = 0; f < tri.size(); ++f) {
+    for (int k = 0; k < 3; ++k) tri[f][k] = obstacle_node(obstacles_.faces[f][k]);
+    tri_box[f] = box_of(tri[f].data(), 3);
+  }
+  const auto tri_by_x = sorted_by_x(tri_box);
+  for (std::size_t e = 0; e < owned_edges_; ++e) {
+    const std::int32_t edge[2] = {edges_[e].node[0], edges_[e].node[1]};
+    const Box eb = box_of(edge, 2);
+    for (const auto& [fx, f] : tri_by_x) {
+      if (fx > eb[3]) break;
+      if (!overlap(eb, tri_box[f]) || !crossing(edge, tri[f].data())) continue;
+      if (count++ == 0 && first)
+        *first = "edge (" + node_label(edge[0]) + ", " + node_label(edge[1]) + ") of body " +
+                 body_label(edges_[e].body) + " crosses " + obstacle_face_label(static_cast<std::int32_t>(f));
+    }
+  }
+  // Obstacle edges against owned body triangles.
+  std::vector<Box> face_box(owned_faces_);
+  for (std::size_t f = 0; f < owned_faces_; ++f) face_box[f] = box_of(faces_[f].node.data(), 3);
+  const auto face_by_x = sorted_by_x(face_box);
+  for (std::size_t e = 0; e < obstacles_.edges.size(); ++e) {
+    const std::int32_t edge[2] = {obstacle_node(obstacles_.edges[e][0]), obstacle_node(obstacles_.edges[e][1])};
+    const Box eb = box_of(edge, 2);
+    for (const auto& [fx, f] : face_by_x) {
+      if (fx > eb[3]) break;
+      if (!overlap(eb, face_box[f]) || !crossing(edge, faces_[f].node.data())) continue;
+      if (count++ == 0 && first)
+        *first = obstacle_edge_label(static_cast<std::int32_t>(e)) + " crosses triangle (" +
+                 node_label(faces_[f].node[0]) + ", " + node_label(faces_[f].node[1]) + ", " +
+                 node_label(faces_[f].node[2]) + ") of body " + body_label(faces_[f].body);
+    }
+  }
   return count;
 }
 

@@ -1,6 +1,9 @@
 // ContactForm: IPC's barrier potential B(x) = κ Σ_k w_k b(d_k(x)) over the contact pairs of the
-// whole (distributed) surface — point–triangle, edge–edge (mollified near parallel edges) and
-// point–plane for half-space obstacles — with its CCD step bound (Li et al. 2020, §4).
+// whole (distributed) surface — point–triangle, edge–edge (mollified near parallel edges),
+// point–plane for half-space obstacles, and the point–triangle and edge–edge pairs between the
+// bodies and triangle-mesh obstacles (contact_obstacles.hpp: positions prescribed in time, held
+// whole on every rank, each pair evaluated by the owner of its body primitive) — with its CCD
+// step bound (Li et al. 2020, §4).
 //
 // Distribution. Every surface primitive is owned by one rank (partition/contact_surface.hpp).
 // A pair is evaluated by exactly one rank: vertex–triangle and vertex–plane pairs by the
@@ -12,7 +15,9 @@
 // elsewhere go through COO.
 //
 // Weights w_k: vertex–triangle and vertex–plane pairs use the vertex's rest area (⅓ of its
-// incident rest triangle areas), edge–edge pairs the mean rest area of the edge's end vertices,
+// incident rest triangle areas; an obstacle vertex's in its obstacle), edge–edge pairs the mean
+// rest area of the end vertices of the edge with the smaller global id (of the body's edge in
+// a body–obstacle pair),
 // so κ does not depend on the mesh resolution (area-weighted barrier as in IPC Toolkit).
 //
 // Matrix pattern. The Hessian's COO pattern holds the pairs active at the last update_pattern,
@@ -34,7 +39,8 @@
 // cuda/contact_kernels.hpp on device arrays; both spaces call the point functions of
 // contact_pair_terms.hpp. update_extra_nodes and update_pattern receive host arrays in both
 // spaces (update_pattern uploads the pattern's pairs when they change), and so do the queries
-// min_distance, active_pairs and count_intersections, which stay on the CPU.
+// min_distance, active_pairs and count_intersections, which stay on the CPU. Triangle-mesh
+// obstacles are evaluated on the host only: a ContactForm in the device space refuses them.
 // Both spaces search every pair's time of impact on [0, 1] and take the minimum, so the step
 // bound is the same bit for bit on the host and the device, and does not depend on the order
 // of the pairs (which differs between rank counts). Searching up to the running minimum
@@ -49,6 +55,7 @@
 #include <vector>
 
 #include "contact/broad_phase/cuda/device_broad_phase.hpp"
+#include "nonlinear/contact_obstacles.hpp"
 #include "nonlinear/contact_parameters.hpp"
 #include "nonlinear/cuda/contact_kernels.hpp"
 #include "nonlinear/form.hpp"
@@ -71,7 +78,8 @@ struct ContactStats {
 class ContactForm : public Form {
  public:
   // space: where value, gradient, hessian and max_step run (and where their arrays live).
-  // MemorySpace::device throws device::DeviceError when no CUDA device is available.
+  // MemorySpace::device throws device::DeviceError when no CUDA device is available, and
+  // std::runtime_error when the parameters hold triangle-mesh obstacles (host only).
   ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space = MemorySpace::host);
   std::string name() const override { return "contact barrier"; }
   MemorySpace memory_space() const override { return space_; }
@@ -104,8 +112,28 @@ class ContactForm : public Form {
   void reset_stats() { stats_ = ContactStats{}; }
   double dhat() const { return parameters_.dhat; }
 
+  // Triangle-mesh obstacles (contact_obstacles.hpp). Until the first call they stand at t = 0.
+  // Evaluations see them at t1; the next segments' broad phase and CCD follow them from t0 to
+  // t1 (linearly), so a prescribed motion of the obstacles is checked as the body's steps are.
+  void move_obstacles(double t0, double t1) { obstacles_.move(parameters_.obstacles, t0, t1); }
+  // The start of a time step at t: obstacles at t, which friction's sliding is measured from.
+  void start_obstacle_step(double t) {
+    move_obstacles(t, t);
+    obstacles_.mark_step_start();
+  }
+  // Position of an ext-local node in x, or of an obstacle node (at t1).
+  const double* position(const double* x, std::int32_t node) const {
+    return is_obstacle_node(node) ? obstacles_.end(obstacle_vertex(node)) : x + 3 * static_cast<std::size_t>(node);
+  }
+  // The same at the start of the step (x_start the body's positions then).
+  const double* step_start_position(const double* x_start, std::int32_t node) const {
+    return is_obstacle_node(node) ? obstacles_.step_start(obstacle_vertex(node))
+                                  : x_start + 3 * static_cast<std::size_t>(node);
+  }
+
   // One candidate pair: kind (0 vertex–triangle, 1 edge–edge, 2 vertex–plane), its ext-local
-  // nodes ([v, t0, t1, t2], [ea0, ea1, eb0, eb1] or [v]), weight w_k, mollifier threshold.
+  // nodes ([v, t0, t1, t2], [ea0, ea1, eb0, eb1] or [v]; obstacle vertices as obstacle_node
+  // ids, which have no unknowns), weight w_k, mollifier threshold.
   struct PairInfo {
     int kind = 0;
     std::array<std::int32_t, 4> nodes{-1, -1, -1, -1};
@@ -121,9 +149,12 @@ class ContactForm : public Form {
   std::vector<ActivePair> active_pairs(const double* x) const;
   // Squared distance of a pair whose stacked node positions are X (3 per node of info.nodes).
   static double squared_distance(const PairInfo& info, const double* X);
+  // Global id of an ext-local node; obstacle nodes keep their (negative) obstacle_node id.
   std::int64_t global_node(std::int32_t ext_local) const;
-  // Local id (mesh or extra) of a global node, −1 if it is not known on this rank.
+  // Local id (mesh or extra) of a global node, −1 if it is not known on this rank; obstacle
+  // nodes map to themselves.
   std::int32_t local_node(std::int64_t global) const {
+    if (is_obstacle_node(global)) return static_cast<std::int32_t>(global);
     auto it = global_to_local_.find(global);
     return it == global_to_local_.end() ? -1 : it->second;
   }
@@ -132,7 +163,8 @@ class ContactForm : public Form {
   const ContactParameters& parameters() const { return parameters_; }
 
   // Edge–triangle crossings at x between this rank's owned edges and every triangle known
-  // here (owned or ghost; call after the potential prepared x), and vertices behind a plane.
+  // here (owned or ghost; call after the potential prepared x), vertices behind a plane, and
+  // crossings of owned edges with obstacle triangles and of obstacle edges with owned triangles.
   // Returns how many; *first describes one (bodies and input node ids) for error messages.
   long count_intersections(const double* x, std::string* first) const;
   // The candidate pair closest at x over all ranks, for error messages: its two primitives with
@@ -160,6 +192,14 @@ class ContactForm : public Form {
   void upload_surface();  // device space: number_surface() to the device broad phase
   template <class F>
   bool for_each_pair(F&& f) const;
+  // Stacked positions of a pair's nodes at x (obstacles at t1) and, for CCD, at the segment's
+  // start and end (obstacles from t0 to t1).
+  void gather(const double* x, const PairInfo& info, double* X) const;
+  void gather_segment(const double* x, const double* p, const PairInfo& info, double* X0, double* X1) const;
+  std::string obstacle_vertex_label(std::int32_t v) const;
+  std::string obstacle_face_label(std::int32_t f) const;
+  std::string obstacle_edge_label(std::int32_t e) const;
+  long count_obstacle_intersections(const double* x, std::string* first) const;
   PairInfo describe(int kind, std::size_t i) const;
   // Names for messages: "\"body name\"" (or the id), "node <input id>".
   std::string body_label(int body) const;
@@ -185,10 +225,14 @@ class ContactForm : public Form {
   // Candidate pairs this rank evaluates: (vertex node, face index), (edge index, edge index).
   std::vector<std::array<std::int32_t, 2>> vertex_face_, edge_edge_;
   std::vector<std::array<std::int32_t, 2>> vertex_plane_;  // (vertex node, plane), all of them, fixed
+  // The triangle-mesh obstacles, and the candidate pairs with them: (vertex node, obstacle face),
+  // (edge index, obstacle edge), (obstacle vertex, face index).
+  ObstacleSurface obstacles_;
+  std::vector<std::array<std::int32_t, 2>> vertex_obstacle_face_, edge_obstacle_edge_, obstacle_vertex_face_;
   // Active pairs at the last update_pattern (their order defines the COO pattern).
   struct PatternEntry {
-    int kind;  // 0 vertex–face, 1 edge–edge, 2 vertex–plane
-    std::int32_t index;  // into vertex_face_, edge_edge_ or vertex_plane_
+    int kind;  // for_each_pair's kinds: 0 vertex–face, 1 edge–edge, 2 vertex–plane, 3..5 obstacle pairs
+    std::int32_t index;  // into the list of that kind
   };
   std::vector<PatternEntry> pattern_pairs_;
   std::vector<std::array<std::int64_t, 5>> pattern_keys(const std::vector<PatternEntry>& pairs) const;

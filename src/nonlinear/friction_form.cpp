@@ -18,10 +18,12 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
     double X[12];
     for (int k = 0; k < info.count; ++k) {
       p.global[k] = contact_.global_node(info.nodes[k]);
-      pinned.push_back(p.global[k]);
+      if (!is_obstacle_node(p.global[k])) pinned.push_back(p.global[k]);
+      const double* lagged = contact_.position(x_lag, info.nodes[k]);
+      const double* started = contact_.step_start_position(x_start, info.nodes[k]);
       for (int c = 0; c < 3; ++c) {
-        X[3 * k + c] = x_lag[3 * info.nodes[k] + c];
-        p.x_start[3 * k + c] = x_start[3 * info.nodes[k] + c];
+        X[3 * k + c] = lagged[c];
+        p.x_start[3 * k + c] = started[c];
       }
     }
     // Normal force λ = −κ w b'(d) 2√d at the lagged positions (IPC §5).
@@ -43,8 +45,9 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
 bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_t* local) const {
   for (int k = 0; k < p.count; ++k) {
     local[k] = contact_.local_node(p.global[k]);
-    if (local[k] < 0) return false;
-    for (int c = 0; c < 3; ++c) X[3 * k + c] = x[3 * local[k] + c];
+    if (local[k] == -1) return false;
+    const double* xk = contact_.position(x, local[k]);
+    for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
   }
   return true;
 }
@@ -72,21 +75,25 @@ bool FrictionForm::gradient(const double* x, double* g) {
     else
       contact::friction_gradient(X, p.x_start.data(), p.pair, gp);
     for (int k = 0; k < p.count; ++k)
-      for (int c = 0; c < 3; ++c) g[3 * local[k] + c] += gp[3 * k + c];
+      if (!is_obstacle_node(local[k]))
+        for (int c = 0; c < 3; ++c) g[3 * local[k] + c] += gp[3 * k + c];
   }
   return true;
 }
 
 void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
   rows->clear(), cols->clear();
-  for (const Pair& p : pairs_)
-    for (int a = 0; a < p.count; ++a)
+  for (const Pair& p : pairs_) {
+    int slots[4];
+    const int n = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
+    for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i)
-        for (int b = 0; b < p.count; ++b)
+        for (int b = 0; b < n; ++b)
           for (int j = 0; j < 3; ++j) {
-            rows->push_back(static_cast<PetscInt>(3 * p.global[a] + i));
-            cols->push_back(static_cast<PetscInt>(3 * p.global[b] + j));
+            rows->push_back(static_cast<PetscInt>(3 * p.global[slots[a]] + i));
+            cols->push_back(static_cast<PetscInt>(3 * p.global[slots[b]] + j));
           }
+  }
 }
 
 bool FrictionForm::hessian(const double* x, double* values) {
@@ -95,11 +102,17 @@ bool FrictionForm::hessian(const double* x, double* values) {
     double X[12];
     std::int32_t local[4];
     if (!gather(p, x, X, local)) return false;
-    const int n = 3 * p.count;
-    if (p.count == 1)
+    int slots[4];
+    const int n = 3 * body_slots(p.global.data(), p.count, slots);
+    if (p.count == 1) {
       contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
-    else
+    } else if (n == 3 * p.count) {
       contact::friction_hessian(X, p.x_start.data(), p.pair, values + offset);
+    } else {  // a pair with an obstacle: the body nodes' block
+      double H[144];
+      contact::friction_hessian(X, p.x_start.data(), p.pair, H);
+      body_block(H, p.count, slots, n / 3, values + offset);
+    }
     offset += static_cast<std::size_t>(n) * n;
   }
   return true;

@@ -7,7 +7,9 @@
 //
 // Pairs are kept by global node ids and evaluated on the rank that evaluates the contact pair,
 // so every pair counts once; their nodes stay among the contact form's extra nodes while the
-// lag lasts.
+// lag lasts. Obstacle vertices (contact_obstacles.hpp) keep their obstacle ids: their positions
+// come from the contact form (at the step's start for x_start), and only the body nodes get
+// gradient and Hessian entries, so a moving obstacle drags what rests on it.
 #pragma once
 #include <array>
 #include <cstdint>

@@ -1,8 +1,10 @@
-// Positions and velocities of Dirichlet nodes: fixed, constant velocity, or rigid rotation
-// about an axis (Rodrigues' rotation formula), or an affine deformation rate.
-#include <cmath>
+// Positions and velocities of prescribed points: fixed, constant velocity, rigid rotation
+// about an axis (Rodrigues' rotation formula), an affine deformation rate, or a piecewise
+// linear path of translations.
+#include "nonlinear/prescribed_motion.hpp"
 
-#include "nonlinear/problem.hpp"
+#include <algorithm>
+#include <cmath>
 
 namespace dipc {
 
@@ -12,6 +14,14 @@ V3 cross(const V3& a, const V3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The path's keyframe segment [k, k+1] holding t (the last one when t is beyond it); the
+// parser guarantees at least two keyframes.
+std::size_t path_segment(const std::vector<std::array<double, 4>>& path, double t) {
+  std::size_t k = 0;
+  while (k + 2 < path.size() && t >= path[k + 1][0]) ++k;
+  return k;
+}
 }  // namespace
 
 std::array<double, 3> PrescribedMotion::position(const std::array<double, 3>& X, double t) const {
@@ -23,6 +33,15 @@ std::array<double, 3> PrescribedMotion::position(const std::array<double, 3>& X,
     case Kind::Affine: {
       const V3 v = velocity_at(X, t);
       return {X[0] + t * v[0], X[1] + t * v[1], X[2] + t * v[2]};
+    }
+    case Kind::Path: {
+      if (path.size() < 2) return X;
+      const std::size_t k = path_segment(path, t);
+      const auto& a = path[k];
+      const auto& b = path[k + 1];
+      // Clamped to the keyframes: the path holds its last translation after its end.
+      const double s = std::min(1.0, std::max(0.0, (t - a[0]) / (b[0] - a[0])));
+      return {X[0] + a[1] + s * (b[1] - a[1]), X[1] + a[2] + s * (b[2] - a[2]), X[2] + a[3] + s * (b[3] - a[3])};
     }
     case Kind::Rotation: {
       // R r = r cosθ + (k × r) sinθ + k (k·r)(1 − cosθ), r = X − c, θ = ω t.
@@ -49,6 +68,14 @@ std::array<double, 3> PrescribedMotion::velocity_at(const std::array<double, 3>&
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) v[i] += rate[3 * i + j] * X[j];
       return v;
+    }
+    case Kind::Path: {
+      // The slope of the segment that starts at t (right derivative), zero after the end.
+      if (path.size() < 2 || t >= path.back()[0]) return {0, 0, 0};
+      const auto& a = path[path_segment(path, t)];
+      const auto& b = path[path_segment(path, t) + 1];
+      const double dt = b[0] - a[0];
+      return {(b[1] - a[1]) / dt, (b[2] - a[2]) / dt, (b[3] - a[3]) / dt};
     }
     case Kind::Rotation: {
       const V3 x = position(X, t);

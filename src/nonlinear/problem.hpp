@@ -7,26 +7,13 @@
 
 #include "assembly/hex8_mean_dilatation.hpp"
 #include "nonlinear/contact_parameters.hpp"
+#include "nonlinear/prescribed_motion.hpp"
 
 namespace dipc {
 
 struct BodyMaterial {
   double lambda = 0, mu = 0, rho = 0;  // Lamé parameters [Pa] and density [kg/m³]
   VolumetricTerm volumetric = VolumetricTerm::gauss_points;
-};
-
-// Where a Dirichlet node is at time t, given its position X at t = 0.
-struct PrescribedMotion {
-  // Affine: x(t) = X + t (A X + velocity), a uniform deformation rate (stretch/shear tests).
-  enum class Kind { Fixed, Velocity, Rotation, Affine };
-  Kind kind = Kind::Fixed;
-  std::array<double, 3> velocity{0, 0, 0};
-  std::array<double, 9> rate{0, 0, 0, 0, 0, 0, 0, 0, 0};  // A, row-major (Affine only)
-  std::array<double, 3> axis{0, 0, 1};  // unit vector
-  std::array<double, 3> center{0, 0, 0};
-  double angular_velocity = 0;  // rad/s, right-handed about axis
-  std::array<double, 3> position(const std::array<double, 3>& X, double t) const;
-  std::array<double, 3> velocity_at(const std::array<double, 3>& X, double t) const;
 };
 
 struct DirichletSet {

@@ -279,6 +279,9 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   const double previous_min_distance2_before = previous_min_distance2_;
 
   PetscCall(VecCopy(x_, x_n_));
+  // Obstacles stand where they were at the step's start until reach_prescribed_positions moves
+  // them (also after a failed attempt, which leaves them at its end).
+  if (contact_) contact_->start_obstacle_step(time_);
   if (!problem_.is_static) {
     PetscCall(VecWAXPY(x_hat_, h, v_, x_n_));  // x̂ = x_n + h v_n
     PetscCall(potential_.begin_step(x_hat_));
@@ -367,7 +370,9 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
 // Dirichlet nodes part-way), which carries the interior along, and the remaining motion is
 // retried from there, halving the fraction when it still inverts (Dirichlet continuation).
 // Only the last solve, with the full motion, is the step's solution; the others only build
-// its initial guess.
+// its initial guess. Triangle-mesh obstacles move with the same fractions of the step: their
+// motion from the accepted fraction to the trial one is part of the CCD check, so an obstacle
+// that moves into a body pushes it along in partial solves instead of jumping through it.
 PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* report) {
   PetscFunctionBeginUser;
   const double t0 = time_;
@@ -379,7 +384,9 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
   Vec jump;
   PetscCall(VecDuplicate(x_, &jump));
   for (int halvings = 0;;) {
-    PetscCall(apply_dirichlet(x_, t0 + trial * (t - t0)));
+    const double t_from = t0 + reached * (t - t0), t_to = t0 + trial * (t - t0);
+    PetscCall(apply_dirichlet(x_, t_to));
+    if (contact_) contact_->move_obstacles(t_from, t_to);
     // The jump of the Dirichlet nodes must not invert an element nor pass through a contact
     // (CCD along accepted -> x; this also prepares the contact candidates around x).
     PetscCall(VecWAXPY(jump, -1.0, accepted, x_));
@@ -387,6 +394,9 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
     PetscCall(potential_.max_step(accepted, jump, &alpha));
     PetscBool valid = PETSC_FALSE;
     if (alpha >= 1.0) PetscCall(potential_.is_valid(x_, &valid));
+    // From here on the obstacles stand still: at the trial time if it is taken, else where
+    // they were.
+    if (contact_) contact_->move_obstacles(valid ? t_to : t_from, valid ? t_to : t_from);
     if (valid && trial == 1.0) break;
     if (valid) {
       NewtonReport partial;

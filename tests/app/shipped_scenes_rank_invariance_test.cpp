@@ -38,6 +38,7 @@ const ShippedScene kShippedScenes[] = {
     {"roller_squeeze", 12},          // 45: friction pulls the block into the nip
     {"fast_impact", 10},             // 40: impact at step 2, rebound by step 9
     {"friction_stack", 20},          // 150: the stack lands and settles on the slope
+    {"box_on_obj_ramp", 20},         // 60: lands on the OBJ ramp at step 13
 };
 
 Scene load(const std::string& name) {

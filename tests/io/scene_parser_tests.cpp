@@ -133,7 +133,7 @@ std::vector<BadScene> bad_scenes() {
       {"RotationWithoutSpeed", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][2].erase("angular_velocity"); }); },
        {"scene.json: boundary_conditions.dirichlet[2].angular_velocity: required key is missing"}},
       {"UnknownBcType", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["type"] = "clamped"; }); },
-       {"scene.json: boundary_conditions.dirichlet[0].type = \"clamped\": unknown type (allowed: fixed, velocity, rotation)"}},
+       {"scene.json: boundary_conditions.dirichlet[0].type = \"clamped\": unknown type (allowed: fixed, velocity, rotation, path)"}},
       {"SelectionBoxInverted", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][1]["selection"]["box"][1][0] = 0.5; }); },
        {"scene.json: boundary_conditions.dirichlet[1].selection.box: min corner exceeds max corner in coordinate 0 (0.9 > 0.5)"}},
       {"SelectionWrongType", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["selection"] = 3; }); },
@@ -172,7 +172,7 @@ std::vector<BadScene> bad_scenes() {
        {"scene.json: contact.enabled: expected true or false, got number 1"}},
       {"ContactUnknownKey", [] { return edited([](json& s) { s["contact"]["mu"] = 0.3; }); },
        {"scene.json: contact.mu: unknown key (allowed: enabled, dhat, dhat_relative, barrier_stiffness, "
-        "friction, epsv, friction_iterations, planes)"}},
+        "friction, epsv, friction_iterations, planes, obstacles)"}},
       {"DhatNegative", [] { return edited([](json& s) { s["contact"]["dhat"] = -1e-3; }); },
        {"scene.json: contact.dhat = -0.001: must be > 0"}},
       {"DhatRelativeWholeDiagonal", [] { return edited([](json& s) { s["contact"]["dhat"] = 1; }); },
@@ -212,7 +212,7 @@ std::vector<BadScene> bad_scenes() {
          s["boundary_conditions"].erase("dirichlet");
          s["geometry"][0]["kinematic"] = {{"type", "spin"}};
        }); },
-       {"scene.json: geometry[0].kinematic.type = \"spin\": unknown type (allowed: fixed, velocity, rotation)"}},
+       {"scene.json: geometry[0].kinematic.type = \"spin\": unknown type (allowed: fixed, velocity, rotation, path)"}},
       {"KinematicNotObject", [] { return edited([](json& s) {
          s["boundary_conditions"].erase("dirichlet");
          s["geometry"][0]["kinematic"] = true;
@@ -248,6 +248,53 @@ std::vector<BadScene> bad_scenes() {
          s["boundary_conditions"]["dirichlet"] = json::array({{{"selection", "beam"}}});
        }); },
        {"scene.json: boundary_conditions.dirichlet[0].selection = \"beam\": body \"beam\" is kinematic"}},
+      {"ObstacleWithoutContact", [] { return edited([](json& s) {
+         s["contact"] = {{"obstacles", json::array({{{"mesh", "floor.obj"}}})}};
+       }); },
+       {"scene.json: contact.obstacles: triangle-mesh obstacles need contact (\"enabled\": true)"}},
+      {"ObstacleUnknownKey", [] { return edited([](json& s) {
+         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "floor.obj"}, {"rotation", 1}}})}};
+       }); },
+       {"scene.json: contact.obstacles[0].rotation: unknown key (allowed: name, mesh, scale, translation, motion)"}},
+      {"ObstacleWithoutMesh", [] { return edited([](json& s) {
+         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"name", "floor"}}})}};
+       }); },
+       {"scene.json: contact.obstacles[0].mesh: required key is missing"}},
+      {"ObstacleZeroScale", [] { return edited([](json& s) {
+         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "f.obj"}, {"scale", 0}}})}};
+       }); },
+       {"scene.json: contact.obstacles[0].scale = 0: must be > 0"}},
+      {"ObstacleDuplicateName", [] { return edited([](json& s) {
+         s["contact"] = {{"enabled", true},
+                         {"obstacles", json::array({{{"mesh", "a.obj"}, {"name", "f"}}, {{"mesh", "b.obj"}, {"name", "f"}}})}};
+       }); },
+       {"scene.json: contact.obstacles[1]: duplicate obstacle name \"f\" (also contact.obstacles[0])"}},
+      {"PathTooShort", [] { return edited([](json& s) {
+         s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"}, {"type", "path"},
+                                                     {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 0}}}})}};
+       }); },
+       {"scene.json: boundary_conditions.dirichlet[0].keyframes: a path needs at least two keyframes, got 1"}},
+      {"PathStartsLate", [] { return edited([](json& s) {
+         s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"}, {"type", "path"},
+                                                     {"keyframes", json::array({{{"time", 0.5}, {"translation", {0, 0, 0}}},
+                                                                                {{"time", 1}, {"translation", {0, 0, 1}}}})}};
+       }); },
+       {"scene.json: boundary_conditions.dirichlet[0].keyframes[0].time = 0.5: the first keyframe must be at time 0"}},
+      {"PathStartsAway", [] { return edited([](json& s) {
+         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "f.obj"}, {"motion", {{"type", "path"},
+                         {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 1}}},
+                                                    {{"time", 1}, {"translation", {0, 0, 2}}}})}}}}})}};
+       }); },
+       {"scene.json: contact.obstacles[0].motion.keyframes[0].translation = [0,0,1]: the first keyframe's translation "
+        "must be [0, 0, 0]"}},
+      {"PathTimesDoNotIncrease", [] { return edited([](json& s) {
+         s["geometry"][0]["kinematic"] = {{"type", "path"},
+                                          {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 0}}},
+                                                                     {{"time", 1}, {"translation", {0, 0, 1}}},
+                                                                     {{"time", 1}, {"translation", {0, 0, 2}}}})}};
+         s["boundary_conditions"].erase("dirichlet");
+       }); },
+       {"scene.json: geometry[0].kinematic.keyframes[2].time = 1: keyframe times must strictly increase (previous 1)"}},
   };
 }
 
@@ -490,6 +537,32 @@ TEST(SceneParser, StaticLoadSteps) {
   EXPECT_TRUE(parsed.is_static);
   EXPECT_EQ(parsed.steps, 4);
   EXPECT_EQ(parsed.dt, 0.25);
+}
+
+// An obstacle's keys: mesh resolved against the scene directory, placement and a path motion.
+TEST(SceneParser, ObstacleTakesItsValues) {
+  json scene = base_scene();
+  scene["contact"] = json::parse(R"({"enabled": true, "obstacles": [
+      {"mesh": "meshes/floor.obj"},
+      {"name": "lift", "mesh": "/abs/lift.stl", "scale": 2, "translation": [1, 2, 3],
+       "motion": {"type": "path", "keyframes": [{"time": 0, "translation": [0, 0, 0]},
+                                                {"time": 0.5, "translation": [0, 0, 0.1]}]}}]})");
+  const Scene s = parse(scene);
+  ASSERT_EQ(s.contact.obstacles.size(), 2u);
+  const Obstacle& floor = s.contact.obstacles[0];
+  EXPECT_EQ(floor.name, "obstacle0");
+  EXPECT_EQ(floor.mesh_file, "/base/meshes/floor.obj");
+  EXPECT_EQ(floor.scale, 1.0);
+  EXPECT_EQ(floor.motion.kind, Motion::Kind::Fixed);
+  EXPECT_EQ(floor.key_path, "contact.obstacles[0]");
+  const Obstacle& lift = s.contact.obstacles[1];
+  EXPECT_EQ(lift.name, "lift");
+  EXPECT_EQ(lift.mesh_file, "/abs/lift.stl");
+  EXPECT_EQ(lift.scale, 2.0);
+  EXPECT_EQ(lift.translation, (std::array<double, 3>{1, 2, 3}));
+  EXPECT_EQ(lift.motion.kind, Motion::Kind::Path);
+  ASSERT_EQ(lift.motion.path.size(), 2u);
+  EXPECT_EQ(lift.motion.path[1], (std::array<double, 4>{0.5, 0, 0, 0.1}));
 }
 
 TEST(SceneParser, MissingFileIsNamed) {
