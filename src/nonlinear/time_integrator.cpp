@@ -10,6 +10,7 @@
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
+#include "nonlinear/mixed_linear_solve.hpp"
 
 namespace dipc {
 
@@ -98,6 +99,18 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
   if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
   const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
+  bool mean_dilatation = false;
+  for (VolumetricTerm t : deformable.volumetric) mean_dilatation = mean_dilatation || t == VolumetricTerm::mean_dilatation;
+  if (on_device && mean_dilatation) {
+    // The device elastic form does not hand over its volumetric terms (B and D), which the
+    // mixed solve needs: refuse rather than solve another way than the one asked for.
+    bool mixed = false;
+    PetscCall(mixed_solve_requested(mesh.comm, true, &mixed));
+    if (mixed)
+      throw std::runtime_error("mean-dilatation elements (materials[].volumetric) take the mixed u-p linear solve, "
+                               "which runs with the CPU elastic form: run with -dipc_backend cpu, or give "
+                               "-dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
+  }
   if (on_device)
     forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
   else
