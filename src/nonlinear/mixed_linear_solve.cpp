@@ -10,15 +10,22 @@
 
 namespace dipc {
 
-PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use) {
+PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use, SchurApproximation* schur) {
   PetscFunctionBeginUser;
   PetscBool flag = has_split_elements ? PETSC_TRUE : PETSC_FALSE, set = PETSC_FALSE;
+  const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
+  PetscEnum schur_choice = static_cast<PetscEnum>(SchurApproximation::mass);
   PetscOptionsBegin(comm, nullptr, "dipc mixed u-p linear solve (mean-dilatation elements)", "SNES");
   PetscCall(PetscOptionsBool("-dipc_mixed_solve",
                              "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES), "
                              "default on when the scene has them",
                              "", flag, &flag, &set));
+  PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
+                             "Preconditioner of the mixed solve's pressure block: mass (I + D W) or selfp "
+                             "(AMG on I + Bs diag(A)^-1 Bs^T)",
+                             "", schur_names, schur_choice, &schur_choice, nullptr));
   PetscOptionsEnd();
+  if (schur) *schur = static_cast<SchurApproximation>(schur_choice);
   PetscCheck(!(set && flag && !has_split_elements), comm, PETSC_ERR_ARG_INCOMP,
              "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
              "\"mean_dilatation\"), and this scene has none");
@@ -42,13 +49,13 @@ MixedLinearSolve::~MixedLinearSolve() {
 
 PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts,
                                        const std::vector<char>* prescribed, PetscReal rtol, PetscReal atol,
-                                       PetscInt max_it, bool selfp) {
+                                       PetscInt max_it, SchurApproximation schur) {
   PetscFunctionBeginUser;
   comm_ = comm;
   parts_ = std::move(parts);
   prescribed_ = prescribed;
   rtol_ = rtol, atol_ = atol, max_it_ = max_it;
-  selfp_ = selfp;
+  selfp_ = schur == SchurApproximation::selfp;
   num_rows_ = 0;
   for (const VolumetricPart* p : parts_) num_rows_ += p->rows;
   PetscCall(PCCreate(comm_, &pc_a_));

@@ -36,9 +36,16 @@
 
 namespace dipc {
 
+// How the s block is preconditioned: `mass`, the diagonal I + D W above; or `selfp`, one
+// BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp" Schur approximation in the
+// rescaled variable), which sees the element-to-element coupling that the diagonal misses.
+enum class SchurApproximation { mass, selfp };
+
 // -dipc_mixed_solve: whether scenes with mean-dilatation elements take the mixed solve (default:
-// yes when `has_split_elements`, which is also the only case where it can be used).
-PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use);
+// yes when `has_split_elements`, which is also the only case where it can be used);
+// -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass).
+PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use,
+                                     SchurApproximation* schur = nullptr);
 
 class MixedLinearSolve {
  public:
@@ -52,7 +59,7 @@ class MixedLinearSolve {
   // tolerances. The preconditioner of the A block is a PC read from the unprefixed options
   // (-pc_type, -pc_hypre_*: what the primal CG would use).
   PetscErrorCode setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts, const std::vector<char>* prescribed,
-                       PetscReal rtol, PetscReal atol, PetscInt max_it, bool selfp);
+                       PetscReal rtol, PetscReal atol, PetscInt max_it, SchurApproximation schur);
   // After the forms' hessian(): A is the assembled Hessian without the volumetric terms, at
   // the state where the parts were computed. Fills Bs and the preconditioner's diagonal.
   PetscErrorCode update(Mat A);

@@ -228,9 +228,10 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   PetscReal rtol, atol, dtol;
   PetscInt max_it;
   PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &max_it));
-  PetscBool selfp = PETSC_FALSE;
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-dipc_mixed_selfp", &selfp, nullptr));
-  PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, selfp));
+  bool use;
+  SchurApproximation schur;
+  PetscCall(mixed_solve_requested(comm, true, &use, &schur));
+  PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, schur));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
