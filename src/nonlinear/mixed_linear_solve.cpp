@@ -5,6 +5,7 @@
 #include <petsc/private/petscimpl.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "nonlinear/device_matrix.hpp"
 
@@ -26,9 +27,11 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, boo
                              "", schur_names, schur_choice, &schur_choice, nullptr));
   PetscOptionsEnd();
   if (schur) *schur = static_cast<SchurApproximation>(schur_choice);
-  PetscCheck(!(set && flag && !has_split_elements), comm, PETSC_ERR_ARG_INCOMP,
-             "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
-             "\"mean_dilatation\"), and this scene has none");
+  // Bad input (exit status 1); has_split_elements is the same on every rank.
+  if (set && flag && !has_split_elements)
+    throw std::invalid_argument(
+        "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
+        "\"mean_dilatation\"), and this scene has none");
   *use = flag && has_split_elements;
   PetscFunctionReturn(0);
 }

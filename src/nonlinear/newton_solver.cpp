@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cstring>
+#include <stdexcept>
 
 #include "nonlinear/log_stages.hpp"
 
@@ -210,12 +211,21 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
 PetscErrorCode NewtonSolver::setup_mixed_solve() {
   PetscFunctionBeginUser;
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(snes_));
-  PetscCheck(!pc_reuse_.enabled(), comm, PETSC_ERR_ARG_INCOMP,
-             "-dipc_pc_reuse is not available with the mixed solve of mean-dilatation elements; drop it or add "
-             "-dipc_mixed_solve 0");
-  PetscCheck(!matrix_on_device(J_), comm, PETSC_ERR_SUP,
-             "the mixed solve of mean-dilatation elements runs on the host: give -dipc_mixed_solve 0 or drop the "
-             "device -mat_type");
+  // Options that cannot go together (exit status 1; the same decision on every rank).
+  if (pc_reuse_.enabled())
+    throw std::invalid_argument(
+        "-dipc_pc_reuse is not available with the mixed solve of mean-dilatation elements; drop it or add "
+        "-dipc_mixed_solve 0");
+  // Its code uses only PETSc's Vec/Mat operations (device-ready), but it has been run only with
+  // host matrices, so a device one (-mat_type, or the types dipc sets for a PETSc whose hypre
+  // runs only on the GPU) is refused rather than trusted untested.
+  if (matrix_on_device(J_)) {
+    MatType type;
+    PetscCall(MatGetType(J_, &type));
+    throw std::invalid_argument(std::string("the mixed solve of mean-dilatation elements has been run only with host ") +
+                                "matrices, and this run's matrix is a device one (" + type +
+                                "): give -dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
+  }
   std::vector<const VolumetricPart*> parts;
   for (const auto& form : ls_.potential->forms())
     if (form->can_split_volumetric()) {
