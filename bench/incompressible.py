@@ -163,7 +163,9 @@ def main():
                 old = [dict(r, volumetric=r.get("volumetric") or "gauss_points") for r in csv.DictReader(f)]
         key = lambda r: (r["scene"], str(r["ranks"]), r["volumetric"], r["pc"], r["nu"])
         rows = []
-        with tempfile.TemporaryDirectory() as tmp, open(csv_path + ".new", "w", newline="") as f:
+        tmp_dir = tempfile.TemporaryDirectory()
+        tmp = tmp_dir.name
+        with open(os.path.join(tmp, "rows.csv"), "w", newline="") as f:  # this run's rows, as they come
             w = csv.DictWriter(f, fieldnames=fields)
             w.writeheader()
             for scene in a.scenes.split(","):
@@ -190,7 +192,7 @@ def main():
             w = csv.DictWriter(f, fieldnames=fields)
             w.writeheader()
             w.writerows([r for r in old if key(r) not in new_keys] + rows)
-        os.remove(csv_path + ".new")
+        tmp_dir.cleanup()
     with open(csv_path) as f:
         rows = list(csv.DictReader(f))
     try:

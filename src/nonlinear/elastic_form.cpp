@@ -9,6 +9,12 @@ ElasticForm::ElasticForm(const ElementData& elements, double scale) : elements_(
     if (elements.volumetric[e] == VolumetricTerm::mean_dilatation) split_elements_.push_back(e);
 }
 
+double ElasticForm::split_stiffness_ratio() const {
+  double ratio = 0;
+  for (int e : split_elements_) ratio = std::max(ratio, elements_.lambda[e] / elements_.mu[e]);
+  return ratio;
+}
+
 void ElasticForm::split_volumetric() {
   if (split_ || split_elements_.empty()) return;
   split_ = true;

@@ -18,6 +18,7 @@ class ElasticForm : public Form {
   void set_time_step(double h) override { scale_ = h * h; }
   // True when some element is a mean-dilatation one (its rank-one volumetric term can be split).
   bool can_split_volumetric() const override { return !split_elements_.empty(); }
+  double split_stiffness_ratio() const override;
   void split_volumetric() override;
   const VolumetricPart* volumetric_part() const override { return split_ ? &part_ : nullptr; }
 

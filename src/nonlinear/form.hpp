@@ -102,6 +102,8 @@ class Form {
   // elements) may hand them over: after split_volumetric(), hessian() leaves them out (same
   // pattern) and volumetric_part() holds b_e and d_e at the state of the last hessian().
   virtual bool can_split_volumetric() const { return false; }
+  // Largest lambda / mu among the elements whose terms can be split (0: none).
+  virtual double split_stiffness_ratio() const { return 0; }
   virtual void split_volumetric() {}
   virtual const VolumetricPart* volumetric_part() const { return nullptr; }
 };

@@ -11,15 +11,17 @@
 
 namespace dipc {
 
-PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use, SchurApproximation* schur) {
+PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
+                                     SchurApproximation* schur) {
   PetscFunctionBeginUser;
-  PetscBool flag = has_split_elements ? PETSC_TRUE : PETSC_FALSE, set = PETSC_FALSE;
+  PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool set = PETSC_FALSE;
   const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
   PetscEnum schur_choice = static_cast<PetscEnum>(SchurApproximation::mass);
   PetscOptionsBegin(comm, nullptr, "dipc mixed u-p linear solve (mean-dilatation elements)", "SNES");
   PetscCall(PetscOptionsBool("-dipc_mixed_solve",
-                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES), "
-                             "default on when the scene has them",
+                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES); "
+                             "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
                              "", flag, &flag, &set));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
                              "Preconditioner of the mixed solve's pressure block: mass (I + D W) or selfp "

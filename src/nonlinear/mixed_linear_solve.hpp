@@ -41,10 +41,16 @@ namespace dipc {
 // rescaled variable), which sees the element-to-element coupling that the diagonal misses.
 enum class SchurApproximation { mass, selfp };
 
-// -dipc_mixed_solve: whether scenes with mean-dilatation elements take the mixed solve (default:
-// yes when `has_split_elements`, which is also the only case where it can be used);
+// The mixed solve is the default from this lambda / mu on (the largest over the mean-dilatation
+// elements). Below it CG + AMG on the full Hessian took fewer Krylov iterations than MINRES on
+// the mixed system (bench/incompressible.py, README "Near-incompressible materials").
+constexpr double kMixedSolveStiffnessRatio = 1000;
+
+// -dipc_mixed_solve: whether scenes with mean-dilatation elements (`has_split_elements`; the
+// mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
+// among them. Default: on from kMixedSolveStiffnessRatio on.
 // -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass).
-PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, bool* use,
+PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
                                      SchurApproximation* schur = nullptr);
 
 class MixedLinearSolve {

@@ -2,6 +2,7 @@
 
 #include <petscversion.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstring>
 #include <stdexcept>
@@ -171,12 +172,13 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESSetType(snes_, SNESNEWTONLS));
   PetscCall(SNESSetObjective(snes_, objective_callback, potential));
   PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
-  bool can_split = false;
-  for (const auto& form : potential->forms()) can_split = can_split || form->can_split_volumetric();
-  int local = can_split ? 1 : 0, any = 0;
-  PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, comm));
+  // [can split anywhere, largest lambda/mu of such elements] over the ranks
+  double local[2] = {0, 0}, global[2];
+  for (const auto& form : potential->forms())
+    if (form->can_split_volumetric()) local[0] = 1, local[1] = std::max(local[1], form->split_stiffness_ratio());
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm));
   bool mixed = false;
-  PetscCall(mixed_solve_requested(comm, any != 0, &mixed));
+  PetscCall(mixed_solve_requested(comm, global[0] > 0, global[1], &mixed));
   if (mixed) {
     mixed_ = std::make_unique<MixedLinearSolve>();
     PetscInt m, M;
@@ -240,7 +242,7 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &max_it));
   bool use;
   SchurApproximation schur;
-  PetscCall(mixed_solve_requested(comm, true, &use, &schur));
+  PetscCall(mixed_solve_requested(comm, true, kMixedSolveStiffnessRatio, &use, &schur));
   PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, schur));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));

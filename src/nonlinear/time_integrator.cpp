@@ -99,13 +99,17 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
   if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
   const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
-  bool mean_dilatation = false;
-  for (VolumetricTerm t : deformable.volumetric) mean_dilatation = mean_dilatation || t == VolumetricTerm::mean_dilatation;
-  if (on_device && mean_dilatation) {
+  // [any mean-dilatation element, their largest lambda/mu] over the ranks
+  double local[2] = {0, 0}, global[2];
+  for (int e = 0; e < deformable.num_elements(); ++e)
+    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation)
+      local[0] = 1, local[1] = std::max(local[1], deformable.lambda[e] / deformable.mu[e]);
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, mesh.comm));
+  if (on_device && global[0] > 0) {
     // The device elastic form does not hand over its volumetric terms (B and D), which the
     // mixed solve needs: refuse rather than solve another way than the one asked for.
     bool mixed = false;
-    PetscCall(mixed_solve_requested(mesh.comm, true, &mixed));
+    PetscCall(mixed_solve_requested(mesh.comm, true, global[1], &mixed));
     if (mixed)
       throw std::runtime_error("mean-dilatation elements (materials[].volumetric) take the mixed u-p linear solve, "
                                "which runs with the CPU elastic form: run with -dipc_backend cpu, or give "
