@@ -157,7 +157,7 @@ PetscErrorCode MixedLinearSolve::setup_preconditioner() {
     pc_a_needs_reset_ = false;
   }
   PetscCall(PCSetUp(pc_a_));
-  if (selfp_) {
+  if (selfp_) {  // I + C Cᵀ with C = Bs diag(A)^{-1/2}, rebuilt with every A (its pattern is B's)
     if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
     PetscCall(MatGetDiagonal(A_, a_diagonal_));
     PetscCall(VecReciprocal(a_diagonal_));
