@@ -134,7 +134,7 @@ def plot(rows, path):
         ax.set_ylabel("Krylov iterations, CG or MINRES (sum over the steps)")
         ax.set_title(f"{scene}, {ranks} rank{'s' if ranks > 1 else ''}")
         ax.grid(True, which="both", alpha=0.3)
-    axes[0][0].legend(fontsize=7)
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
