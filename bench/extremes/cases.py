@@ -48,10 +48,10 @@ def scene(bodies, materials, dt, steps, dhat=1e-3, gravity=(0, 0, -9.81), planes
 
 
 def drop(E=BASE_E, nu=BASE_NU, dt=0.01, steps=20, speed=1.0, gap=0.009, dhat=1e-3,
-         rho_upper=RHO, rho_lower=RHO):
+         rho_upper=RHO, rho_lower=RHO, volumetric='gauss_points'):
     """The base scene: upper box falling onto the lower box on the ground plane."""
-    materials = [{'name': 'upper', 'E': E, 'nu': nu, 'rho': rho_upper},
-                 {'name': 'lower', 'E': E, 'nu': nu, 'rho': rho_lower}]
+    materials = [{'name': 'upper', 'E': E, 'nu': nu, 'rho': rho_upper, 'volumetric': volumetric},
+                 {'name': 'lower', 'E': E, 'nu': nu, 'rho': rho_lower, 'volumetric': volumetric}]
     bodies = [box('lower', [0.2, 0.2, 0.06], [5, 5, 2], [-0.1, -0.1, 0.001], 'lower'),
               box('upper', [0.1, 0.1, 0.1], [3, 3, 3], [-0.03, -0.04, 0.061 + gap], 'upper', [0, 0, -speed])]
     return scene(bodies, materials, dt, steps, dhat)
@@ -120,6 +120,8 @@ def all_cases():
         cases[f'E_{tag(E)}'] = ('Young modulus [Pa]', drop(E=E))
     for nu in (0.0, 0.3, 0.45, 0.49, 0.499, 0.4999):
         cases[f'nu_{nu:g}'] = ('Poisson ratio', drop(nu=nu))
+    for nu in (0.499, 0.4999):  # the locking-free element (materials[].volumetric)
+        cases[f'nu_{nu:g}_md'] = ('Poisson ratio, mean dilatation', drop(nu=nu, volumetric='mean_dilatation'))
     # The fall (gap) is scaled so that contact happens within the run at every dt.
     cases['dt_1e-5'] = ('time step [s]', drop(dt=1e-5, steps=40, speed=2.0, gap=4e-4))
     cases['dt_1e-3'] = ('time step [s]', drop(dt=1e-3, steps=30))

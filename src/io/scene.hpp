@@ -29,7 +29,7 @@ struct BoxGenerator {
 
 struct Body {
   std::string name;                  // used to prefix generated selections ("beam.xmin")
-  std::string mesh_file;             // Gmsh MSH 4.1 (resolved relative to the scene file), or
+  std::string mesh_file;             // Gmsh MSH 4.1/2.2 (resolved relative to the scene file), or
   std::optional<BoxGenerator> box;   // a generated box (exactly one of the two)
   std::array<double, 3> translation{0, 0, 0};  // applied to a mesh file's coordinates
   double scale = 1.0;                          // applied before the translation

@@ -40,8 +40,11 @@ class Labels {
   }
   [[noreturn]] void fail_at(const std::vector<std::int64_t>* lines, std::int64_t i,
                             const std::string& what) const {
-    if (lines && in(*lines, i))
-      throw MeshError(source_ + ":" + std::to_string((*lines)[i]) + ": " + what);
+    if (lines && in(*lines, i)) {
+      const std::string at = map_->byte_offsets ? ": byte " + std::to_string((*lines)[i]) + ": "
+                                                : ":" + std::to_string((*lines)[i]) + ": ";
+      throw MeshError(source_ + at + what);
+    }
     fail(what);
   }
   const std::string& source_;

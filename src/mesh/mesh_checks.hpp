@@ -17,6 +17,9 @@ struct MeshSourceMap {
   std::vector<std::int64_t> node_lines;     // 1-based line where node i's tag is
   std::vector<std::int64_t> element_tags;   // file tag of element e
   std::vector<std::int64_t> element_lines;  // 1-based line of element e
+  // Binary files have no lines: node_lines and element_lines then hold byte offsets, and
+  // messages say "<source>: byte <offset>: ".
+  bool byte_offsets = false;
 };
 
 // An element whose smallest det J (hex8::min_jacobian_determinant) is at most this
@@ -25,7 +28,7 @@ struct MeshSourceMap {
 constexpr double kDegenerateJacobianRatio = 1e-12;
 
 // Throws MeshError, with a message starting "<source>: " (or "<source>:<line>: " when
-// `map` knows the line), unless:
+// `map` knows the line, "<source>: byte <offset>: " for a binary file), unless:
 //   - there is at least one element and one body id per element, every body id >= 0;
 //   - every coordinate is finite;
 //   - every element's node ids are in range and distinct;

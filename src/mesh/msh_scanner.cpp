@@ -2,6 +2,8 @@
 #include "mesh/msh_scanner.hpp"
 
 #include <charconv>
+#include <cstdint>
+#include <cstring>
 
 #include "mesh/mesh_error.hpp"
 
@@ -10,8 +12,9 @@ namespace dipc {
 MshScanner::MshScanner(std::string text, std::string path)
     : text_(std::move(text)), path_(std::move(path)) {}
 
-void MshScanner::fail_at(std::int64_t line, const std::string& what) const {
-  throw MeshError(path_ + ":" + std::to_string(line) + ": " + what);
+void MshScanner::fail_at(std::int64_t location, const std::string& what) const {
+  if (byte_offsets_) throw MeshError(path_ + ": byte " + std::to_string(location) + ": " + what);
+  throw MeshError(path_ + ":" + std::to_string(location) + ": " + what);
 }
 
 void MshScanner::skip_whitespace() {
@@ -51,6 +54,7 @@ std::string_view MshScanner::token(const char* expected) {
     fail(in + " is truncated: the file ends where " + expected + " should be");
   }
   token_line_ = line_;
+  token_offset_ = pos_;
   const std::size_t begin = pos_;
   while (pos_ < text_.size()) {
     const char c = text_[pos_];
@@ -93,6 +97,7 @@ double MshScanner::real(const char* expected) {
 std::string MshScanner::quoted(const char* expected) {
   while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t')) ++pos_;
   token_line_ = line_;
+  token_offset_ = pos_;
   if (pos_ >= text_.size() || text_[pos_] != '"') {
     const std::size_t end = text_.find_first_of("\r\n", pos_);
     fail_unexpected(
@@ -120,7 +125,7 @@ void MshScanner::expect(const char* keyword, const char* hint) {
 
 void MshScanner::skip_section(const std::string& name) {
   const std::string end = "$End" + name;
-  const std::int64_t start = token_line_;
+  const std::int64_t start = location();
   // Line-wise, not token-wise: unknown sections may hold quoted strings with spaces.
   while (pos_ < text_.size()) {
     const std::size_t eol = text_.find('\n', pos_);
@@ -133,12 +138,72 @@ void MshScanner::skip_section(const std::string& name) {
     pos_ = stop;
     if (found) {
       token_line_ = line_;
+      token_offset_ = pos_;
       return;
     }
     if (eol != std::string::npos) ++pos_, ++line_;
   }
   fail_at(start,
           "section $" + name + " is not terminated (no " + end + " before the end of the file)");
+}
+
+void MshScanner::begin_binary(const char* expected) {
+  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r'))
+    ++pos_;
+  if (pos_ >= text_.size() || text_[pos_] != '\n') {
+    token_offset_ = pos_;
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is malformed: expected the end of the line before " + expected);
+  }
+  ++pos_;
+  ++line_;
+}
+
+const unsigned char* MshScanner::take(std::size_t n, const char* expected) {
+  token_offset_ = pos_;
+  if (text_.size() - pos_ < n) {
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is truncated: the file ends where " + expected + " should be");
+  }
+  const auto* p = reinterpret_cast<const unsigned char*>(text_.data() + pos_);
+  pos_ += n;
+  return p;
+}
+
+namespace {
+std::uint64_t little_endian(const unsigned char* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int b = bytes - 1; b >= 0; --b) v = (v << 8) | p[b];
+  return v;
+}
+}  // namespace
+
+std::int64_t MshScanner::binary_int(const char* expected) {
+  const auto v = static_cast<std::uint32_t>(little_endian(take(4, expected), 4));
+  return static_cast<std::int32_t>(v);
+}
+
+std::int64_t MshScanner::binary_size(int bytes, const char* expected) {
+  const std::uint64_t v = little_endian(take(static_cast<std::size_t>(bytes), expected), bytes);
+  if (v > static_cast<std::uint64_t>(INT64_MAX)) {
+    const std::string in = section_.empty() ? std::string("file") : section_ + " section";
+    fail(in + " is malformed: " + expected + " is " + std::to_string(v) + ", out of range");
+  }
+  return static_cast<std::int64_t>(v);
+}
+
+double MshScanner::binary_double(const char* expected) {
+  const std::uint64_t bits = little_endian(take(8, expected), 8);
+  double v;
+  static_assert(sizeof v == sizeof bits, "IEEE-754 binary64 doubles");
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+bool MshScanner::peek_bytes(unsigned char out[4]) const {
+  if (text_.size() - pos_ < 4) return false;
+  std::memcpy(out, text_.data() + pos_, 4);
+  return true;
 }
 
 }  // namespace dipc

@@ -1,6 +1,9 @@
-// MshScanner: the tokenizer under the Gmsh reader. It walks an ASCII MSH file token by token,
+// MshScanner: the tokenizer under the Gmsh reader. It walks an MSH file token by token,
 // keeps the line number of every token, and turns anything unexpected into a MeshError
-// "<path>:<line>: <what>" that names the section being read.
+// "<path>:<line>: <what>" that names the section being read. Binary MSH files mix ASCII
+// lines (section keywords, some counts) with raw little-endian data; after
+// use_byte_offsets() every location is the byte offset of the token or value instead
+// ("<path>: byte <offset>: <what>"), since lines mean nothing inside binary data.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -32,18 +35,37 @@ class MshScanner {
   // Skips whole lines up to and including the line "$End<name>" (unknown sections).
   void skip_section(const std::string& name);
 
-  // 1-based line of the token most recently returned.
-  std::int64_t line() const { return token_line_; }
+  // Binary data. Gmsh writes it right after the newline that ends an ASCII line, so
+  // begin_binary() consumes the rest of the current line (only '\r' may precede its '\n');
+  // the binary_* readers then take raw bytes, stored little-endian (the reader checks the
+  // file's byte order once, in $MeshFormat), and fail with "truncated" at the end of the
+  // file.
+  void begin_binary(const char* expected);
+  std::int64_t binary_int(const char* expected);  // 4-byte signed int
+  // An unsigned integer of `bytes` (4 or 8, the file's size_t) that must fit in int64.
+  std::int64_t binary_size(int bytes, const char* expected);
+  double binary_double(const char* expected);
+  // The 4 bytes at the current position, unread (endianness check in $MeshFormat).
+  bool peek_bytes(unsigned char out[4]) const;
+
+  // From now on, locations are byte offsets (a binary file).
+  void use_byte_offsets() { byte_offsets_ = true; }
+  bool byte_offsets() const { return byte_offsets_; }
+  // Where the token or value most recently read is: its 1-based line, or its byte offset
+  // after use_byte_offsets(). fail_at() takes such a location.
+  std::int64_t location() const { return byte_offsets_ ? token_offset_ : token_line_; }
   // Bytes not yet read: an upper bound on how many entries the rest can hold, used to cap
   // reservations taken from counts in the file.
   std::size_t remaining() const { return text_.size() - pos_; }
   const std::string& path() const { return path_; }
 
-  [[noreturn]] void fail(const std::string& what) const { fail_at(token_line_, what); }
-  [[noreturn]] void fail_at(std::int64_t line, const std::string& what) const;
+  [[noreturn]] void fail(const std::string& what) const { fail_at(location(), what); }
+  [[noreturn]] void fail_at(std::int64_t location, const std::string& what) const;
 
  private:
   void skip_whitespace();
+  // Marks `n` raw bytes at the current position as the value read, or fails as truncated.
+  const unsigned char* take(std::size_t n, const char* expected);
   [[noreturn]] void fail_unexpected(std::string_view found, const char* expected) const;
 
   std::string text_;
@@ -52,6 +74,8 @@ class MshScanner {
   std::size_t pos_ = 0;
   std::int64_t line_ = 1;        // line of text_[pos_]
   std::int64_t token_line_ = 1;  // line of the last token
+  std::size_t token_offset_ = 0;  // byte offset of the last token or binary value
+  bool byte_offsets_ = false;
 };
 
 }  // namespace dipc

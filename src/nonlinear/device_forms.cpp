@@ -1,7 +1,5 @@
 #include "nonlinear/device_forms.hpp"
 
-#include <stdexcept>
-
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_mass.hpp"
 #include "nonlinear/body_force_form.hpp"
@@ -10,13 +8,17 @@
 namespace dipc {
 
 DeviceElementData::DeviceElementData(const ElementData& elements) : num_elements_(elements.num_elements()) {
-  for (VolumetricTerm t : elements.volumetric)
-    if (t != VolumetricTerm::gauss_points)
-      throw std::runtime_error("\"volumetric\": \"mean_dilatation\" elements have no GPU kernel yet; run with -dipc_backend cpu");
   nodes_.upload(elements.nodes);
   reference_.upload(elements.reference);
   lambda_.upload(elements.lambda);
   mu_.upload(elements.mu);
+  // Uploaded only when some element is not the standard one: the kernels take the plain
+  // variant when block().volumetric is null.
+  for (VolumetricTerm t : elements.volumetric)
+    if (t != VolumetricTerm::gauss_points) {
+      volumetric_.upload(elements.volumetric);
+      break;
+    }
 }
 
 ElementBlock DeviceElementData::block() const {
@@ -26,11 +28,12 @@ ElementBlock DeviceElementData::block() const {
   b.reference = reference_.data();
   b.lambda = lambda_.data();
   b.mu = mu_.data();
+  b.volumetric = volumetric_.size() ? volumetric_.data() : nullptr;
   return b;
 }
 
 std::size_t DeviceElementData::bytes() const {
-  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes();
+  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes() + volumetric_.bytes();
 }
 
 // ---- elastic ------------------------------------------------------------------------------

@@ -24,6 +24,7 @@ class DeviceElementData {
   int num_elements_;
   device::Array<std::int32_t> nodes_{"element connectivity"};
   device::Array<double> reference_{"reference coordinates"}, lambda_{"lambda"}, mu_{"mu"};
+  device::Array<VolumetricTerm> volumetric_{"volumetric term"};  // empty: all at the Gauss points
 };
 
 class DeviceElasticForm : public Form {

@@ -37,8 +37,6 @@ TEST_P(GmshReaderRejects, WithLocatedMessage) {
 INSTANTIATE_TEST_SUITE_P(
     BadFiles, GmshReaderRejects,
     ::testing::Values(
-        BadFile{"binary.msh", 2, "binary MSH not supported, save as ASCII"},
-        BadFile{"version_2_2.msh", 2, "MSH version 2.2 is not supported"},
         BadFile{"truncated_nodes.msh", 19, "$Nodes section is truncated: the file ends"},
         BadFile{"coordinates_missing.msh", 22, "$Nodes section is truncated: found '$EndNodes'"},
         BadFile{"inverted.msh", 27,

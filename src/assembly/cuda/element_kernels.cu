@@ -1,5 +1,8 @@
 // CUDA element kernels (element_kernels.hpp).
 //
+// Blocks with mean-dilatation elements (hex8_mean_dilatation.hpp) run a variant of the elastic
+// kernel that first sums each such element's reference and current volumes over its 8 threads.
+//
 // The elastic kernel gives each element 8 threads and runs in two phases, because a 24×24
 // Hessian does not fit one thread's registers:
 //   1. thread t evaluates Gauss point q = t: the shape gradients G_q, F, ψ, P and the
@@ -12,6 +15,7 @@
 //      order makes the 8 threads of an element store 8 consecutive doubles at a time.
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hex8_elasticity.hpp"
+#include "assembly/hex8_mean_dilatation.hpp"
 #include "assembly/hex8_mass.hpp"
 #include "device/cuda_check.cuh"
 
@@ -29,14 +33,16 @@ __host__ __device__ constexpr int packed(int r, int c) {
 }
 
 // Shared doubles per element for the outputs asked for: X and x (24 each), then per Gauss
-// point G (24), wP (9) when the gradient is wanted, wC (45) when the Hessian is; padded to
-// 4 (mod 16) doubles. A warp holds 4 elements whose threads read the same offsets in their
-// own element's area; shared memory has 32 four-byte banks (16 doubles a row), so an
+// point G (24), wP (9) when the gradient is wanted, wC (45) when the Hessian is, and, in the
+// mean-dilatation variant, w|J0| and w|J0| J (2) and, with the Hessian, w|J0| J F^{-T} (9);
+// padded to 4 (mod 16) doubles. A warp holds 4 elements whose threads read the same offsets
+// in their own element's area; shared memory has 32 four-byte banks (16 doubles a row), so an
 // unpadded stride that is a multiple of 16 doubles (672 with the Hessian) sent all 4 reads
 // to one bank pair, 4-way conflicts. A stride of 4 (mod 16) spreads them over 4 bank pairs.
-template <bool Grad, bool Hess>
+template <bool Grad, bool Hess, bool MeanDilatation>
 __host__ __device__ constexpr int shared_per_element() {
-  constexpr int used = 48 + 8 * ((Grad || Hess ? 24 : 0) + (Grad ? 9 : 0) + (Hess ? 45 : 0));
+  constexpr int used = 48 + 8 * ((Grad || Hess ? 24 : 0) + (Grad ? 9 : 0) + (Hess ? 45 : 0)) +
+                       (MeanDilatation ? 8 * (2 + (Hess ? 9 : 0)) : 0);
   return used + (20 - used % 16) % 16;
 }
 
@@ -45,17 +51,25 @@ __host__ __device__ constexpr int shared_per_element() {
 #define DIPC_ELASTIC_MIN_BLOCKS 4
 #endif
 
-template <bool Grad, bool Hess>
+// MeanDilatation: the block has mean-dilatation elements (hex8_mean_dilatation.hpp); each
+// element then branches on its own kind, and those of that kind first reduce their reference
+// and current volumes V, v over their 8 threads. Blocks without any keep the plain kernel.
+template <bool Grad, bool Hess, bool MeanDilatation>
 __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
     elastic_kernel(ElementBlock block, const double* __restrict__ x, double scale, double* partials, int* failed,
                    double* __restrict__ g, double* __restrict__ coo) {
   extern __shared__ double shared[];
   __shared__ double reduction[kElasticThreads];
-  constexpr int kPerElement = shared_per_element<Grad, Hess>();
-  constexpr int kG = 48, kP = kG + 8 * 24, kC = kP + (Grad ? 8 * 9 : 0);
+  constexpr int kPerElement = shared_per_element<Grad, Hess, MeanDilatation>();
+  // Offsets of the areas that shared_per_element counts, in its order (absent ones take no room).
+  constexpr int kG = 48, kP = kG + (Grad || Hess ? 8 * 24 : 0), kC = kP + (Grad ? 8 * 9 : 0),
+                kVol = kC + (Hess ? 8 * 45 : 0), kB = kVol + 16;
+  static_assert(!MeanDilatation || kB + (Hess ? 8 * 9 : 0) <= kPerElement, "shared area overflow");
   const int slot = threadIdx.x / kThreadsPerElement, t = threadIdx.x % kThreadsPerElement;
   const long e = static_cast<long>(blockIdx.x) * kElementsPerBlock + slot;
   const bool active = e < block.num_elements;
+  const bool mean_dilatation =
+      MeanDilatation && active && block.volumetric_term(e) == VolumetricTerm::mean_dilatation;
   double* s = shared + slot * kPerElement;
   int node = 0;
   if (active) {
@@ -68,22 +82,52 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
   }
   __syncthreads();
   double energy = 0;
+  double G[24], F[9], wdet = 0, J = 1;
   if (active) {
-    const double lambda = block.lambda[e], mu = block.mu[e];
-    double G[24], F[9];
-    const double wdet = hex8_quadrature_point(s, s + 24, t, G, F);
-    if (!(det3x3(F) > 0)) *failed = 1;
-    energy = wdet * neo_hookean_energy(F, lambda, mu);
+    wdet = hex8_quadrature_point(s, s + 24, t, G, F);
+    J = det3x3(F);
+    if (!(J > 0)) *failed = 1;
+    if (MeanDilatation) s[kVol + t] = wdet, s[kVol + 8 + t] = wdet * J;
+  }
+  // Mean dilatation: V = sum_q w|J0|, v = sum_q w|J0| J, summed in the same order by every thread.
+  double p = 0, f2 = 0;
+  if (MeanDilatation) {
+    __syncthreads();
+    if (mean_dilatation) {
+      double V = 0, v = 0;
+      for (int q = 0; q < 8; ++q) V += s[kVol + q], v += s[kVol + 8 + q];
+      const double lambda = block.lambda[e], Jbar = v / V, log_Jbar = log(Jbar);
+      p = lambda * log_Jbar / Jbar;
+      f2 = lambda * (1.0 - log_Jbar) / (V * Jbar * Jbar);
+      if (f2 < 0) f2 = 0;
+      if (t == 0) energy = 0.5 * V * lambda * log_Jbar * log_Jbar;
+    }
+  }
+  if (active) {
+    const double lambda = mean_dilatation ? 0.0 : block.lambda[e], mu = block.mu[e];
+    energy += wdet * neo_hookean_energy(F, lambda, mu);
     if (Grad || Hess)
       for (int k = 0; k < 24; ++k) s[kG + 24 * t + k] = G[k];
+    double FinvT[9];
+    if (mean_dilatation) inverse_transpose3x3(F, FinvT);
     if (Grad) {
       double P[9];
       neo_hookean_stress(F, lambda, mu, P);
+      if (mean_dilatation)
+        for (int k = 0; k < 9; ++k) P[k] += p * J * FinvT[k];
       for (int k = 0; k < 9; ++k) s[kP + 9 * t + k] = wdet * P[k];
     }
     if (Hess) {
       double C[81];
-      neo_hookean_stress_derivative_psd(F, lambda, mu, C);
+      if (mean_dilatation) {
+        mean_dilatation_point_tangent(F, mu, p, C);
+        NeoHookeanEigensystem es;
+        mean_dilatation_eigensystem(F, mu, p, &es);
+        add_psd_correction(es, C);
+        for (int k = 0; k < 9; ++k) s[kB + 9 * t + k] = wdet * J * FinvT[k];
+      } else {
+        neo_hookean_stress_derivative_psd(F, lambda, mu, C);
+      }
 #pragma unroll
       for (int r = 0; r < 9; ++r)
 #pragma unroll
@@ -106,6 +150,18 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
   if (active && Hess) {
     const int a = t;
     double* out = coo + kElasticCooPerElement * e;
+    // Mean dilatation: b = dv/dx = sum_q B_q^T (w|J0| J F^{-T}) for the rank-one term f'' b b^T.
+    double b[MeanDilatation ? 24 : 1];
+    if (MeanDilatation && mean_dilatation) {
+      for (int k = 0; k < 24; ++k) b[k] = 0;
+      for (int q = 0; q < 8; ++q) {
+        const double* Gq = s + kG + 24 * q;
+        const double* Wq = s + kB + 9 * q;
+        for (int c = 0; c < 8; ++c)
+          for (int l = 0; l < 3; ++l)
+            b[3 * c + l] += Wq[3 * l] * Gq[3 * c] + Wq[3 * l + 1] * Gq[3 * c + 1] + Wq[3 * l + 2] * Gq[3 * c + 2];
+      }
+    }
 #pragma unroll
     for (int k = 0; k < 3; ++k) {
       double row[24];
@@ -126,28 +182,44 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
           for (int l = 0; l < 3; ++l)
             row[3 * b + l] += T[3 * l] * Gq[3 * b] + T[3 * l + 1] * Gq[3 * b + 1] + T[3 * l + 2] * Gq[3 * b + 2];
       }
+      if (MeanDilatation && mean_dilatation)
+        for (int j = 0; j < 24; ++j) row[j] += f2 * b[3 * a + k] * b[j];
 #pragma unroll
-      for (int b = 0; b < 8; ++b)
+      for (int c = 0; c < 8; ++c)
 #pragma unroll
-        for (int l = 0; l < 3; ++l) out[elastic_coo_offset(a, k, b, l)] = scale * row[3 * b + l];
+        for (int l = 0; l < 3; ++l) out[elastic_coo_offset(a, k, c, l)] = scale * row[3 * c + l];
     }
   }
   const double total = block_sum(energy, reduction);
   if (threadIdx.x == 0) partials[blockIdx.x] = scale * total;
 }
 
-template <bool Grad, bool Hess>
+template <bool Grad, bool Hess, bool MeanDilatation>
 void launch_elastic(const ElementBlock& block, const double* x, double scale, double* partials, int* failed,
                     double* g, double* coo, unsigned blocks) {
-  const std::size_t bytes = sizeof(double) * kElementsPerBlock * shared_per_element<Grad, Hess>();
+  const std::size_t bytes = sizeof(double) * kElementsPerBlock * shared_per_element<Grad, Hess, MeanDilatation>();
   static bool configured = false;
   if (!configured) {
-    DIPC_CUDA_CHECK(cudaFuncSetAttribute(elastic_kernel<Grad, Hess>, cudaFuncAttributeMaxDynamicSharedMemorySize,
-                                         static_cast<int>(bytes)));
+    DIPC_CUDA_CHECK(cudaFuncSetAttribute(elastic_kernel<Grad, Hess, MeanDilatation>,
+                                         cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(bytes)));
     configured = true;
   }
-  elastic_kernel<Grad, Hess><<<blocks, kElasticThreads, bytes>>>(block, x, scale, partials, failed, g, coo);
+  elastic_kernel<Grad, Hess, MeanDilatation><<<blocks, kElasticThreads, bytes>>>(block, x, scale, partials, failed,
+                                                                                 g, coo);
   DIPC_CUDA_CHECK_LAUNCH();
+}
+
+template <bool MeanDilatation>
+void launch_elastic_outputs(const ElementBlock& block, const double* x, double scale, double* partials,
+                            int* failed, double* g, double* coo, unsigned blocks) {
+  if (g && coo)
+    launch_elastic<true, true, MeanDilatation>(block, x, scale, partials, failed, g, coo, blocks);
+  else if (g)
+    launch_elastic<true, false, MeanDilatation>(block, x, scale, partials, failed, g, nullptr, blocks);
+  else if (coo)
+    launch_elastic<false, true, MeanDilatation>(block, x, scale, partials, failed, nullptr, coo, blocks);
+  else
+    launch_elastic<false, false, MeanDilatation>(block, x, scale, partials, failed, nullptr, nullptr, blocks);
 }
 
 __global__ void min_volume_ratio_kernel(ElementBlock block, const double* __restrict__ x, double* partials) {
@@ -235,14 +307,11 @@ bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale
   double* partials = reducer.partials(blocks);
   reducer.reset_flag();
   int* failed = reducer.flag();
-  if (d_gradient && d_hessian)
-    launch_elastic<true, true>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
-  else if (d_gradient)
-    launch_elastic<true, false>(block, d_x, scale, partials, failed, d_gradient, nullptr, blocks);
-  else if (d_hessian)
-    launch_elastic<false, true>(block, d_x, scale, partials, failed, nullptr, d_hessian, blocks);
+  // block.volumetric is non-null (on the device) only when some element is mean-dilatation.
+  if (block.volumetric)
+    launch_elastic_outputs<true>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
   else
-    launch_elastic<false, false>(block, d_x, scale, partials, failed, nullptr, nullptr, blocks);
+    launch_elastic_outputs<false>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
   if (energy) *energy = reducer.sum_partials(blocks);
   return !reducer.flag_set();
 }

@@ -1,4 +1,6 @@
-// Source of gmsh_box.msh (Gmsh 4.8.4: gmsh -3 gmsh_box.geo -format msh41 -o gmsh_box.msh):
+// Source of gmsh_box.msh (Gmsh 4.8.4: gmsh -3 gmsh_box.geo -format msh41 -o gmsh_box.msh) and
+// of gmsh_box_msh22.msh, gmsh_box_msh22_bin.msh, gmsh_box_msh41_bin.msh (-format msh22 / msh41,
+// -bin for binary):
 // a 3 x 2 x 2 block of hexahedra on [0,3]x[0,1]x[0,1], made by extruding a transfinite,
 // recombined rectangle, with physical groups of every dimension, one of them unnamed.
 Point(1) = {0, 0, 0}; Point(2) = {3, 0, 0}; Point(3) = {3, 1, 0}; Point(4) = {0, 1, 0};

@@ -1,0 +1,146 @@
+// Every MSH flavour through the scene mesh path (tests/mesh/data, written by Gmsh 4.8.4): the
+// box of gmsh_box.geo, clamped by its physical surface "bottom" and swinging under sideways
+// gravity for 5 steps, on the ranks of the test's communicator (CTest: 1 and 2). Each flavour
+// must give the trajectory of the ASCII MSH 4.1 file on the same ranks, and, run on all ranks,
+// the trajectory of rank 0 alone. Likewise a voxelised STL tetrahedron, written as dipc-voxelize
+// writes it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "app/simulation.hpp"
+#include "io/scene.hpp"
+#include "mesh/boundary_faces.hpp"
+#include "mesh/gmsh_writer.hpp"
+#include "mesh/triangle_surface_reader.hpp"
+#include "mesh/voxelizer.hpp"
+
+namespace dipc {
+namespace {
+
+// The body "box" from `mesh_file`, clamped by its node set `clamped`.
+Scene box_scene(const std::string& mesh_file, const std::string& clamped = "bottom") {
+  const std::string text =
+      R"({"materials": [{"name": "rubber", "E": 1e5, "nu": 0.3, "rho": 1000}],)"
+      R"( "geometry": [{"name": "box", "mesh": ")" + mesh_file + R"(", "material": "rubber"}],)"
+      R"( "boundary_conditions": {"gravity": [0, -9.81, -9.81],)"
+      R"( "dirichlet": [{"selection": "box.)" + clamped + R"(", "type": "fixed"}]},)"
+      R"( "time": {"dt": 0.02, "steps": 5}, "contact": {"enabled": false}})";
+  return parse_scene_text(text, "mesh_formats_test",
+                          std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data");
+}
+
+RunResult run(const Scene& scene, MPI_Comm comm, bool setup_only = false) {
+  RunOptions options;
+  options.write_output = false;
+  options.quiet = true;
+  options.report = false;
+  options.velocity_tol = 1e-10;
+  options.setup_only = setup_only;
+  RunResult result;
+  EXPECT_EQ(run_scene(scene, comm, options, &result), 0);
+  EXPECT_TRUE(result.failure.empty()) << result.failure;
+  return result;
+}
+
+// max |a - b| / max |b - reference| over the displacements from `reference`.
+double relative_difference(const std::vector<double>& a, const std::vector<double>& b,
+                           const std::vector<double>& reference) {
+  EXPECT_EQ(a.size(), b.size());
+  double diff = 0, norm = 0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+    norm = std::max(norm, std::abs(b[i] - reference[i]));
+  }
+  EXPECT_GT(norm, 1e-4) << "the box did not move: the comparison would be vacuous";
+  return diff / norm;
+}
+
+class MeshFormats : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MeshFormats, SameTrajectoryAsAscii41AndAsOneRank) {
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-13");
+  PetscOptionsSetValue(nullptr, "-ksp_atol", "1e-50");
+  MPI_Comm world = PETSC_COMM_WORLD;
+  int rank;
+  MPI_Comm_rank(world, &rank);
+
+  const Scene ascii41 = box_scene("gmsh_box.msh");
+  const Scene scene = box_scene(GetParam());
+  const RunResult reference_run = run(ascii41, world);
+  const RunResult parallel = run(scene, world);
+
+  MPI_Comm self;
+  MPI_Comm_split(world, rank == 0 ? 0 : MPI_UNDEFINED, 0, &self);
+  if (rank == 0) {
+    const RunResult rest = run(scene, self, true);
+    const RunResult serial = run(scene, self);
+    // ASCII and binary coordinates differ in the last bit (Gmsh's %.16g), so the flavours
+    // agree to round-off, not bit for bit.
+    const double vs_ascii =
+        relative_difference(parallel.positions, reference_run.positions, rest.positions);
+    const double vs_serial =
+        relative_difference(parallel.positions, serial.positions, rest.positions);
+    std::printf("%s: vs ASCII 4.1 %.3e, vs one rank %.3e\n", GetParam(), vs_ascii, vs_serial);
+    EXPECT_LE(vs_ascii, 1e-9);
+    EXPECT_LE(vs_serial, 1e-8);
+    MPI_Comm_free(&self);
+  }
+  for (const char* o : {"-ksp_rtol", "-ksp_atol"}) PetscOptionsClearValue(nullptr, o);
+}
+
+INSTANTIATE_TEST_SUITE_P(GmshWritten, MeshFormats,
+                         ::testing::Values("gmsh_box_msh22.msh", "gmsh_box_msh22_bin.msh",
+                                           "gmsh_box_msh41_bin.msh"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           return n.substr(0, n.size() - 4);
+                         });
+
+// The binary STL tetrahedron (0.5,0.5,0.5) + 2 {0, e_x, e_y, e_z} voxelised at cell size 0.2
+// (rank 0 writes the file), clamped by its boundary faces on the bottom layer.
+TEST(VoxelisedMesh, RunsAndMatchesOneRank) {
+  MPI_Comm world = PETSC_COMM_WORLD;
+  int rank;
+  MPI_Comm_rank(world, &rank);
+  const std::string path = ::testing::TempDir() + "voxelised_tetrahedron.msh";
+  if (rank == 0) {
+    const HexMesh mesh =
+        voxelize(read_triangle_surface(std::string(DIPC_SOURCE_DIR) +
+                                       "/tests/mesh/data/surfaces/tetrahedron_binary.stl"),
+                 0, 0.2);
+    QuadGroup bottom{"base", {}};
+    for (const BoundaryFace& f : extract_boundary_faces(mesh)) {
+      if (f.face != 4) continue;  // zeta = -1: the faces looking down
+      const auto local = hex_face_nodes(f.face);
+      std::array<std::int64_t, 4> quad;
+      for (int c = 0; c < 4; ++c) quad[c] = mesh.hexes[f.element][local[c]];
+      if (mesh.nodes[quad[0]][2] < 0.6) bottom.quads.push_back(quad);
+    }
+    ASSERT_FALSE(bottom.quads.empty());
+    write_gmsh(path, mesh, "solid", {bottom});
+  }
+  MPI_Barrier(world);
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-13");
+  PetscOptionsSetValue(nullptr, "-ksp_atol", "1e-50");
+  const Scene scene = box_scene(path, "base");
+  const RunResult parallel = run(scene, world);
+  MPI_Comm self;
+  MPI_Comm_split(world, rank == 0 ? 0 : MPI_UNDEFINED, 0, &self);
+  if (rank == 0) {
+    const RunResult rest = run(scene, self, true);
+    const RunResult serial = run(scene, self);
+    EXPECT_GT(rest.positions.size(), 3u * 50u);  // a mesh of some size, not a single cell
+    const double vs_serial =
+        relative_difference(parallel.positions, serial.positions, rest.positions);
+    std::printf("voxelised tetrahedron (%zu nodes): vs one rank %.3e\n", rest.positions.size() / 3,
+                vs_serial);
+    EXPECT_LE(vs_serial, 1e-8);
+    MPI_Comm_free(&self);
+  }
+  for (const char* o : {"-ksp_rtol", "-ksp_atol"}) PetscOptionsClearValue(nullptr, o);
+}
+
+}  // namespace
+}  // namespace dipc
