@@ -48,7 +48,8 @@ constexpr double kMixedSolveStiffnessRatio = 1000;
 
 // -dipc_mixed_solve: whether scenes with mean-dilatation elements (`has_split_elements`; the
 // mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
-// among them. Default: on from kMixedSolveStiffnessRatio on.
+// among them (0 where the mixed solve cannot run by default: device forms or matrix). Default:
+// on from kMixedSolveStiffnessRatio on.
 // -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass).
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
                                      SchurApproximation* schur = nullptr);

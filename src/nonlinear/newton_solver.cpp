@@ -178,7 +178,8 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
     if (form->can_split_volumetric()) local[0] = 1, local[1] = std::max(local[1], form->split_stiffness_ratio());
   PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm));
   bool mixed = false;
-  PetscCall(mixed_solve_requested(comm, global[0] > 0, global[1], &mixed));
+  // With a device matrix (which the mixed solve refuses) it is off unless asked for.
+  PetscCall(mixed_solve_requested(comm, global[0] > 0, matrix_on_device(J_) ? 0.0 : global[1], &mixed));
   if (mixed) {
     mixed_ = std::make_unique<MixedLinearSolve>();
     PetscInt m, M;

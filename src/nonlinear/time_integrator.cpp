@@ -107,13 +107,14 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, mesh.comm));
   if (on_device && global[0] > 0) {
     // The device elastic form does not hand over its volumetric terms (B and D), which the
-    // mixed solve needs: refuse rather than solve another way than the one asked for.
+    // mixed solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is
+    // asked for (stiffness ratio 0: off by default), which is refused rather than ignored.
     bool mixed = false;
-    PetscCall(mixed_solve_requested(mesh.comm, true, global[1], &mixed));
+    PetscCall(mixed_solve_requested(mesh.comm, true, 0.0, &mixed));
     if (mixed)
-      throw std::runtime_error("mean-dilatation elements (materials[].volumetric) take the mixed u-p linear solve, "
-                               "which runs with the CPU elastic form: run with -dipc_backend cpu, or give "
-                               "-dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
+      throw std::runtime_error("-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the "
+                               "CPU elastic form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the "
+                               "Krylov solve of the full Hessian on the GPU");
   }
   if (on_device)
     forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
