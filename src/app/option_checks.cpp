@@ -99,6 +99,8 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       integer_at_least("-dipc_auto_gpu_elements", 0),
       flag("-dipc_pc_reuse"),                      // read in nonlinear/preconditioner_reuse.cpp
       positive_real("-dipc_pc_reuse_setup_cost"),  // the same
+      flag("-dipc_mixed_solve"),                   // read in nonlinear/mixed_linear_solve.cpp
+      one_of("-dipc_mixed_schur", "mass selfp"),   // the same
       positive_real("-dipc_dt_min"),
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),

@@ -110,6 +110,38 @@ bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x,
   return true;
 }
 
+bool elastic_hessian_split(const ElementBlock& block, const double* x, double* coo_values, double* volume_gradients,
+                           double* volume_curvatures) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+    double Xe[24], xe[24], He[576];
+    gather(block.reference, en, Xe);
+    gather(x, en, xe);
+    double* b = volume_gradients + 24 * static_cast<std::int64_t>(e);
+    bool ok;
+    if (block.volumetric_term(e) == VolumetricTerm::mean_dilatation) {
+      ok = detail::hex8_mean_dilatation<true>(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He, b,
+                                              &volume_curvatures[e]);
+    } else {
+      ok = hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He);
+      for (int k = 0; k < 24; ++k) b[k] = 0;
+      volume_curvatures[e] = 0;
+    }
+    if (!ok) return false;
+    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
+  }
+  return true;
+}
+
+void reference_volumes(const ElementBlock& block, double* volumes) {
+  for (int e = 0; e < block.num_elements; ++e) {
+    double Xe[24], G[24], F[9], V = 0;
+    gather(block.reference, block.nodes + 8 * static_cast<std::int64_t>(e), Xe);
+    for (int q = 0; q < hex8::kQuadraturePoints; ++q) V += hex8_quadrature_point(Xe, Xe, q, G, F);
+    volumes[e] = V;
+  }
+}
+
 void elastic_coo_pattern(const ElementBlock& block, const std::int64_t* local_to_global,
                          std::vector<std::int32_t>* rows, std::vector<std::int32_t>* cols) {
   const std::size_t n = static_cast<std::size_t>(kElasticCooPerElement) * block.num_elements;

@@ -60,6 +60,16 @@ bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_val
 bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x, double* energy, double* g,
                                      double* coo_values);
 
+// As elastic_hessian, but the rank-one volumetric term f''_e b_e b_e^T of every mean-dilatation
+// element is left out of its 576 values and returned instead: b_e = dv_e/dx (24 per element, in
+// the element's dof order 3a + i) into volume_gradients[24e ...] and f''_e (>= 0, projected)
+// into volume_curvatures[e]; zero for elements with the volumetric term at the Gauss points,
+// whose values are complete. For the mixed u-p linear solve (nonlinear/mixed_linear_solve.hpp).
+bool elastic_hessian_split(const ElementBlock& block, const double* x, double* coo_values, double* volume_gradients,
+                           double* volume_curvatures);
+// Reference volume of every element (sum of the 2x2x2-point weights times |J0|).
+void reference_volumes(const ElementBlock& block, double* volumes);
+
 // Resizes rows/cols to 576*num_elements and fills them with the global dof ids of the
 // entries written by elastic_hessian: entry 576e + elastic_coo_offset(a, i, b, j) is
 // (3*l2g[node_a]+i, 3*l2g[node_b]+j). Throws DofIndexOverflow if an id exceeds int32.

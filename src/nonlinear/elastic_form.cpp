@@ -4,6 +4,43 @@
 
 namespace dipc {
 
+ElasticForm::ElasticForm(const ElementData& elements, double scale) : elements_(elements), scale_(scale) {
+  for (int e = 0; e < elements.num_elements(); ++e)
+    if (elements.volumetric[e] == VolumetricTerm::mean_dilatation) split_elements_.push_back(e);
+}
+
+double ElasticForm::split_stiffness_ratio() const {
+  double ratio = 0;
+  for (int e : split_elements_) ratio = std::max(ratio, elements_.lambda[e] / elements_.mu[e]);
+  return ratio;
+}
+
+void ElasticForm::split_volumetric() {
+  if (split_ || split_elements_.empty()) return;
+  split_ = true;
+  const std::size_t rows = split_elements_.size();
+  part_.rows = static_cast<int>(rows);
+  part_.local_dofs.resize(24 * rows);
+  part_.global_dofs.resize(24 * rows);
+  part_.gradient.assign(24 * rows, 0.0);
+  part_.curvature.assign(rows, 0.0);
+  part_.weight.assign(rows, 0.0);
+  std::vector<double> all_volumes(elements_.num_elements());
+  reference_volumes(elements_.block(), all_volumes.data());
+  volumes_.resize(rows);
+  for (std::size_t r = 0; r < rows; ++r) {
+    const int e = split_elements_[r];
+    volumes_[r] = all_volumes[e];
+    for (int a = 0; a < 8; ++a) {
+      const std::int32_t node = elements_.nodes[8 * static_cast<std::size_t>(e) + a];
+      for (int c = 0; c < 3; ++c) {
+        part_.local_dofs[24 * r + 3 * a + c] = 3 * node + c;
+        part_.global_dofs[24 * r + 3 * a + c] = static_cast<PetscInt>(3 * elements_.local_to_global[node] + c);
+      }
+    }
+  }
+}
+
 bool ElasticForm::value(const double* x, double* energy) {
   double psi = 0;
   const bool ok = elastic_energy(elements_.block(), x, &psi);
@@ -23,7 +60,21 @@ void ElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>
 }
 
 bool ElasticForm::hessian(const double* x, double* values) {
-  const bool ok = elastic_hessian(elements_.block(), x, values);
+  bool ok;
+  if (split_) {
+    const std::size_t ne = static_cast<std::size_t>(elements_.num_elements());
+    b_work_.resize(24 * ne);
+    f2_work_.resize(ne);
+    ok = elastic_hessian_split(elements_.block(), x, values, b_work_.data(), f2_work_.data());
+    for (std::size_t r = 0; r < split_elements_.size(); ++r) {
+      const std::size_t e = static_cast<std::size_t>(split_elements_[r]);
+      std::copy(b_work_.begin() + 24 * e, b_work_.begin() + 24 * e + 24, part_.gradient.begin() + 24 * r);
+      part_.curvature[r] = scale_ * f2_work_[e];
+      part_.weight[r] = volumes_[r] / (scale_ * elements_.mu[e]);
+    }
+  } else {
+    ok = elastic_hessian(elements_.block(), x, values);
+  }
   const std::size_t n = 576 * static_cast<std::size_t>(elements_.num_elements());
   if (scale_ != 1.0) std::transform(values, values + n, values, [this](double v) { return scale_ * v; });
   return ok;

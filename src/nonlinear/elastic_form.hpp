@@ -8,7 +8,7 @@ namespace dipc {
 
 class ElasticForm : public Form {
  public:
-  ElasticForm(const ElementData& elements, double scale) : elements_(elements), scale_(scale) {}
+  ElasticForm(const ElementData& elements, double scale);
   std::string name() const override { return "elastic"; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
@@ -16,11 +16,21 @@ class ElasticForm : public Form {
   bool hessian(const double* x, double* values) override;
   bool is_valid(const double* x) override;
   void set_time_step(double h) override { scale_ = h * h; }
+  // True when some element is a mean-dilatation one (its rank-one volumetric term can be split).
+  bool can_split_volumetric() const override { return !split_elements_.empty(); }
+  double split_stiffness_ratio() const override;
+  void split_volumetric() override;
+  const VolumetricPart* volumetric_part() const override { return split_ ? &part_ : nullptr; }
 
  private:
   const ElementData& elements_;
   double scale_;
   std::vector<double> gradient_work_;
+  std::vector<int> split_elements_;       // the mean-dilatation elements, one volumetric row each
+  bool split_ = false;
+  VolumetricPart part_;
+  std::vector<double> volumes_;           // reference volume per split element
+  std::vector<double> b_work_, f2_work_;  // per element of the block
 };
 
 }  // namespace dipc

@@ -112,6 +112,8 @@ class IncrementalPotential {
   bool has_extra_nodes() const { return any_extra_nodes_; }
   bool has_step_limit() const { return any_step_limit_; }
   bool has_changing_pattern() const { return any_pattern_change_; }
+  // 3 flags per local node (mesh nodes first), the Dirichlet dofs.
+  const std::vector<char>& prescribed_dofs() const { return dirichlet_dof_; }
   PetscInt num_hessian_entries() const { return static_cast<PetscInt>(num_raw_entries_); }
   const EvaluationTimes& times() const { return times_; }
 

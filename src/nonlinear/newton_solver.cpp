@@ -2,8 +2,10 @@
 
 #include <petscversion.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <stdexcept>
 
 #include "nonlinear/log_stages.hpp"
 
@@ -19,18 +21,22 @@ PetscErrorCode gradient_callback(SNES, Vec x, Vec g, void* ctx) {
   StageScope stage(log_stages().assembly);
   return static_cast<IncrementalPotential*>(ctx)->gradient(x, g);
 }
-PetscErrorCode hessian_callback(SNES snes, Vec x, Mat J, Mat P, void* ctx) {
+}  // namespace
+
+// P: the assembled matrix; J: P itself, or the shell H of the mixed solve, whose volumetric part
+// is taken from the forms here, at the same x as P.
+PetscErrorCode NewtonSolver::hessian_callback(SNES, Vec x, Mat J, Mat P, void* ctx) {
   StageScope stage(log_stages().assembly);
   PetscFunctionBeginUser;
-  PetscCall(static_cast<IncrementalPotential*>(ctx)->hessian(x, P));
+  auto* self = static_cast<NewtonSolver*>(ctx);
+  PetscCall(self->ls_.potential->hessian(x, P));
+  if (self->mixed_) PetscCall(self->mixed_->update(P));
   if (J != P) {
     PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
     PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   }
   PetscFunctionReturn(0);
 }
-
-}  // namespace
 
 // At the start of every Newton iteration: forms may adapt, and then the gradient at x is
 // recomputed with them; and when the Hessian's nonzero pattern at x differs from the current
@@ -53,7 +59,7 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   if (new_pattern) {
     Mat J;
     PetscCall(potential->create_matrix(&J));
-    PetscCall(SNESSetJacobian(snes, J, J, hessian_callback, potential));
+    PetscCall(SNESSetJacobian(snes, self->mixed_ ? self->newton_matrix_ : J, J, hessian_callback, self));
     // A lagged preconditioner (-snes_lag_preconditioner) would otherwise be kept across the
     // new pattern, holding on to the old matrix; start it afresh instead.
     KSP ksp;
@@ -85,6 +91,7 @@ PetscErrorCode default_option(const char* name, const char* value) {
 
 NewtonSolver::~NewtonSolver() {
   SNESDestroy(&snes_);
+  MatDestroy(&newton_matrix_);
   MatDestroy(&J_);
   VecDestroy(&r_);
 }
@@ -165,7 +172,23 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESSetType(snes_, SNESNEWTONLS));
   PetscCall(SNESSetObjective(snes_, objective_callback, potential));
   PetscCall(SNESSetFunction(snes_, r_, gradient_callback, potential));
-  PetscCall(SNESSetJacobian(snes_, J_, J_, hessian_callback, potential));
+  // [can split anywhere, largest lambda/mu of such elements] over the ranks
+  double local[2] = {0, 0}, global[2];
+  for (const auto& form : potential->forms())
+    if (form->can_split_volumetric()) local[0] = 1, local[1] = std::max(local[1], form->split_stiffness_ratio());
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm));
+  bool mixed = false;
+  // With a device matrix (which the mixed solve refuses) it is off unless asked for.
+  PetscCall(mixed_solve_requested(comm, global[0] > 0, matrix_on_device(J_) ? 0.0 : global[1], &mixed));
+  if (mixed) {
+    mixed_ = std::make_unique<MixedLinearSolve>();
+    PetscInt m, M;
+    PetscCall(MatGetLocalSize(J_, &m, nullptr));
+    PetscCall(MatGetSize(J_, &M, nullptr));
+    PetscCall(MatCreateShell(comm, m, m, M, M, this, &newton_matrix_));
+    PetscCall(MatShellSetOperation(newton_matrix_, MATOP_MULT, reinterpret_cast<void (*)(void)>(newton_matrix_multiply)));
+  }
+  PetscCall(SNESSetJacobian(snes_, mixed ? newton_matrix_ : J_, J_, hessian_callback, this));
   // -snes_max_it 100 unless the user says otherwise (SNESSetFromOptions below); set here rather
   // than in the options database so that the run header lists only the user's -snes_ options.
   PetscCall(SNESSetTolerances(snes_, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 100, PETSC_DEFAULT));
@@ -182,6 +205,83 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
 #endif
   PetscCall(SNESSetFromOptions(snes_));
   PetscCall(pc_reuse_.setup(snes_));
+  if (mixed_) PetscCall(setup_mixed_solve());
+  PetscFunctionReturn(0);
+}
+
+// The forms split their volumetric terms off; the SNES's KSP becomes a PCSHELL that runs the
+// mixed solve with the tolerances the KSP was given (-ksp_rtol, -ksp_atol, -ksp_max_it).
+PetscErrorCode NewtonSolver::setup_mixed_solve() {
+  PetscFunctionBeginUser;
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(snes_));
+  // Options that cannot go together (exit status 1; the same decision on every rank).
+  if (pc_reuse_.enabled())
+    throw std::invalid_argument(
+        "-dipc_pc_reuse is not available with the mixed solve of mean-dilatation elements; drop it or add "
+        "-dipc_mixed_solve 0");
+  // Its code uses only PETSc's Vec/Mat operations (device-ready), but it has been run only with
+  // host matrices, so a device one (-mat_type, or the types dipc sets for a PETSc whose hypre
+  // runs only on the GPU) is refused rather than trusted untested.
+  if (matrix_on_device(J_)) {
+    MatType type;
+    PetscCall(MatGetType(J_, &type));
+    throw std::invalid_argument(std::string("the mixed solve of mean-dilatation elements has been run only with host ") +
+                                "matrices, and this run's matrix is a device one (" + type +
+                                "): give -dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
+  }
+  std::vector<const VolumetricPart*> parts;
+  for (const auto& form : ls_.potential->forms())
+    if (form->can_split_volumetric()) {
+      form->split_volumetric();
+      parts.push_back(form->volumetric_part());
+    }
+  KSP ksp;
+  PC pc;
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscReal rtol, atol, dtol;
+  PetscInt max_it;
+  PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &max_it));
+  bool use;
+  SchurApproximation schur;
+  PetscCall(mixed_solve_requested(comm, true, kMixedSolveStiffnessRatio, &use, &schur));
+  PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, schur));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, this));
+  PetscCall(PCShellSetSetUp(pc, mixed_setup));
+  PetscCall(PCShellSetApply(pc, mixed_apply));
+  PetscCall(PCShellSetName(pc, "dipc mixed u-p solve (MINRES, mixed_linear_solve.hpp)"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::mixed_setup(PC pc) {
+  PetscFunctionBeginUser;
+  NewtonSolver* self;
+  PetscCall(PCShellGetContext(pc, &self));
+  PetscCall(self->mixed_->setup_preconditioner());
+  PetscFunctionReturn(0);
+}
+
+// One Newton system: du = H⁻¹ r through the mixed system. A MINRES that stops short fails the
+// linear solve (KSPPREONLY reports the PC failure to SNES).
+PetscErrorCode NewtonSolver::mixed_apply(PC pc, Vec r, Vec du) {
+  PetscFunctionBeginUser;
+  NewtonSolver* self;
+  PetscCall(PCShellGetContext(pc, &self));
+  PetscInt its;
+  KSPConvergedReason reason;
+  PetscCall(self->mixed_->solve(r, du, &its, &reason));
+  self->mixed_iterations_ += its;
+  if (reason < 0) PetscCall(PCSetFailedReason(pc, PC_SUBPC_ERROR));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::newton_matrix_multiply(Mat H, Vec u, Vec y) {
+  PetscFunctionBeginUser;
+  NewtonSolver* self;
+  PetscCall(MatShellGetContext(H, &self));
+  PetscCall(self->mixed_->multiply(u, y));
   PetscFunctionReturn(0);
 }
 
@@ -225,12 +325,15 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   ls_.small_steps_in_a_row = 0;
   ls_.ended_by.clear();
   const PetscInt rebuilds_before = pc_reuse_.rebuilds();
+  const PetscInt mixed_before = mixed_iterations_;
   {
     StageScope stage(log_stages().solve);
     PetscCall(SNESSolve(snes_, nullptr, x));
   }
   PetscCall(SNESGetIterationNumber(snes_, &report->iterations));
   PetscCall(SNESGetLinearSolveIterations(snes_, &report->linear_iterations));
+  // KSPPREONLY counts one per solve; the work is MINRES's.
+  if (mixed_) report->linear_iterations = mixed_iterations_ - mixed_before;
   PetscCall(SNESGetConvergedReason(snes_, &report->reason));
   report->preconditioner_rebuilds = pc_reuse_.rebuilds() - rebuilds_before;
   report->min_alpha = ls_.min_alpha;

@@ -10,15 +10,22 @@
 //    -snes_atol, -snes_stol. A solve fails on -snes_max_it, a failed line search or linear
 //    solve, a NaN, or a line search stuck below alpha_floor for kStallIterations iterations;
 //  - KSP CG + BoomerAMG with the elasticity settings of DESIGN.md §2 as overridable defaults;
-//    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp).
+//    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp);
+//  - with mean-dilatation elements (unless -dipc_mixed_solve 0) the forms keep the volumetric
+//    rank-one terms out of the assembled matrix A, and each Newton system H du = -g is solved as
+//    the mixed u-p system of mixed_linear_solve.hpp (MINRES). SNES then sees H as a shell
+//    operator (A + Bsᵀ Bs), A as the preconditioning matrix, and a KSPPREONLY whose PCSHELL runs
+//    that solve; the report counts MINRES's iterations as the linear iterations.
 #pragma once
 #include <petscsnes.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "nonlinear/device_matrix.hpp"
 #include "nonlinear/incremental_potential.hpp"
+#include "nonlinear/mixed_linear_solve.hpp"
 #include "nonlinear/preconditioner_reuse.hpp"
 
 namespace dipc {
@@ -59,7 +66,9 @@ class NewtonSolver {
   // converge is reported in NewtonReport::reason, not as an error.
   PetscErrorCode solve(Vec x, NewtonReport* report);
   SNES snes() const { return snes_; }
+  // The assembled matrix (with the mixed solve: A, the Hessian without its volumetric terms).
   Mat jacobian() const { return J_; }
+  bool mixed_solve() const { return mixed_ != nullptr; }
 
   // Line-search state shared with the callbacks in line_search.cpp.
   struct LineSearchContext {
@@ -83,6 +92,11 @@ class NewtonSolver {
   PetscErrorCode record_user_snes_options();
   PetscErrorCode attach_near_null_space(Vec x);
   static PetscErrorCode update_callback(SNES snes, PetscInt iteration);
+  static PetscErrorCode hessian_callback(SNES snes, Vec x, Mat J, Mat P, void* ctx);
+  PetscErrorCode setup_mixed_solve();
+  static PetscErrorCode mixed_setup(PC pc);
+  static PetscErrorCode mixed_apply(PC pc, Vec r, Vec du);
+  static PetscErrorCode newton_matrix_multiply(Mat H, Vec u, Vec y);
 
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
@@ -90,6 +104,9 @@ class NewtonSolver {
   LineSearchContext ls_;
   PreconditionerReuse pc_reuse_;
   std::vector<std::string> user_snes_options_;
+  std::unique_ptr<MixedLinearSolve> mixed_;  // null unless the mixed solve is on
+  Mat newton_matrix_ = nullptr;              // with it: the shell H = A + Bsᵀ Bs
+  PetscInt mixed_iterations_ = 0;            // MINRES iterations so far
 };
 
 

@@ -69,6 +69,7 @@ class PreconditionerReuse {
   PetscErrorCode begin_iteration(SNES snes, PetscInt iteration, bool new_pattern);
   // Rebuilds this policy has decided so far (0 when it is off).
   PetscInt rebuilds() const { return rebuilds_; }
+  bool enabled() const { return enabled_; }
 
  private:
   static PetscErrorCode after_solve(KSP ksp, Vec rhs, Vec x, void* ctx);

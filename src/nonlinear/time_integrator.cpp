@@ -10,6 +10,7 @@
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
+#include "nonlinear/mixed_linear_solve.hpp"
 
 namespace dipc {
 
@@ -99,6 +100,23 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
   if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
   const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
+  // [any mean-dilatation element, their largest lambda/mu] over the ranks
+  double local[2] = {0, 0}, global[2];
+  for (int e = 0; e < deformable.num_elements(); ++e)
+    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation)
+      local[0] = 1, local[1] = std::max(local[1], deformable.lambda[e] / deformable.mu[e]);
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, mesh.comm));
+  if (on_device && global[0] > 0) {
+    // The device elastic form does not hand over its volumetric terms (B and D), which the
+    // mixed solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is
+    // asked for (stiffness ratio 0: off by default), which is refused rather than ignored.
+    bool mixed = false;
+    PetscCall(mixed_solve_requested(mesh.comm, true, 0.0, &mixed));
+    if (mixed)
+      throw std::runtime_error("-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the "
+                               "CPU elastic form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the "
+                               "Krylov solve of the full Hessian on the GPU");
+  }
   if (on_device)
     forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
   else

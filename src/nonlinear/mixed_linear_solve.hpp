@@ -1,0 +1,106 @@
+// MixedLinearSolve: the Newton system of mean-dilatation elements solved as a mixed u-p system,
+// so that its Krylov iterations do not grow with lambda.
+//
+// With mean-dilatation elements the Hessian is H = A + Bᵀ D B: A (deviatoric and p d²J terms,
+// inertia, contact, friction) is free of lambda, B has one row b_e = dv_e/dx per element and
+// D = diag(d_e), d_e = h² f''_e ~ h² lambda / V_e. CG + AMG on H is slow as nu -> 1/2: the
+// divergence-free modes form a near-null space of the lambda part that AMG cannot represent.
+// Instead H du = r is solved through the equivalent symmetric indefinite system
+//
+//   [ A   Bsᵀ ] [ du ]   [ r ]
+//   [ Bs  -I  ] [ s  ] = [ 0 ],    Bs = D^{1/2} B,
+//
+// whose Schur complement on du is A + Bsᵀ Bs = H, so du is H⁻¹ r exactly. This is the usual
+// mixed form K = [[A, Bᵀ], [B, -D⁻¹]] with the element pressure q = D B du rescaled to
+// s = D^{-1/2} q, which keeps it finite where d_e = 0 (nu = 0, or f'' < 0 projected to 0).
+// MINRES with the symmetric positive definite block-diagonal preconditioner
+//
+//   P = diag( AMG(A), I + D W ),   W = diag(V_e / (h² mu_e)),
+//
+// that is diag(AMG(A), D^{1/2} (D⁻¹ + W) D^{1/2}) in the rescaled variable: W is the pressure
+// mass matrix over the shear modulus, spectrally equivalent to B A⁻¹ Bᵀ for an inf-sup stable
+// pair, so the preconditioned spectrum is bounded independently of lambda (Elman, Silvester &
+// Wathen, "Finite Elements and Fast Iterative Solvers", 2nd ed., ch. 4, for Stokes; the nearly
+// incompressible limit is the same saddle point with the -D⁻¹ block). Q1-P0 is not uniformly
+// inf-sup stable (its checkerboard pressure mode), so a mild mesh dependence remains.
+//
+// Dirichlet dofs: A carries them eliminated (unit diagonal), and their columns of B are zeroed,
+// so du is zero there as in the primal solve. Everything here goes through PETSc's Vec and Mat
+// operations (and MatSetValuesCOO with host values), so device vectors and matrices work.
+#pragma once
+#include <petscksp.h>
+
+#include <vector>
+
+#include "nonlinear/form.hpp"
+
+namespace dipc {
+
+// How the s block is preconditioned: `mass`, the diagonal I + D W above; or `selfp`, one
+// BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp" Schur approximation in the
+// rescaled variable), which sees the element-to-element coupling that the diagonal misses.
+enum class SchurApproximation { mass, selfp };
+
+// The mixed solve is the default from this lambda / mu on (the largest over the mean-dilatation
+// elements). Below it CG + AMG on the full Hessian took fewer Krylov iterations than MINRES on
+// the mixed system (bench/incompressible.py, README "Near-incompressible materials").
+constexpr double kMixedSolveStiffnessRatio = 1000;
+
+// -dipc_mixed_solve: whether scenes with mean-dilatation elements (`has_split_elements`; the
+// mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
+// among them (0 where the mixed solve cannot run by default: device forms or matrix). Default:
+// on from kMixedSolveStiffnessRatio on.
+// -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass).
+PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
+                                     SchurApproximation* schur = nullptr);
+
+class MixedLinearSolve {
+ public:
+  MixedLinearSolve() = default;
+  ~MixedLinearSolve();
+  MixedLinearSolve(const MixedLinearSolve&) = delete;
+  MixedLinearSolve& operator=(const MixedLinearSolve&) = delete;
+
+  // parts: the volumetric parts of the forms that split them (kept, read at every update);
+  // prescribed: 3 flags per mesh-local node, the Dirichlet dofs; rtol/atol/max_it: MINRES's
+  // tolerances. The preconditioner of the A block is a PC read from the unprefixed options
+  // (-pc_type, -pc_hypre_*: what the primal CG would use).
+  PetscErrorCode setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts, const std::vector<char>* prescribed,
+                       PetscReal rtol, PetscReal atol, PetscInt max_it, SchurApproximation schur);
+  // After the forms' hessian(): A is the assembled Hessian without the volumetric terms, at
+  // the state where the parts were computed. Fills Bs and the preconditioner's diagonal.
+  PetscErrorCode update(Mat A);
+  // Sets the A-block preconditioner up for the current A (a new AMG hierarchy).
+  PetscErrorCode setup_preconditioner();
+  // du = (A + Bsᵀ Bs)⁻¹ r to MINRES's tolerance; its iterations and reason.
+  PetscErrorCode solve(Vec r, Vec du, PetscInt* iterations, KSPConvergedReason* reason);
+  // y = (A + Bsᵀ Bs) u, the Newton matrix H the mixed system stands for.
+  PetscErrorCode multiply(Vec u, Vec y);
+  KSP ksp() const { return ksp_; }
+
+ private:
+  PetscErrorCode create_block_matrices(Mat A);
+  static PetscErrorCode apply_preconditioner(PC pc, Vec x, Vec y);
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::vector<const VolumetricPart*> parts_;
+  const std::vector<char>* prescribed_ = nullptr;
+  PetscInt num_rows_ = 0;  // this rank's volumetric rows
+  std::vector<PetscScalar> bs_values_, diagonal_values_;
+  Mat A_ = nullptr;        // not owned: the potential's matrix
+  Mat Bs_ = nullptr, BsT_ = nullptr, minus_identity_ = nullptr, K_ = nullptr;
+  Vec diagonal_ = nullptr;                  // I + D W, the s block of the preconditioner (mass)
+  bool selfp_ = false;                      // the s block is I + Bs diag(A)^-1 Bsᵀ instead, by AMG
+  Mat scaled_bs_ = nullptr, schur_ = nullptr;
+  Vec a_diagonal_ = nullptr;
+  PC pc_s_ = nullptr;
+  Vec rhs_ = nullptr, solution_ = nullptr;  // nests (u, s)
+  Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr;
+  KSP ksp_ = nullptr;
+  PC pc_a_ = nullptr;
+  bool pc_a_needs_reset_ = false;
+  PetscReal rtol_ = 1e-8, atol_ = 1e-50;
+  PetscInt max_it_ = 10000;
+};
+
+}  // namespace dipc
