@@ -292,7 +292,8 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
 
   double t_setup = MPI_Wtime();
   ProblemSetup problem = build_problem(scene, mesh, diagonal);
-  const double velocity_tol = options.velocity_tol > 0 ? options.velocity_tol : options.velocity_tol_rel * diagonal;
+  double velocity_tol = 0;
+  PetscCall(read_velocity_tol(comm, options, diagonal, &velocity_tol));
   // Triangle-mesh obstacles have no device path yet: auto falls back to the CPU and says so in
   // the run header; an explicit cuda request is refused.
   const bool obstacles = !problem.contact_parameters.obstacles.empty();

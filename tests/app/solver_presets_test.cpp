@@ -99,7 +99,7 @@ PetscErrorCode run_preset(const Scene& scene, const std::string& preset, int ste
   RunOptions options = quiet(steps);
   std::vector<std::string> inserted;
   PetscCall(apply_solver_preset(PETSC_COMM_WORLD, &options.preset, &inserted));
-  PetscCall(read_run_options(PETSC_COMM_WORLD, &options));
+  PetscCall(read_run_options(PETSC_COMM_WORLD, scene, &options));
   options.steps = steps;
   PetscCall(run_scene(scene, PETSC_COMM_WORLD, options, result));
   for (const std::string& name : inserted) PetscCall(PetscOptionsClearValue(nullptr, name.c_str()));
