@@ -14,6 +14,7 @@
 #include "app/simulation.hpp"
 #include "displacement_difference.hpp"
 #include "device/device_runtime.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -26,7 +27,7 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
   // Shipped scenes by name; rubber_drop_md (test data) mixes a mean-dilatation body at nu 0.49
   // with a standard one, the kernel's per-element branching.
   const std::string dir = name == "rubber_drop_md" ? "/tests/app/data/" : "/scenes/";
-  const Scene scene = name == "default" ? default_scene() : parse_scene_file(std::string(DIPC_SOURCE_DIR) + dir + name + ".json");
+  const Scene scene = name == "default" ? default_scene() : parse_scene_file(dipc::test::source_dir() + dir + name + ".json");
   PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
   PetscOptionsSetValue(nullptr, "-ksp_max_it", "5000");
   RunOptions options;

@@ -17,6 +17,7 @@
 
 #include "app/simulation.hpp"
 #include "displacement_difference.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -43,7 +44,7 @@ const ShippedScene kShippedScenes[] = {
 
 Scene load(const std::string& name) {
   return name == "default" ? default_scene()
-                           : parse_scene_file(std::string(DIPC_SOURCE_DIR) + "/scenes/" + name + ".json");
+                           : parse_scene_file(dipc::test::source_dir() + "/scenes/" + name + ".json");
 }
 
 // A barrier that sleeps instead of spinning: ranks left out of a smaller run wait here, and a
@@ -126,7 +127,7 @@ INSTANTIATE_TEST_SUITE_P(Shipped, ShippedSceneRankInvariance, ::testing::ValuesI
 TEST(ShippedSceneRankInvariance, ListsEverySceneFile) {
   std::set<std::string> listed;
   for (const ShippedScene& s : kShippedScenes) listed.insert(s.name);
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DIPC_SOURCE_DIR) + "/scenes")) {
+  for (const auto& entry : std::filesystem::directory_iterator(dipc::test::source_dir() + "/scenes")) {
     if (entry.path().extension() == ".json") {
       EXPECT_TRUE(listed.count(entry.path().stem().string())) << entry.path() << " is not compared across ranks";
     }

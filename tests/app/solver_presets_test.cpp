@@ -20,6 +20,7 @@
 #include "app/solver_presets.hpp"
 #include "displacement_difference.hpp"
 #include "io/default_scene.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -113,7 +114,7 @@ TEST_P(PresetAccuracy, TighterIsNeverWorseAndWithinTheStatedBound) {
   const SmallScene& s = GetParam();
   const Scene scene = std::string(s.name) == "default"
                           ? default_scene()
-                          : parse_scene_file(std::string(DIPC_SOURCE_DIR) + "/scenes/" + s.name + ".json");
+                          : parse_scene_file(dipc::test::source_dir() + "/scenes/" + s.name + ".json");
   RunResult reference, rest;
   PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-10");
   PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "0");
