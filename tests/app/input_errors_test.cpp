@@ -184,9 +184,24 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(std::get<0>(info.param).name) + "_np" + std::to_string(std::get<1>(info.param));
     });
 
+// The good mesh runs the scene's 2 steps (time.steps) and writes them: one report line and one
+// stats.csv row per step, and the XDMF named in the closing line.
 TEST(InputErrors, GoodMeshRuns) {
-  const Outcome o = run_dipc("cube_good.json");
-  EXPECT_EQ(o.status, 0) << o.output;
+  const std::string dir = "good_mesh_run";
+  std::filesystem::remove_all(dir);
+  const Outcome o = run_dipc("cube_good.json", "-dipc_quiet 0 -dipc_no_output 0 -dipc_output " + dir);
+  ASSERT_EQ(o.status, 0) << o.output;
+  for (const char* s : {"step     1  t 0.01 ", "step     2  t 0.02 ", "dipc: 2 steps written to good_mesh_run/dipc.xmf"})
+    EXPECT_NE(o.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << o.output;
+  EXPECT_EQ(o.output.find("step     3"), std::string::npos) << o.output;
+  EXPECT_EQ(o.output.find("error"), std::string::npos) << o.output;
+  std::ifstream stats(dir + "/stats.csv");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(stats, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 3u) << "header and 2 steps expected in " << dir << "/stats.csv";
+  EXPECT_EQ(rows[1].rfind("1,0.01,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("2,0.02,", 0), 0u) << rows[2];
+  EXPECT_TRUE(std::filesystem::exists(dir + "/dipc.xmf"));
 }
 
 // -options_file reaches PETSc: the shipped GAMG options replace the BoomerAMG default.
