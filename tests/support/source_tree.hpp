@@ -17,7 +17,8 @@ inline std::string source_dir() {
   std::error_code error;
   const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", error);
   if (error) throw std::runtime_error("cannot read /proc/self/exe; set DIPC_SOURCE_DIR to the source tree");
-  const std::filesystem::path dir = (binary.parent_path() / DIPC_SOURCE_FROM_BINARY).lexically_normal();
+  std::filesystem::path dir = (binary.parent_path() / DIPC_SOURCE_FROM_BINARY).lexically_normal();
+  if (!dir.has_filename()) dir = dir.parent_path();  // "a/b/../.." normalises to "a/"
   if (!std::filesystem::exists(dir / "scenes"))
     throw std::runtime_error("no source tree at " + dir.string() + " (found from " + binary.string() +
                              "); set DIPC_SOURCE_DIR to it");
