@@ -53,9 +53,9 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
   const std::int64_t* element_nodes = nullptr;  // 8*num_elements global node ids
   const int* element_body = nullptr;            // num_elements
   const int* element_rank = nullptr;            // num_elements owning ranks; null: this rank
+  const int* element_kinematic = nullptr;       // num_elements flags; null: no kinematic body
   // The rest is the same on every rank.
   std::vector<std::string> body_names;          // per body id (none: no /mesh/body_names)
-  const int* element_kinematic = nullptr;       // num_elements flags; null: no kinematic body
   bool contact_force = false, friction_force = false;  // node fields every step carries
   std::vector<std::string> contact_pair_kinds;  // step attributes "contact_pairs_<kind>"
   std::vector<OutputObstacle> obstacles;
