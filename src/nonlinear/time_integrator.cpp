@@ -50,13 +50,8 @@ PetscErrorCode assemble_node_masses(const DistributedMesh& mesh, const ElementDa
 }  // namespace
 
 TimeIntegrator::~TimeIntegrator() {
-  VecDestroy(&X_);
-  VecDestroy(&x_);
-  VecDestroy(&x_n_);
-  VecDestroy(&v_);
-  VecDestroy(&x_hat_);
-  VecDestroy(&x_local_);
-  VecDestroy(&x_lag_);
+  // A destructor cannot return the error: a failing destroy (a defect) aborts.
+  for (Vec* v : {&X_, &x_, &x_n_, &v_, &x_hat_, &x_local_, &x_lag_}) PetscCallAbort(PETSC_COMM_SELF, VecDestroy(v));
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
