@@ -156,6 +156,9 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"unknown_preset", "small_box.json", "-dipc_preset quick",
                      {"-dipc_preset quick", "fast, balanced, accurate"}},
             BadInput{"non_boolean_flag", "small_box.json", "-dipc_pc_reuse abc", {"-dipc_pc_reuse abc"}},
+            // Raised inside the solver setup as PETSC_ERR_USER_INPUT (app/petsc_input_errors.hpp).
+            BadInput{"mixed_solve_without_mean_dilatation", "small_box.json", "-dipc_mixed_solve",
+                     {"-dipc_mixed_solve needs mean-dilatation elements"}},
             BadInput{"empty_output", "small_box.json", "-dipc_output", {"-dipc_output needs a value"}},
             BadInput{"unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
             BadInput{"misspelt_flag", "small_box.json", "-dipc_check_invariant",
