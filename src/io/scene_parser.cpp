@@ -39,6 +39,7 @@
 #include <sstream>
 
 #include "io/json_document.hpp"
+#include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json_node.hpp"
 
@@ -517,6 +518,7 @@ std::string Selection::describe() const {
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory) {
   const nlohmann::json document = parse_json_document(json_text, source_name);
+  if (is_polyfem_scene(document)) return translate_polyfem_scene(document, source_name, base_directory);
   const SceneJsonNode root(document, "", source_name);
   root.expect_object({"materials", "geometry", "boundary_conditions", "time", "solver", "output", "contact"});
 
