@@ -1,6 +1,8 @@
 // Scene file parser: reads the JSON format documented below into a Scene and validates every
 // value, so that the solver never starts on a scene with a typo or an impossible parameter.
 //
+// A scene in PolyFEM's own format is recognised by is_polyfem_scene() and translated by
+// polyfem_scene.cpp instead.
 // Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
 //   materials            [ {name, E, nu, rho,
 //                           volumetric: gauss_points|mean_dilatation} ]  required, >= 1
