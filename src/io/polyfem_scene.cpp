@@ -730,21 +730,35 @@ struct Translator {
 
 }  // namespace
 
-bool is_polyfem_scene(const nlohmann::json& d) {
-  if (!d.is_object()) return false;
-  if (has_any(d, {"space", "initial_conditions", "units", "common", "root_path", "tests", "preset_problem", "input"})) return true;
-  if (d.contains("geometry") && d["geometry"].is_object()) return true;
-  if (d.contains("materials") && d["materials"].is_object()) return true;
-  for (const char* list : {"geometry", "materials"})
-    if (d.contains(list) && d[list].is_array())
-      for (const auto& item : d[list])
-        if (has_any(item, {"transformation", "volume_selection", "surface_selection", "is_obstacle", "type", "id", "enabled", "n_refs"}))
-          return true;
-  if (d.contains("time") && has_any(d["time"], {"time_steps", "tend", "t0", "quasistatic"})) return true;
-  if (d.contains("boundary_conditions") &&
-      has_any(d["boundary_conditions"], {"rhs", "dirichlet_boundary", "neumann_boundary", "obstacle_displacements", "pressure_boundary"}))
-    return true;
-  return d.contains("contact") && has_any(d["contact"], {"friction_coefficient", "dhat_percentage"});
+std::string polyfem_marker(const nlohmann::json& d) {
+  if (!d.is_object()) return "";
+  auto first = [](const nlohmann::json& object, std::initializer_list<const char*> keys) -> std::string {
+    if (object.is_object())
+      for (const char* key : keys)
+        if (object.contains(key)) return key;
+    return "";
+  };
+  std::string key = first(d, {"space", "initial_conditions", "units", "common", "root_path", "tests", "preset_problem", "input"});
+  if (!key.empty()) return key;
+  for (const char* list : {"geometry", "materials"}) {
+    if (!d.contains(list)) continue;
+    if (d[list].is_object()) return list;
+    if (!d[list].is_array()) continue;
+    for (std::size_t i = 0; i < d[list].size(); ++i) {
+      key = first(d[list][i], {"transformation", "volume_selection", "surface_selection", "is_obstacle", "type", "id", "enabled", "n_refs"});
+      if (!key.empty()) return std::string(list) + "[" + std::to_string(i) + "]." + key;
+    }
+  }
+  const std::pair<const char*, std::vector<const char*>> sections[] = {
+      {"time", {"time_steps", "tend", "t0", "quasistatic"}},
+      {"boundary_conditions", {"rhs", "dirichlet_boundary", "neumann_boundary", "obstacle_displacements", "pressure_boundary"}},
+      {"contact", {"friction_coefficient", "dhat_percentage"}}};
+  for (const auto& [section, keys] : sections) {
+    if (!d.contains(section) || !d[section].is_object()) continue;
+    for (const char* k : keys)
+      if (d[section].contains(k)) return std::string(section) + "." + k;
+  }
+  return "";
 }
 
 Scene translate_polyfem_scene(const nlohmann::json& document, const std::string& source,

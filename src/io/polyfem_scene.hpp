@@ -15,12 +15,16 @@
 
 namespace dipc {
 
-// True when the document uses keys only PolyFEM's format has (dipc's own format would reject
-// them as unknown): `materials` entries with a `type`, `geometry` entries with `transformation`,
-// `volume_selection`, `surface_selection` or `is_obstacle`, `time` with `time_steps` or `tend`,
-// `boundary_conditions` with `rhs` or `dirichlet_boundary`, `contact.friction_coefficient`, or
-// the root keys `space`, `initial_conditions`, `units`, `common`.
-bool is_polyfem_scene(const nlohmann::json& document);
+// The key path that marks the document as PolyFEM's (dipc's own format would reject it as
+// unknown), or "" for dipc's format: a root key `space`, `initial_conditions`, `units`,
+// `common`, `root_path`, `tests`, `preset_problem` or `input`; `geometry` or `materials` as one
+// object; an entry of either with `transformation`, `volume_selection`, `surface_selection`,
+// `is_obstacle`, `type`, `id`, `enabled` or `n_refs`; `time` with `time_steps`, `tend`, `t0` or
+// `quasistatic`; `boundary_conditions` with `rhs`, `dirichlet_boundary`, `neumann_boundary`,
+// `obstacle_displacements` or `pressure_boundary`; `contact` with `friction_coefficient` or
+// `dhat_percentage`.
+std::string polyfem_marker(const nlohmann::json& document);
+inline bool is_polyfem_scene(const nlohmann::json& document) { return !polyfem_marker(document).empty(); }
 
 // Throws SceneError "<source>: <key path>: <what>" for a key dipc cannot model.
 Scene translate_polyfem_scene(const nlohmann::json& document, const std::string& source,

@@ -520,7 +520,15 @@ std::string Selection::describe() const {
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory) {
   const nlohmann::json document = parse_json_document(json_text, source_name);
-  if (is_polyfem_scene(document)) return translate_polyfem_scene(document, source_name, base_directory);
+  // A PolyFEM file's errors say why it was read as one: a typo in a dipc scene can be a
+  // PolyFEM key ("tend" for "t_end").
+  if (const std::string marker = polyfem_marker(document); !marker.empty()) {
+    try {
+      return translate_polyfem_scene(document, source_name, base_directory);
+    } catch (const SceneError& e) {
+      throw SceneError(std::string(e.what()) + " [read in PolyFEM's format: it has " + marker + "]");
+    }
+  }
   const SceneJsonNode root(document, "", source_name);
   root.expect_object({"materials", "geometry", "boundary_conditions", "time", "solver", "output", "contact"});
 

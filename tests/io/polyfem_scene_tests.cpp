@@ -163,6 +163,19 @@ TEST(PolyfemScene, DipcsOwnFormatIsNotTakenForPolyfems) {
   EXPECT_TRUE(s.lumped_mass);
 }
 
+// A dipc scene with a PolyFEM key (a typo) is read as PolyFEM's, and its error says why.
+TEST(PolyfemScene, ErrorsSayWhyTheFileWasReadAsPolyfems) {
+  try {
+    read(R"({"materials": [{"E": 1e6}], "geometry": [{"box": {"size": [1, 1, 1]}}], "time": {"dt": 0.1, "tend": 1}})");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("[read in PolyFEM's format: it has time.tend]"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(polyfem_marker(nlohmann::json::parse(R"({"geometry": [{"mesh": "a.msh", "is_obstacle": true}]})")),
+            "geometry[0].is_obstacle");
+  EXPECT_EQ(polyfem_marker(nlohmann::json::parse(R"({"geometry": [{"mesh": "a.msh"}], "time": {"dt": 1, "steps": 2}})")), "");
+}
+
 struct Refused {
   const char* name;
   std::string text;
