@@ -11,7 +11,9 @@
 // pass over the obstacle per search. The costs that grow with the obstacle rather than with the
 // rank's share are that pass and the obstacle's memory on every rank (about 150 bytes per
 // triangle): fine for floors, funnels and rollers of up to a few 10⁵ triangles; an obstacle far
-// larger would want its own BVH (or a partition by space) instead.
+// larger would want its own BVH (or a partition by space) instead. A ContactForm on the device
+// keeps the positions there too and gives its broad phase every obstacle primitive (no
+// culling pass; the BVH over them is rebuilt per search with the body's).
 //
 // Node ids. ContactForm's pairs name body nodes by ext-local id (>= 0); obstacle vertex k is
 // named -2 - k (obstacle_node, obstacle_nodes.hpp), so -1 keeps meaning "unused slot". Obstacle

@@ -64,7 +64,9 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
                 gpu.newton_iterations, cpu.max_contact_pairs);
     EXPECT_GT(d.max_displacement, 0.0);
     EXPECT_LE(d.relative(), 1e-8);
-    if (!scene.contact.obstacles.empty()) EXPECT_GT(cpu.max_contact_pairs, 0) << "the body never met the obstacle";
+    if (!scene.contact.obstacles.empty()) {
+      EXPECT_GT(cpu.max_contact_pairs, 0) << "the body never met the obstacle";
+    }
   }
   for (const char* o : {"-ksp_rtol", "-ksp_max_it"}) PetscOptionsClearValue(nullptr, o);
 }

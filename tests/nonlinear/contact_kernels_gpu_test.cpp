@@ -450,6 +450,9 @@ TEST(ContactKernelsGpu, VertexPlaneTimeOfImpactIsBitIdentical) {
 // whose nodes in `slots` (a bit per slot) become obstacle vertices, named −2 − k, with their
 // positions moved from x to the obstacle arrays: at the end of the segment the pair's own
 // position, at its start that position moved by `start_shift` (evaluations must read the end).
+// Plane arguments for pairs of the other kinds, which ignore them.
+constexpr double kNoPlane[3] = {0, 0, 1};
+
 struct ObstaclePairs {
   RandomPairs r;
   std::vector<double> start, end;  // obstacle vertex positions, 3 per vertex
@@ -527,10 +530,10 @@ TEST(ContactKernelsGpu, ObstaclePairsMatchHostOnTheirBodyNodes) {
       double X[12];
       o.gather(i, X);
       const int kind = o.r.pairs.kind[i];
-      min_d2 = std::min(min_d2, contact_pair_squared_distance(kind, X, nullptr, nullptr));
+      min_d2 = std::min(min_d2, contact_pair_squared_distance(kind, X, kNoPlane, kNoPlane));
       bool is_active;
       ContactPairTerms t;
-      ASSERT_TRUE(contact_pair_terms(kind, X, nullptr, nullptr, c.dhat2, c.kappa, o.r.pairs.weight[i],
+      ASSERT_TRUE(contact_pair_terms(kind, X, kNoPlane, kNoPlane, c.dhat2, c.kappa, o.r.pairs.weight[i],
                                      o.r.pairs.eps_x[i], true, true, c.project, &is_active, &t));
       active[i] = is_active ? 1 : 0;
       energy += t.energy;
@@ -619,10 +622,12 @@ TEST(ContactKernelsGpu, ObstaclePairTimesOfImpactAreBitIdentical) {
           }
         }
       }
-      const double host = contact_pair_time_of_impact(kind, X0, X1, nullptr, nullptr, 1.0);
+      const double host = contact_pair_time_of_impact(kind, X0, X1, kNoPlane, kNoPlane, 1.0);
       host_min = std::min(host_min, host);
       if (host < 1.0) ++early;
-      if (t.must_report[i]) EXPECT_LT(host, 1.0) << "pair " << i << " collides, CCD returned " << host;
+      if (t.must_report[i]) {
+        EXPECT_LT(host, 1.0) << "pair " << i << " collides, CCD returned " << host;
+      }
       if (gpu[i] != host && ++mismatches <= 5)
         ADD_FAILURE() << "pair " << i << ": GPU toi " << gpu[i] << " != CPU toi " << host;
     }
