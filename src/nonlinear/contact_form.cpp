@@ -788,6 +788,25 @@ std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) 
   return out;
 }
 
+const char* ContactForm::pair_kind_name(int kind) {
+  static const char* const names[num_pair_kinds] = {"point_triangle",          "edge_edge",
+                                                    "point_plane",             "point_obstacle_triangle",
+                                                    "edge_obstacle_edge",      "obstacle_point_triangle"};
+  return kind >= 0 && kind < num_pair_kinds ? names[kind] : "unknown";
+}
+
+std::array<long, ContactForm::num_pair_kinds> ContactForm::active_pair_counts(const double* x) const {
+  std::array<long, num_pair_kinds> counts{};
+  for_each_pair([&](int kind, std::size_t i) {
+    bool active;
+    ContactPairTerms t;
+    terms(describe(kind, i), x, false, false, &active, &t);
+    if (active) ++counts[kind];
+    return true;
+  });
+  return counts;
+}
+
 std::string ContactForm::body_label(int b) const {
   return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
                                                                         : std::to_string(b);

@@ -148,6 +148,12 @@ class ContactForm : public Form {
     std::int64_t first_global;
   };
   std::vector<ActivePair> active_pairs(const double* x) const;
+  // This rank's active pairs at x by kind, in for_each_pair's order: vertex–triangle,
+  // edge–edge, vertex–plane (bodies and planes), then body vertex–obstacle triangle, body
+  // edge–obstacle edge, obstacle vertex–body triangle (output: the per-step contact counts).
+  static constexpr int num_pair_kinds = 6;
+  static const char* pair_kind_name(int kind);
+  std::array<long, num_pair_kinds> active_pair_counts(const double* x) const;
   // Squared distance of a pair whose stacked node positions are X (3 per node of info.nodes).
   static double squared_distance(const PairInfo& info, const double* X);
   // Global id of an ext-local node; obstacle nodes keep their (negative) obstacle_node id.
