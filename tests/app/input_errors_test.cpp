@@ -138,8 +138,6 @@ INSTANTIATE_TEST_SUITE_P(
                      {"contact.obstacles[0].mesh", "obstacle_nan.obj:4:", "non-finite"}},
             BadInput{"obstacle_crossing", "obstacle_crossing.json", "",
                      {"not intersection-free", "crosses triangle", "of obstacle \"floor\" (", "obstacle_floor.obj:", "\"cube\""}},
-            BadInput{"obstacle_on_cuda", "obstacle_floor.json", "-dipc_backend cuda",
-                     {"-dipc_backend cuda", "obstacles", "CPU only"}},
             BadInput{"negative_steps", "small_box.json", "-dipc_steps -1", {"-dipc_steps -1"}},
             BadInput{"zero_steps", "small_box.json", "-dipc_steps 0", {"-dipc_steps 0"}},
             BadInput{"non_numeric_steps", "small_box.json", "-dipc_steps abc", {"-dipc_steps abc", "not an integer"}},
