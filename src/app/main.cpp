@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
     PetscCall(dipc::read_run_options(comm, scene, &options));
     PetscBool help_requested = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
+    // A PolyFEM scene's keys that dipc ignores or reads its own way, one line each.
+    for (const std::string& note : scene.notes) PetscCall(PetscPrintf(comm, "dipc: PolyFEM scene: %s\n", note.c_str()));
     if (help_requested) {
       // The solvers read their options while they are set up, so -help builds everything (and
       // so lists every option with the value this scene would use), then stops: no run

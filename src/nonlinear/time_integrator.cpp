@@ -74,7 +74,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
   }
 
-  // Only the terms this problem needs (DESIGN.md: "model only what a scene requires").
+  // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
   const bool on_device = space == MemorySpace::device;

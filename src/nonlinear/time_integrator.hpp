@@ -1,4 +1,4 @@
-// TimeIntegrator: implicit Euler as incremental-potential minimisation (DESIGN.md §1), or a
+// TimeIntegrator: implicit Euler as incremental-potential minimisation (docs/design.md §1.1), or a
 // sequence of static solves. Builds only the forms the problem needs (no inertia in a static
 // solve, no body force when g = 0), owns the distributed state and advances it step by step.
 #pragma once

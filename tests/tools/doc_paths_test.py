@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/check_doc_paths.py: the shipped documents (docs/*.md) cite only paths, identifiers
+"""scripts/check_doc_paths.py: the engineers' documents (docs/design.md, docs/README.md) cite only paths, identifiers
 and commits that exist, and the checker reports each kind of dangling reference in a document
 made to hold one of each (so a checker that stopped looking would fail here)."""
 import os
@@ -19,7 +19,7 @@ def main():
     shipped = run()
     print(shipped.stdout, end="")
     if shipped.returncode != 0:
-        print("FAIL: docs/*.md cite references that do not exist")
+        print("FAIL: docs/design.md or docs/README.md cite references that do not exist")
         return 1
 
     bad = {
