@@ -1,0 +1,107 @@
+// distribute_slices under MPI (1, 2 and 3 ranks): with METIS it rebuilds distribute_mesh's
+// parts field by field from slices; with PT-Scotch its parts are consistent with the input
+// mesh, deterministic and balanced; slices round-trip; errors stop every rank.
+#include <gtest/gtest.h>
+#include <petscsys.h>
+
+#include <string>
+
+#include "box_mesh.hpp"
+#include "distributed_mesh_checks.hpp"
+#include "partition/distributed_mesh.hpp"
+#include "partition/mesh_slice.hpp"
+#include "partition/partition_error.hpp"
+
+namespace dipc {
+namespace {
+
+HexMesh mesh_with_orphan_node() {
+  HexMesh mesh;
+  mesh.nodes.push_back({-5, -5, -5});
+  mesh.node_sets["with_orphan"] = {0, 1, 2};
+  return test::concatenate(mesh, test::two_body_mesh());
+}
+
+TEST(DistributeSlices, SlicesRoundTrip) {
+  const HexMesh mesh = test::two_body_mesh();
+  const MeshSlice slice = slice_whole_mesh(test::rank_of(PETSC_COMM_WORLD) == 0 ? mesh : HexMesh(), PETSC_COMM_WORLD);
+  check_slice_layout(slice);
+  EXPECT_EQ(slice.num_global_nodes, static_cast<std::int64_t>(mesh.num_nodes()));
+  const HexMesh back = gather_whole_mesh(slice);
+  if (test::rank_of(PETSC_COMM_WORLD) == 0) {
+    EXPECT_EQ(back.nodes, mesh.nodes);
+    EXPECT_EQ(back.hexes, mesh.hexes);
+    EXPECT_EQ(back.body, mesh.body);
+    EXPECT_EQ(back.node_sets, mesh.node_sets);
+  }
+}
+
+TEST(DistributeSlices, MetisGivesTheRootDistribution) {
+  for (const HexMesh& mesh : {test::structured_box(6, 4, 3), test::two_body_mesh(), mesh_with_orphan_node()}) {
+    for (bool with_surface : {true, false}) {
+      const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+      const DistributedMesh expected = distribute_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD, with_surface);
+      const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+      const DistributedMesh part = distribute_slices(slice, Partitioner::metis, with_surface);
+      test::expect_identical(expected, part);
+    }
+  }
+}
+
+TEST(DistributeSlices, PtScotchPartsAreConsistentDeterministicAndBalanced) {
+  const HexMesh mesh = test::two_body_mesh();
+  const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+  const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+  PartitionQuality quality;
+  const DistributedMesh first = distribute_slices(slice, Partitioner::ptscotch, true, &quality);
+  test::expect_consistent_with(mesh, first);
+  test::expect_identical(first, distribute_slices(slice, Partitioner::ptscotch, true));
+  const int size = test::size_of(PETSC_COMM_WORLD);
+  // 84 elements; PT-Scotch's default strategy allows a few percent of imbalance.
+  EXPECT_LE(quality.imbalance, 1.15);
+  EXPECT_GT(quality.smallest_part, 0);
+  if (size == 1) EXPECT_EQ(quality.edge_cut, 0);
+  else EXPECT_GT(quality.edge_cut, 0);
+  // The interior faces of a 6x4x3 and a 3x2x2 box: 5*4*3 + 6*3*3 + 6*4*2 + 2*2*2 + 3*1*2 + 3*2*1.
+  EXPECT_EQ(quality.dual_edges, 60 + 54 + 48 + 8 + 6 + 6);
+}
+
+TEST(DistributeSlices, QualityCountsTheCutFaces) {
+  // A 4x1x1 bar on 1 or 2 ranks: METIS cuts it at one face.
+  const HexMesh mesh = test::structured_box(4, 1, 1);
+  const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+  const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+  PartitionQuality quality;
+  distribute_slices(slice, Partitioner::metis, false, &quality);
+  const int size = test::size_of(PETSC_COMM_WORLD);
+  EXPECT_EQ(quality.dual_edges, 3);
+  EXPECT_EQ(quality.edge_cut, size - 1);
+  EXPECT_EQ(quality.largest_part, (4 + size - 1) / size);
+  EXPECT_DOUBLE_EQ(quality.imbalance, quality.largest_part * size / 4.0);
+}
+
+TEST(DistributeSlices, FaceOfThreeElementsThrowsOnEveryRank) {
+  HexMesh mesh = test::structured_box(2, 1, 1);
+  mesh.hexes.push_back(mesh.hexes[0]);  // a copy of element 0 shares all its faces
+  mesh.body.push_back(0);
+  const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+  const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+  try {
+    distribute_slices(slice, Partitioner::metis);
+    FAIL() << "expected PartitionError";
+  } catch (const PartitionError& e) {
+    EXPECT_NE(std::string(e.what()).find("3 elements share one face"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DistributeSlices, UnknownPartitionerIsNamed) {
+  try {
+    parse_partitioner("parmetis");
+    FAIL();
+  } catch (const PartitionError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"parmetis\""), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace dipc
