@@ -67,17 +67,29 @@ TEST(DistributeSlices, PtScotchPartsAreConsistentDeterministicAndBalanced) {
 }
 
 TEST(DistributeSlices, QualityCountsTheCutFaces) {
-  // A 4x1x1 bar on 1 or 2 ranks: METIS cuts it at one face.
-  const HexMesh mesh = test::structured_box(4, 1, 1);
+  // A 12x1x1 bar: element i touches i + 1 through one face, so the cut is the number of i
+  // whose part differs from i + 1's, counted here from the parts the ranks received.
+  const int n = 12;
+  const HexMesh mesh = test::structured_box(n, 1, 1);
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
-  PartitionQuality quality;
-  distribute_slices(slice, Partitioner::metis, false, &quality);
-  const int size = test::size_of(PETSC_COMM_WORLD);
-  EXPECT_EQ(quality.dual_edges, 3);
-  EXPECT_EQ(quality.edge_cut, size - 1);
-  EXPECT_EQ(quality.largest_part, (4 + size - 1) / size);
-  EXPECT_DOUBLE_EQ(quality.imbalance, quality.largest_part * size / 4.0);
+  for (Partitioner p : {Partitioner::metis, Partitioner::ptscotch}) {
+    PartitionQuality quality;
+    const DistributedMesh part = distribute_slices(slice, p, false, &quality);
+    std::vector<int> owner(n, 0);
+    for (std::int64_t e : part.element_input_id) owner[e] = test::rank_of(PETSC_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, owner.data(), n, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+    std::int64_t cut = 0;
+    for (int i = 0; i + 1 < n; ++i) cut += owner[i] != owner[i + 1];
+    int largest = part.num_elements();
+    MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+    const int size = test::size_of(PETSC_COMM_WORLD);
+    EXPECT_EQ(quality.dual_edges, n - 1);
+    EXPECT_EQ(quality.edge_cut, cut) << partitioner_name(p);
+    EXPECT_GE(quality.edge_cut, size - 1) << partitioner_name(p);
+    EXPECT_EQ(quality.largest_part, largest);
+    EXPECT_DOUBLE_EQ(quality.imbalance, static_cast<double>(largest) * size / n);
+  }
 }
 
 TEST(DistributeSlices, FaceOfThreeElementsThrowsOnEveryRank) {
