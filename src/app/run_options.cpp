@@ -32,6 +32,18 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
   PetscCall(PetscOptionsString("-dipc_backend", "Where elements and contact are evaluated: cpu, cuda or auto", "", backend,
                                backend, sizeof(backend), nullptr));
   o->backend = backend;
+  char partitioner[16];
+  std::snprintf(partitioner, sizeof partitioner, "%s", o->partitioner.c_str());
+  PetscCall(PetscOptionsString("-dipc_partitioner",
+                               "Element partitioner: metis (on rank 0), ptscotch (parallel) or auto (metis up to "
+                               "-dipc_metis_max_elements elements, ptscotch above)",
+                               "", partitioner, partitioner, sizeof(partitioner), nullptr));
+  o->partitioner = partitioner;
+  PetscInt metis_max = static_cast<PetscInt>(o->metis_max_elements);
+  PetscCall(PetscOptionsInt("-dipc_metis_max_elements",
+                            "Largest mesh (elements) that -dipc_partitioner auto partitions with METIS on rank 0", "",
+                            metis_max, &metis_max, nullptr));
+  o->metis_max_elements = metis_max;
   PetscInt crossover = static_cast<PetscInt>(o->auto_gpu_min_elements);
   PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU", "",
                             crossover, &crossover, nullptr));

@@ -174,7 +174,14 @@ void build_owned_surface(DistributedMesh& part, const std::vector<std::int64_t>&
 }  // namespace
 
 DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitioner, bool with_surface,
-                                  PartitionQuality* quality) {
+                                  DistributeReport* report) {
+  DistributeReport times;
+  double t = MPI_Wtime();
+  auto lap = [&t](double& into) {
+    const double now = MPI_Wtime();
+    into += now - t;
+    t = now;
+  };
   check_slice_layout(slice);
   MPI_Comm comm = slice.comm;
   int rank = 0, size = 1;
@@ -183,8 +190,11 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   const std::int64_t nn_input = slice.num_global_nodes;
 
   FaceMatching faces = match_faces(slice);
+  lap(times.match_faces);
   const std::vector<int> element_part = partition_slice(slice, faces, partitioner);
-  if (quality) *quality = partition_quality(slice, faces, element_part);
+  lap(times.partition);
+  if (report) times.quality = partition_quality(slice, faces, element_part);
+  lap(times.quality_check);
 
   // Quads are numbered by (element input id, face): an element's first quad id is the count
   // of boundary faces of all lower elements.
@@ -215,6 +225,7 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   part.comm = comm;
   part.element_offset = exclusive_prefix(static_cast<std::int64_t>(mine.size()), comm, &part.num_global_elements);
 
+  lap(times.elements);
   // Touched nodes, sorted by input id; their homes decide the owner (the lowest touching part).
   std::vector<std::int64_t> touched;
   touched.reserve(8 * mine.size());
@@ -338,7 +349,10 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
     }
   }
   mine = std::vector<ElementRecord>();
+  lap(times.nodes);
   if (with_surface) build_owned_surface(part, first_quad, touched, local_of_touched, num_quads, nn_input, rank, size);
+  lap(times.surface);
+  if (report) *report = times;
   return part;
 }
 

@@ -52,8 +52,9 @@ TEST(DistributeSlices, PtScotchPartsAreConsistentDeterministicAndBalanced) {
   const HexMesh mesh = test::two_body_mesh();
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
-  PartitionQuality quality;
-  const DistributedMesh first = distribute_slices(slice, Partitioner::ptscotch, true, &quality);
+  DistributeReport report;
+  const DistributedMesh first = distribute_slices(slice, Partitioner::ptscotch, true, &report);
+  const PartitionQuality& quality = report.quality;
   test::expect_consistent_with(mesh, first);
   test::expect_identical(first, distribute_slices(slice, Partitioner::ptscotch, true));
   const int size = test::size_of(PETSC_COMM_WORLD);
@@ -74,8 +75,9 @@ TEST(DistributeSlices, QualityCountsTheCutFaces) {
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
   for (Partitioner p : {Partitioner::metis, Partitioner::ptscotch}) {
-    PartitionQuality quality;
-    const DistributedMesh part = distribute_slices(slice, p, false, &quality);
+    DistributeReport report;
+    const DistributedMesh part = distribute_slices(slice, p, false, &report);
+    const PartitionQuality& quality = report.quality;
     std::vector<int> owner(n, 0);
     for (std::int64_t e : part.element_input_id) owner[e] = test::rank_of(PETSC_COMM_WORLD);
     MPI_Allreduce(MPI_IN_PLACE, owner.data(), n, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
