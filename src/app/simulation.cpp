@@ -29,6 +29,7 @@
 #include "nonlinear/step_recovery.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
+#include "partition/mpi_exchange.hpp"
 
 namespace dipc {
 
@@ -108,7 +109,30 @@ class RunOutput {
     std::fill(local.begin(), local.end(), double(my_rank));
     throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
     for (int e = 0; e < nb; ++e) rank[e] = static_cast<int>(block[e]);
+    // Selections in input node ids, each sorted over the ranks: every owned member goes to the
+    // rank whose block of ids holds it, which writes the sorted ids it received as its rows.
+    int num_ranks;
+    MPI_Comm_size(mesh.comm, &num_ranks);
+    std::vector<std::vector<std::int64_t>> selection_rows;
+    std::vector<OutputMesh::Selection> selections;
+    for (const auto& [name, members] : mesh.node_sets) {
+      std::vector<std::vector<std::int64_t>> to_home(num_ranks);
+      for (std::int32_t l : members)
+        if (l < mesh.num_owned_nodes) {
+          const std::int64_t id = mesh.node_input_id[l];
+          to_home[block_of(id, mesh.num_global_nodes, num_ranks)].push_back(id);
+        }
+      selection_rows.push_back(exchange_records(to_home, mesh.comm));
+      std::sort(selection_rows.back().begin(), selection_rows.back().end());
+      OutputMesh::Selection set;
+      set.name = name;
+      set.count = static_cast<std::int64_t>(selection_rows.back().size());
+      set.offset = exclusive_prefix(set.count, mesh.comm, &set.size);
+      selections.push_back(set);
+    }
+    for (std::size_t k = 0; k < selections.size(); ++k) selections[k].ids = selection_rows[k].data();
     OutputMesh om;
+    om.selections = selections;
     om.comm = mesh.comm;
     om.num_global_nodes = mesh.num_global_nodes;
     om.node_offset = order.node_offset();

@@ -31,6 +31,15 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
   const std::int64_t* element_nodes = nullptr;  // 8*num_elements global node ids
   const int* element_body = nullptr;            // num_elements
   const int* element_rank = nullptr;            // num_elements owning ranks; null: this rank
+  // Named node selections, written to /mesh/sets/<name> (io/mesh_file.hpp) so that the file can
+  // be a later run's mesh: this rank writes rows [offset, offset + count) of `size` ids. The
+  // same names in the same order on every rank.
+  struct Selection {
+    std::string name;
+    std::int64_t size = 0, offset = 0, count = 0;
+    const std::int64_t* ids = nullptr;
+  };
+  std::vector<Selection> selections;
 };
 
 class XdmfWriter {
