@@ -94,6 +94,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       text("-dipc_output"),
       flag("-dipc_no_output"),
       flag("-dipc_quiet"),
+      flag("-dipc_setup_only"),
       flag("-dipc_check_invariants"),
       one_of("-dipc_backend", "cpu cuda auto"),
       integer_at_least("-dipc_auto_gpu_elements", 0),

@@ -22,6 +22,11 @@ PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* o) {
                                sizeof(dir), &set));
   PetscCall(PetscOptionsBool("-dipc_no_output", "Write no HDF5/XDMF/CSV output", "", no_output, &no_output, nullptr));
   PetscCall(PetscOptionsBool("-dipc_quiet", "Do not print one line per time step", "", quiet, &quiet, nullptr));
+  PetscBool setup_only = o->setup_only ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsBool("-dipc_setup_only",
+                             "Build the mesh, partition and solver setup, report them and take no step (setup benchmarks)",
+                             "", setup_only, &setup_only, nullptr));
+  o->setup_only = setup_only;
   PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsBool("-dipc_check_invariants",
                              "After every step verify det J > 0, no edge-triangle intersection and d_min > 0", "", check,
