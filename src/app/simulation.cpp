@@ -298,7 +298,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     diagonal = slice_bounding_box_diagonal(slice);
     fingerprint = scene_fingerprint(scene, slice_digest(slice));
     partitioner = options.partitioner == "auto"
-                      ? (slice.num_global_elements <= options.metis_max_elements ? Partitioner::metis : Partitioner::ptscotch)
+                      ? (slice.num_global_elements <= options.metis_max_elements || !ptscotch_available()
+                             ? Partitioner::metis
+                             : Partitioner::ptscotch)
                       : parse_partitioner(options.partitioner);
     t_slices = MPI_Wtime() - t_partition;
     mesh = distribute_slices(slice, partitioner, scene.contact.enabled, &distribution);  // the surface only for contact

