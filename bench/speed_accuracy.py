@@ -2,7 +2,8 @@
 """Speed or accuracy: what each solver knob and preset buys and costs on one scene (issue 12).
 
     bench/speed_accuracy.py [scene.json] [--binary build/src/app/dipc] [--ranks 1] [--steps N]
-                            [--repeat R] [--out bench/results] [--options '...']
+                            [--repeat R] [--out bench/results] [--options '...'] [--knobs a,b]
+                            [--tag NAME] [--cost cpu|wall]
 
 Runs a tight reference, dipc's built-in solver values (those before presets existed), the three
 presets (scenes/solver/presets/*.opts, passed with -options_file so that the study also runs a
@@ -42,8 +43,9 @@ process; cpu_s the user + system CPU time of the whole process (setup included),
 measure that other work on a shared machine disturbs least (1 rank: no MPI polling); Newton
 and CG iterations; dt cuts. `repeat_identical` says whether the repeats wrote bit-identical
 displacements (the runs are deterministic on the CPU). Writes <out>/speed_accuracy_<scene>.csv
-and .png (err_max against cpu_s, log-log, Pareto front in CPU time and error marked, each point
-labelled) and prints a Markdown table. A run still going after --timeout times the reference's
+and .png (err_max against cpu_s, or wall_s with --cost wall, log-log, Pareto front in that cost
+and error marked, each point labelled) and prints a Markdown table. --knobs runs only the named
+knobs (the 1M-element GPU study: built-in,preset,ksp,pc_reuse), --tag names the output apart. A run still going after --timeout times the reference's
 process time (at least 10 s) is stopped and recorded with status 124. --steps caps the scene's steps (the
 CSV's steps and scene_steps columns say so).
 """
@@ -225,12 +227,12 @@ def pareto(points):
     return front
 
 
-def plot(rows, ref_cpu, path, title):
+def plot(rows, ref_cost, cost, path, title):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     floor = 1e-12  # errors at round-off are drawn here (log scale)
-    pts = [(r['cpu_s'], r['err_max']) for r in rows]
+    pts = [(r[cost], r['err_max']) for r in rows]
     front = set(pareto(pts))
     fig, ax = plt.subplots(figsize=(8.5, 5.5))
     for i, r in enumerate(rows):
@@ -247,10 +249,11 @@ def plot(rows, ref_cpu, path, title):
         ax.plot([p[0] for p in fr], [p[1] for p in fr], color='C3', lw=1, ls='--', label='Pareto front')
     ax.scatter([], [], marker='*', color='grey', s=60, label='preset (scenes/solver/presets)')
     ax.scatter([], [], marker='^', color='grey', label='changes the discrete problem (dhat, dt, kappa, friction)')
-    ax.axvline(ref_cpu, color='grey', lw=0.8, ls=':', label=f'reference ({ref_cpu:.2f} s)')
+    ax.axvline(ref_cost, color='grey', lw=0.8, ls=':', label=f'reference ({ref_cost:.2f} s)')
     ax.set_xscale('log')
     ax.set_yscale('log')
-    ax.set_xlabel('CPU time of the run [s] (user + system of the process, median over the repeats)')
+    ax.set_xlabel('CPU time of the run [s] (user + system of the process, median over the repeats)' if cost == 'cpu_s'
+                  else "wall time of the run's steps [s] (setup excluded, median over the repeats)")
     ax.set_ylabel('max |u - u_ref| / max |u_ref| (1e-12 = round-off)')
     ax.set_title(title, fontsize=10)
     ax.grid(True, which='both', alpha=0.3)
@@ -258,6 +261,17 @@ def plot(rows, ref_cpu, path, title):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def write_csv(path, rows):
+    """All rows so far, through a temporary file, so that the CSV on disk is always whole."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path + '.tmp', 'w', newline='') as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f'{v:.4g}' if isinstance(v, float) else v) for k, v in r.items()})
+    os.replace(path + '.tmp', path)
 
 
 def fmt(x):
@@ -278,12 +292,21 @@ def main():
     ap.add_argument('--timeout', type=float, default=10,
                     help="stop a run after this many times the reference's process time (status 124)")
     ap.add_argument('--plot-only', action='store_true', help='redraw the PNG from the CSV of an earlier study')
+    ap.add_argument('--knobs', default='', help='comma-separated knobs to run (e.g. built-in,preset,ksp,pc_reuse); '
+                    'default all. The reference always runs')
+    ap.add_argument('--tag', default='', help='appended to the output name (e.g. gpu_1m)')
+    ap.add_argument('--cost', choices=('cpu', 'wall'), default='cpu',
+                    help="the cost axis of the plot and the Pareto front: the process's CPU time (default; robust "
+                    "on a shared machine) or the steps' wall time (a GPU run, where CPU time means little)")
     args = ap.parse_args()
     name = os.path.splitext(os.path.basename(args.scene))[0] if args.scene else 'default'
+    if args.tag:
+        name += '_' + args.tag
+    cost = args.cost + '_s'
     base = os.path.join(args.out, f'speed_accuracy_{name}')
     if args.plot_only:
         rows = [{k: (float(v) if k in FLOATS else v) for k, v in r.items()} for r in csv.DictReader(open(base + '.csv'))]
-        plot(rows[1:], rows[0]['cpu_s'], base + '.png',
+        plot(rows[1:], rows[0][cost], cost, base + '.png',
              f"{name}: {rows[0]['steps']} of {rows[0]['scene_steps']} steps, error against the tight reference")
         return 0
 
@@ -360,6 +383,10 @@ def main():
                 plan.append((f'fric_its {its}', 'fric_its', variant(f'fric{its}', set_contact('friction_iterations', its)),
                              n, options(BUILTIN)))
 
+        if args.knobs:
+            keep = set(args.knobs.split(','))
+            plan = [p for p in plan if p[1] in keep]
+
         def row(setting, knob, opts, r, errors, ncmp):
             return dict(scene=name, setting=setting, knob=knob, options=' '.join(opts), steps=r['steps'],
                         scene_steps=full, status=r['status'], **errors, compared_times=ncmp,
@@ -379,19 +406,15 @@ def main():
                     args.timeout * max(ref['process'], 10.0))
             errors, ncmp = compare(r, ref, down)
             rows.append(row(setting, knob, opts, r, errors, ncmp))
+            write_csv(base + '.csv', rows)  # after every run, so that a study cut short keeps what it measured
             note = f" exit {r['status']}: {r['message']}" if r['status'] else ''
             print(f"#   {setting}: {r['wall']:.2f} s, err {errors['err_max']:.2e}{note}", file=sys.stderr)
 
     runs = rows[1:]
-    for i in pareto([(r['cpu_s'], r['err_max']) for r in runs]):
+    for i in pareto([(r[cost], r['err_max']) for r in runs]):
         runs[i]['pareto'] = 'yes'
-    os.makedirs(args.out, exist_ok=True)
-    with open(base + '.csv', 'w', newline='') as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f'{v:.4g}' if isinstance(v, float) else v) for k, v in r.items()})
-    plot(runs, ref['cpu'], base + '.png',
+    write_csv(base + '.csv', rows)
+    plot(runs, rows[0][cost], cost, base + '.png',
          f'{name}: {n} of {full} steps, {args.ranks} rank(s), error against the tight reference')
 
     print(f"{name}, {n} of {full} steps of dt {dt:g}, {args.ranks} rank(s), median of {args.repeat} run(s) "

@@ -55,6 +55,8 @@ int main(int argc, char** argv) {
     PetscBool help_requested = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
     const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
+    // A PolyFEM scene's keys that dipc ignores or reads its own way, one line each.
+    for (const std::string& note : scene.notes) PetscCall(PetscPrintf(comm, "dipc: PolyFEM scene: %s\n", note.c_str()));
     if (help_requested) options.setup_only = true;  // list every option, then stop
     dipc::RunResult result;
     PetscCall(dipc::run_scene(scene, comm, options, &result));

@@ -2,12 +2,15 @@
 #include "app/scene_slice.hpp"
 
 #include <algorithm>
+#include <map>
+#include <set>
 #include <climits>
 #include <memory>
 #include <stdexcept>
 
 #include "io/collective_error.hpp"
 #include "io/mesh_file.hpp"
+#include "mesh/boundary_faces.hpp"
 #include "mesh/box_generator.hpp"
 #include "mesh/gmsh_reader.hpp"
 #include "mesh/mesh_checks.hpp"
@@ -18,11 +21,72 @@
 namespace dipc {
 namespace {
 
+// PolyFEM's surface selections (Body::face_selections) as node sets of `part` (one body):
+// each boundary face takes the id of the first selection holding its centroid (the mean of
+// its 4 corners), and "<body>.surface_selection_<id>" collects the nodes of the faces with
+// that id. Every id the body declares gets a set, empty when no face took it; the Dirichlet
+// check then reports a condition that selects no node.
+void add_face_selection_sets(const Body& body, const std::string& source, HexMesh& part) {
+  if (body.face_selections.empty()) return;
+  std::map<int, std::set<std::int64_t>> nodes_of_id;
+  for (const FaceSelection& s : body.face_selections) nodes_of_id[s.id];
+  for (const BoundaryFace& f : extract_boundary_faces(part)) {
+    const std::array<int, 4> local = hex_face_nodes(f.face);
+    Vec3 centroid{0, 0, 0};
+    for (int k : local)
+      for (int c = 0; c < 3; ++c) centroid[c] += 0.25 * part.nodes[part.hexes[f.element][k]][c];
+    for (const FaceSelection& s : body.face_selections) {
+      bool inside = true;
+      if (s.box)
+        for (int c = 0; c < 3; ++c) inside = inside && centroid[c] >= (*s.box)[c] && centroid[c] <= (*s.box)[3 + c];
+      if (!inside) continue;
+      for (int k : local) nodes_of_id[s.id].insert(part.hexes[f.element][k]);
+      break;
+    }
+  }
+  for (const auto& [id, nodes] : nodes_of_id) {
+    const std::string name = body.name + ".surface_selection_" + std::to_string(id);
+    if (part.node_sets.count(name))
+      throw MeshError(source + ": body \"" + body.name + "\": its mesh already has a selection named \"" + name + "\"");
+    part.node_sets[name] = std::vector<std::int64_t>(nodes.begin(), nodes.end());
+  }
+}
+
+// A body built whole on rank 0 (a Gmsh file, or a box with PolyFEM surface selections, which
+// need the body's boundary faces): placed (x = scale·(linear·X) + translation for a file), its
+// node sets named "<body>.<set>", "<body>" for all its nodes, and the surface selections.
+HexMesh whole_body(const Scene& scene, std::size_t b) {
+  const Body& body = scene.bodies[b];
+  const int id = static_cast<int>(b);
+  if (body.box) {
+    HexMesh part = generate_box(body.box->size, body.box->resolution, body.box->origin, id, body.name);
+    add_face_selection_sets(body, scene.source, part);
+    return part;
+  }
+  HexMesh part = read_gmsh(body.mesh_file, id);
+  const std::array<double, 9>& L = body.linear;
+  for (Vec3& X : part.nodes) {
+    const Vec3 Y = X;
+    for (int c = 0; c < 3; ++c)
+      X[c] = body.scale * (L[3 * c] * Y[0] + L[3 * c + 1] * Y[1] + L[3 * c + 2] * Y[2]) + body.translation[c];
+  }
+  HexMesh named;
+  named.nodes = std::move(part.nodes);
+  named.hexes = std::move(part.hexes);
+  named.body = std::move(part.body);
+  for (auto& [name, nodes] : part.node_sets) named.node_sets[body.name + "." + name] = std::move(nodes);
+  std::vector<std::int64_t> every(named.nodes.size());
+  for (std::size_t i = 0; i < every.size(); ++i) every[i] = static_cast<std::int64_t>(i);
+  named.node_sets[body.name] = std::move(every);
+  add_face_selection_sets(body, scene.source, named);
+  return named;
+}
+
 // One body's rows in the whole mesh: nodes [node_begin, node_begin + num_nodes), elements
 // likewise; its source is one of the three kinds.
 struct BodyRows {
   std::int64_t node_begin = 0, num_nodes = 0, element_begin = 0, num_elements = 0;
-  HexMesh gmsh;                            // a Gmsh body: the whole body, on rank 0 only
+  HexMesh whole;                           // a body built whole (whole_body), on rank 0 only
   std::unique_ptr<MeshFileReader> hdf5;    // a dipc HDF5 body
 };
 
@@ -105,7 +169,8 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     BodyRows& r = rows[b];
-    if (body.box) {
+    const bool on_root = !body.box ? !is_hdf5_mesh_path(body.mesh_file) : !body.face_selections.empty();
+    if (body.box && !on_root) {
       const auto& res = body.box->resolution;
       r.num_nodes = std::int64_t(res[0] + 1) * (res[1] + 1) * (res[2] + 1);
       r.num_elements = std::int64_t(res[0]) * res[1] * res[2];
@@ -119,7 +184,12 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
           error = e.what();
         }
       throw_if_failed_anywhere(comm, error);
-    } else if (is_hdf5_mesh_path(body.mesh_file)) {
+    } else if (!on_root) {
+      std::string error;
+      if (!body.face_selections.empty())
+        error = scene.source + ": body \"" + body.name + "\": PolyFEM surface selections need a Gmsh mesh or a box, not " +
+                body.mesh_file;
+      throw_if_failed_anywhere(comm, error);
       r.hdf5 = std::make_unique<MeshFileReader>(comm, body.mesh_file);
       r.num_nodes = r.hdf5->num_nodes();
       r.num_elements = r.hdf5->num_elements();
@@ -127,11 +197,9 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
       std::string error;
       std::int64_t counts[2] = {0, 0};
       if (rank == 0) try {
-          r.gmsh = read_gmsh(body.mesh_file, static_cast<int>(b));
-          for (Vec3& X : r.gmsh.nodes)
-            for (int c = 0; c < 3; ++c) X[c] = body.scale * X[c] + body.translation[c];
-          counts[0] = static_cast<std::int64_t>(r.gmsh.num_nodes());
-          counts[1] = static_cast<std::int64_t>(r.gmsh.num_elements());
+          r.whole = whole_body(scene, b);
+          counts[0] = static_cast<std::int64_t>(r.whole.num_nodes());
+          counts[1] = static_cast<std::int64_t>(r.whole.num_elements());
         } catch (const std::exception& e) {
           error = e.what();
         }
@@ -160,17 +228,19 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
     const auto my_nodes = overlap(slice.node_begin, node_end, r.node_begin, r.node_begin + r.num_nodes);
     const auto my_elements = overlap(slice.element_begin, element_end, r.element_begin, r.element_begin + r.num_elements);
     const int id = static_cast<int>(b);
-    if (body.box) {
+    if (body.box && body.face_selections.empty()) {
       append_box_rows(*body.box, body.name, id, r, slice, my_nodes, my_elements);
       continue;
     }
-    std::vector<std::int64_t>& all = slice.node_sets[body.name];
-    for (std::int64_t g = my_nodes.first; g < my_nodes.first + my_nodes.second; ++g) all.push_back(g);
     if (r.hdf5) {
+      std::vector<std::int64_t>& all = slice.node_sets[body.name];
+      for (std::int64_t g = my_nodes.first; g < my_nodes.first + my_nodes.second; ++g) all.push_back(g);
       const std::vector<double> x = r.hdf5->read_coordinates(my_nodes.first - r.node_begin, my_nodes.second);
+      const std::array<double, 9>& L = body.linear;
       for (std::size_t i = 0; i < x.size(); i += 3) {
         Vec3 X;
-        for (int c = 0; c < 3; ++c) X[c] = body.scale * x[i + c] + body.translation[c];
+        for (int c = 0; c < 3; ++c)
+          X[c] = body.scale * (L[3 * c] * x[i] + L[3 * c + 1] * x[i + 1] + L[3 * c + 2] * x[i + 2]) + body.translation[c];
         slice.nodes.push_back(X);
       }
       const std::vector<std::int64_t> t = r.hdf5->read_topology(my_elements.first - r.element_begin, my_elements.second);
@@ -208,7 +278,7 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
       for (const SetEntry& m : exchange_records(to_home, comm)) slice.node_sets[names[m.set]].push_back(m.node);
       continue;
     }
-    // Gmsh: rank 0 holds the body and sends every rank its rows.
+    // A body built whole: rank 0 holds it and sends every rank its rows.
     std::vector<std::vector<Row3>> node_rows(size);
     std::vector<std::vector<Hex>> hex_rows(size);
     std::vector<std::vector<SetEntry>> set_rows(size);
@@ -217,18 +287,18 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
       for (int q = 0; q < size; ++q) {
         const auto n = overlap(block_begin(nodes, size, q), block_begin(nodes, size, q + 1), r.node_begin,
                                r.node_begin + r.num_nodes);
-        for (std::int64_t g = n.first; g < n.first + n.second; ++g) node_rows[q].push_back({r.gmsh.nodes[g - r.node_begin]});
+        for (std::int64_t g = n.first; g < n.first + n.second; ++g) node_rows[q].push_back({r.whole.nodes[g - r.node_begin]});
         const auto e = overlap(block_begin(elements, size, q), block_begin(elements, size, q + 1), r.element_begin,
                                r.element_begin + r.num_elements);
         for (std::int64_t g = e.first; g < e.first + e.second; ++g) {
-          Hex hex = r.gmsh.hexes[g - r.element_begin];
+          Hex hex = r.whole.hexes[g - r.element_begin];
           for (std::int64_t& v : hex) v += r.node_begin;
           hex_rows[q].push_back(hex);
         }
       }
       std::int32_t s = 0;
-      for (const auto& [name, ids] : r.gmsh.node_sets) {
-        set_names += body.name + "." + name + '\0';
+      for (const auto& [name, ids] : r.whole.node_sets) {
+        set_names += name + '\0';
         for (std::int64_t node : ids)
           set_rows[block_of(node + r.node_begin, nodes, size)].push_back({node + r.node_begin, s, 0});
         ++s;

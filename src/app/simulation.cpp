@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,7 @@
 #include "app/checkpoint.hpp"
 #include "app/natural_order.hpp"
 #include "app/option_checks.hpp"
+#include "app/output_obstacles.hpp"
 #include "app/problem_builder.hpp"
 #include "app/scene_slice.hpp"
 #include "app/stop_signals.hpp"
@@ -83,9 +85,15 @@ PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::v
 // after the checkpoint by the stopped run) are replaced.
 class RunOutput {
  public:
-  RunOutput(const Scene& scene, const std::string& dir, const DistributedMesh& mesh, NaturalOrder& order, double dhat,
-            long keep_steps = -1, long keep_through_step = -1)
-      : mesh_(mesh), order_(order), contact_(scene.contact.enabled), dhat_(dhat) {
+  RunOutput(const Scene& scene, const std::string& dir, const DistributedMesh& mesh, NaturalOrder& order,
+            const ProblemSetup& problem, const TimeIntegrator& integrator, long keep_steps = -1,
+            long keep_through_step = -1)
+      : mesh_(mesh),
+        order_(order),
+        contact_(integrator.contact() != nullptr),
+        friction_(integrator.friction() != nullptr),
+        dhat_(problem.contact_parameters.dhat),
+        contact_parameters_(problem.contact_parameters) {
     std::vector<double> coords;
     for (int n = 0; n < mesh.num_owned_nodes; ++n) coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
     std::vector<double> block_coords;
@@ -131,8 +139,25 @@ class RunOutput {
       selections.push_back(set);
     }
     for (std::size_t k = 0; k < selections.size(); ++k) selections[k].ids = selection_rows[k].data();
+    // Kinematic bodies (every node prescribed) as a cell flag, only when the scene has one.
+    bool any_kinematic = false;
+    for (const Body& b : scene.bodies) any_kinematic = any_kinematic || b.kinematic;
+    std::vector<int> kinematic;
+    if (any_kinematic) {
+      for (int e = 0; e < ne; ++e) local[e] = scene.bodies[mesh.element_body[e]].kinematic ? 1.0 : 0.0;
+      throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
+      for (int e = 0; e < nb; ++e) kinematic.push_back(static_cast<int>(block[e]));
+    }
     OutputMesh om;
     om.selections = selections;
+    for (const Body& b : scene.bodies) om.body_names.push_back(b.name);
+    om.element_kinematic = any_kinematic ? kinematic.data() : nullptr;
+    om.contact_force = contact_;
+    om.friction_force = friction_;
+    if (contact_) {
+      for (int k = 0; k < ContactForm::num_pair_kinds; ++k) om.contact_pair_kinds.push_back(ContactForm::pair_kind_name(k));
+      om.obstacles = output_obstacles(contact_parameters_, scene_bounds(mesh, contact_parameters_));
+    }
     om.comm = mesh.comm;
     om.num_global_nodes = mesh.num_global_nodes;
     om.node_offset = order.node_offset();
@@ -149,9 +174,13 @@ class RunOutput {
                                      "alpha_min", "energy", "min_volume_ratio", "wall_s", "linear_solve_s",
                                      "kinetic_energy", "elastic_energy", "gravity_energy", "momentum_x", "momentum_y",
                                      "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z"};
-    if (contact_)
-      columns.insert(columns.end(), {"contact_pairs", "min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd",
-                                     "broad_phase_s", "ccd_s", "barrier_s", "exchange_s"});
+    if (contact_) {
+      columns.push_back("contact_pairs");
+      for (int k = 0; k < ContactForm::num_pair_kinds; ++k)
+        columns.push_back(std::string("contact_pairs_") + ContactForm::pair_kind_name(k));
+      columns.insert(columns.end(), {"min_distance", "min_distance_over_dhat", "kappa", "alpha_ccd", "broad_phase_s",
+                                     "ccd_s", "barrier_s", "exchange_s"});
+    }
     stats_ = std::make_unique<StatsCsv>(dir + "/stats.csv", columns, mesh.comm, keep_through_step);
   }
 
@@ -172,7 +201,34 @@ class RunOutput {
     std::vector<double> ratio;
     PetscCall(integrator.element_volume_ratios(&ratio));
     PetscCall(order_.elements_to_blocks(ratio.data(), &ratio_block));
-    writer_->write_step(integrator.time(), u_block.data(), v_block.data(), ratio_block.data());
+    StepFields fields;
+    fields.time = integrator.time();
+    fields.displacement = u_block.data();
+    fields.velocity = v_block.data();
+    fields.volume_ratio = ratio_block.data();
+    // Contact and friction forces (−∇B/h², −∇D/h²) and the active pairs, only with contact.
+    std::vector<double> contact_block, friction_block;
+    if (contact_) {
+      Vec fc, ff = nullptr;
+      PetscCall(VecDuplicate(u, &fc));
+      if (friction_) PetscCall(VecDuplicate(u, &ff));
+      std::array<long, ContactForm::num_pair_kinds> pairs{};
+      PetscCall(integrator.contact_forces(fc, ff, &pairs));
+      fields.contact_pairs.assign(pairs.begin(), pairs.end());
+      for (auto [vec, out] : {std::pair{fc, &contact_block}, std::pair{ff, &friction_block}}) {
+        if (!vec) continue;
+        const PetscScalar* a;
+        PetscCall(VecGetArrayRead(vec, &a));
+        PetscCall(order_.nodes_to_blocks(a, out));
+        PetscCall(VecRestoreArrayRead(vec, &a));
+      }
+      fields.contact_force = contact_block.data();
+      fields.friction_force = friction_ ? friction_block.data() : nullptr;
+      fields.obstacle_displacement = obstacle_displacements(contact_parameters_, integrator.time());
+      PetscCall(VecDestroy(&fc));
+      PetscCall(VecDestroy(&ff));
+    }
+    writer_->write_step(fields);
     PetscCall(VecDestroy(&u));
     PetscFunctionReturn(0);
   }
@@ -186,9 +242,12 @@ class RunOutput {
                                     r.linear_solve_seconds, q.kinetic_energy, q.elastic_energy, q.gravity_energy};
     for (double m : q.momentum) row.emplace_back(m);
     for (double l : q.angular_momentum) row.emplace_back(l);
-    if (contact_)
-      row.insert(row.end(), {double(r.contact_pairs), r.min_distance, r.min_distance / dhat_, r.kappa, r.alpha_ccd,
-                             r.broad_phase_seconds, r.ccd_seconds, r.barrier_seconds, r.exchange_seconds});
+    if (contact_) {
+      row.emplace_back(double(r.contact_pairs));
+      for (long n : r.contact_pairs_by_kind) row.emplace_back(double(n));
+      row.insert(row.end(), {r.min_distance, r.min_distance / dhat_, r.kappa, r.alpha_ccd, r.broad_phase_seconds,
+                             r.ccd_seconds, r.barrier_seconds, r.exchange_seconds});
+    }
     stats_->row(row);
   }
   std::string xdmf_path() const { return writer_->xdmf_path(); }
@@ -198,10 +257,28 @@ class RunOutput {
     if (code) throw std::runtime_error("PETSc error " + std::to_string(code) + " while ordering the output");
   }
 
+  // The bodies' and triangle-mesh obstacles' rest positions over all ranks (plane patches).
+  static Bounds scene_bounds(const DistributedMesh& mesh, const ContactParameters& contact) {
+    Bounds b{};
+    const double inf = std::numeric_limits<double>::infinity();
+    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    const auto grow = [&](const double* x) {
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], x[c]), hi[c] = std::max(hi[c], x[c]);
+    };
+    for (int n = 0; n < mesh.num_owned_nodes; ++n) grow(mesh.coordinates[n].data());
+    for (const auto& o : contact.obstacles)
+      for (const auto& X : o.rest) grow(X.data());
+    MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, mesh.comm);
+    MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, mesh.comm);
+    for (int c = 0; c < 3; ++c) b[c] = lo[c], b[3 + c] = hi[c];
+    return b;
+  }
+
   const DistributedMesh& mesh_;
   NaturalOrder& order_;
-  bool contact_;
+  bool contact_, friction_;
   double dhat_;
+  const ContactParameters& contact_parameters_;
   std::unique_ptr<XdmfWriter> writer_;
   std::unique_ptr<StatsCsv> stats_;
 };
@@ -312,17 +389,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   double t_setup = MPI_Wtime();
   ProblemSetup problem = build_problem(scene, mesh, diagonal);
   const double velocity_tol = options.velocity_tol > 0 ? options.velocity_tol : options.velocity_tol_rel * diagonal;
-  // Triangle-mesh obstacles have no device path yet: auto falls back to the CPU and says so in
-  // the run header; an explicit cuda request is refused.
-  const bool obstacles = !problem.contact_parameters.obstacles.empty();
-  if (obstacles && options.backend == "cuda")
-    throw std::runtime_error("-dipc_backend cuda: triangle-mesh obstacles (contact.obstacles) are evaluated on the "
-                             "CPU only; run with -dipc_backend cpu or auto");
-  BackendChoice backend;
-  if (obstacles && options.backend == "auto")
-    backend.description = "cpu (auto: triangle-mesh obstacles run on the CPU only)";
-  else
-    backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
   DeviceUse device_use;
   if (backend.space == MemorySpace::device) {
     device_use.matrix_on_device = device_matrix_requested();
@@ -403,9 +470,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   std::unique_ptr<RunOutput> output;
   if (options.write_output && !options.setup_only) {
     StageScope stage(stages.output);
-    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem.contact_parameters.dhat,
+    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator,
                                                      stored.output_steps, recovery.steps_taken())
-                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem.contact_parameters.dhat);
+                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator);
     if (output->steps_written() == 0) PetscCall(output->write_fields(integrator));
     result->xdmf_path = output->xdmf_path();
   }

@@ -44,7 +44,84 @@ std::string check_tiling(MPI_Comm comm, const char* what, std::int64_t global, s
   return {};
 }
 
+// A fixed-length string type as wide as the longest of `texts` (null-terminated, ASCII/UTF-8).
+Hdf5Handle string_type(const std::vector<std::string>& texts) {
+  std::size_t width = 1;
+  for (const std::string& t : texts) width = std::max(width, t.size() + 1);
+  Hdf5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  if (type.valid() && (H5Tset_size(type.get(), width) < 0 || H5Tset_strpad(type.get(), H5T_STR_NULLTERM) < 0 ||
+                       H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0))
+    type.reset();
+  return type;
+}
+
+// A scalar string attribute (collective: every rank passes the same text).
+std::string write_string_attribute(hid_t object, const char* name, const std::string& text, const std::string& h5) {
+  Hdf5Handle type = string_type({text});
+  Hdf5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
+  std::vector<char> buffer(text.begin(), text.end());
+  buffer.resize(text.size() + 1, '\0');
+  Hdf5Handle attribute(type.valid() && scalar.valid()
+                           ? H5Acreate2(object, name, type.get(), scalar.get(), H5P_DEFAULT, H5P_DEFAULT)
+                           : H5I_INVALID_HID,
+                       H5Aclose);
+  if (!attribute.valid() || H5Awrite(attribute.get(), type.get(), buffer.data()) < 0)
+    return hdf5_failure(std::string("cannot write attribute ") + name, h5);
+  return {};
+}
+
+template <class T>
+std::string write_scalar_attribute(hid_t object, const std::string& name, hid_t file_type, hid_t memory_type,
+                                   const T& value, const std::string& h5) {
+  Hdf5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
+  Hdf5Handle attribute(H5Acreate2(object, name.c_str(), file_type, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attribute.valid() || H5Awrite(attribute.get(), memory_type, &value) < 0)
+    return hdf5_failure("cannot write attribute " + name, h5);
+  return {};
+}
+
+// Rows that every rank holds alike: rank 0 writes them all, the others take part with none.
+RowBlock rank0_rows(MPI_Comm comm, hsize_t rows, hsize_t columns) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return RowBlock{rows, columns, 0, rank == 0 ? rows : 0};
+}
+
 }  // namespace
+
+std::string XdmfWriter::write_strings(hid_t parent, const std::string& path, const std::vector<std::string>& texts,
+                                      const std::string& h5) const {
+  Hdf5Handle type = string_type(texts);
+  if (!type.valid()) return hdf5_failure("cannot make a string type for " + path, h5);
+  const std::size_t width = H5Tget_size(type.get());
+  std::vector<char> buffer(std::max<std::size_t>(1, texts.size()) * width, '\0');
+  for (std::size_t i = 0; i < texts.size(); ++i) std::copy(texts[i].begin(), texts[i].end(), buffer.begin() + i * width);
+  return write_rows(parent, path, type.get(), type.get(), rank0_rows(comm_, texts.size(), 0), buffer.data(), h5);
+}
+
+// /obstacles/<j>: name and kind attributes, rest coordinates, cells, and zero displacements for
+// an obstacle that does not move (so that one "Warp By Vector" moves every block alike).
+std::string XdmfWriter::write_obstacle(std::size_t j) const {
+  const OutputObstacle& o = obstacles_[j];
+  const std::string h5 = h5_path(), path = "/obstacles/" + std::to_string(j);
+  Hdf5Handle group(H5Gcreate2(file_.get(), path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (!group.valid()) return hdf5_failure("cannot create group " + path, h5);
+  std::string error = write_string_attribute(group.get(), "name", o.name, h5);
+  if (error.empty()) error = write_string_attribute(group.get(), "kind", o.kind, h5);
+  const hsize_t vertices = o.rest.size() / 3, cells = o.cells.size() / o.nodes_per_cell;
+  if (error.empty())
+    error = write_rows(group.get(), "coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rank0_rows(comm_, vertices, 3),
+                       o.rest.data(), h5);
+  if (error.empty())
+    error = write_rows(group.get(), "topology", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                       rank0_rows(comm_, cells, o.nodes_per_cell), o.cells.data(), h5);
+  if (error.empty() && !o.moving) {
+    const std::vector<double> zero(o.rest.size(), 0.0);
+    error = write_rows(group.get(), "displacement", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rank0_rows(comm_, vertices, 3),
+                       zero.data(), h5);
+  }
+  return error;
+}
 
 XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, const OutputMesh& mesh,
                        std::int64_t keep_steps)
@@ -56,7 +133,12 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
       num_global_elements_(mesh.num_global_elements),
       element_offset_(mesh.element_offset),
       num_owned_nodes_(mesh.num_owned_nodes),
-      num_elements_(mesh.num_elements) {
+      num_elements_(mesh.num_elements),
+      contact_force_(mesh.contact_force),
+      friction_force_(mesh.friction_force),
+      body_names_(mesh.body_names),
+      contact_pair_kinds_(mesh.contact_pair_kinds),
+      obstacles_(mesh.obstacles) {
   if (comm_ == MPI_COMM_NULL) throw std::runtime_error("XdmfWriter: OutputMesh::comm is MPI_COMM_NULL");
   MPI_Comm_rank(comm_, &rank_);
   const QuietHdf5Errors quiet;
@@ -69,6 +151,16 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
   if (error.empty() && num_elements_ > 0 && (mesh.element_nodes == nullptr || mesh.element_body == nullptr)) {
     error = missing_array("element_nodes or element_body", num_elements_);
   }
+  for (const OutputObstacle& o : obstacles_)
+    if (error.empty() && (o.nodes_per_cell < 3 || o.nodes_per_cell > 4 || o.rest.size() % 3 != 0 ||
+                          o.cells.size() % o.nodes_per_cell != 0 || o.cells.empty()))
+      error = "XdmfWriter: obstacle \"" + o.name + "\" has no cells or inconsistent array sizes";
+  // Kinematic flags on any rank make /mesh/kinematic; every rank with elements must give them.
+  int kinematic = mesh.element_kinematic != nullptr;
+  MPI_Allreduce(MPI_IN_PLACE, &kinematic, 1, MPI_INT, MPI_MAX, comm_);
+  kinematic_ = kinematic != 0;
+  if (error.empty() && kinematic_ && num_elements_ > 0 && mesh.element_kinematic == nullptr)
+    error = missing_array("element_kinematic", num_elements_);
   throw_if_failed_anywhere(comm_, error);
 
   if (rank_ == 0) {
@@ -105,7 +197,7 @@ void XdmfWriter::create_file(const OutputMesh& mesh) {
   }
   throw_if_failed_anywhere(comm_, error);
 
-  for (const char* group : {"/mesh", "/steps"}) {
+  for (const char* group : {"/mesh", "/steps", "/obstacles"}) {
     Hdf5Handle g(H5Gcreate2(file_.get(), group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!g.valid() && error.empty()) error = hdf5_failure(std::string("cannot create group ") + group, h5);
   }
@@ -124,6 +216,12 @@ void XdmfWriter::create_file(const OutputMesh& mesh) {
                                              owner, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/body", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
                                              mesh.element_body, h5));
+  if (kinematic_)
+    throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/kinematic", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
+                                               mesh.element_kinematic, h5));
+  if (!body_names_.empty())
+    throw_if_failed_anywhere(comm_, write_strings(file_.get(), "/mesh/body_names", body_names_, h5));
+  for (std::size_t j = 0; j < obstacles_.size(); ++j) throw_if_failed_anywhere(comm_, write_obstacle(j));
   if (!mesh.selections.empty()) {
     Hdf5Handle g(H5Gcreate2(file_.get(), "/mesh/sets", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!g.valid()) error = hdf5_failure("cannot create group /mesh/sets", h5);
@@ -212,16 +310,30 @@ std::string XdmfWriter::xdmf_path() const {
   return (std::filesystem::path(directory_) / (name_ + ".xmf")).string();
 }
 
-void XdmfWriter::write_step(double time, const double* owned_displacement, const double* owned_velocity,
-                            const double* element_volume_ratio) {
+void XdmfWriter::write_step(const StepFields& f) {
   const QuietHdf5Errors quiet;
   const std::string h5 = h5_path();
   std::string error;
-  if (num_owned_nodes_ > 0 && (owned_displacement == nullptr || owned_velocity == nullptr)) {
-    error = missing_array("owned_displacement or owned_velocity", num_owned_nodes_);
-  } else if (num_elements_ > 0 && element_volume_ratio == nullptr) {
-    error = missing_array("element_volume_ratio", num_elements_);
+  std::size_t moving = 0;
+  for (const OutputObstacle& o : obstacles_) moving += o.moving ? 1 : 0;
+  if (num_owned_nodes_ > 0 && (f.displacement == nullptr || f.velocity == nullptr)) {
+    error = missing_array("displacement or velocity", num_owned_nodes_);
+  } else if (num_owned_nodes_ > 0 && ((contact_force_ && f.contact_force == nullptr) ||
+                                      (friction_force_ && f.friction_force == nullptr))) {
+    error = missing_array("contact_force or friction_force", num_owned_nodes_);
+  } else if (num_elements_ > 0 && f.volume_ratio == nullptr) {
+    error = missing_array("volume_ratio", num_elements_);
+  } else if (f.contact_pairs.size() != contact_pair_kinds_.size()) {
+    error = "XdmfWriter: " + std::to_string(f.contact_pairs.size()) + " contact pair counts for " +
+            std::to_string(contact_pair_kinds_.size()) + " kinds";
+  } else if (f.obstacle_displacement.size() != moving) {
+    error = "XdmfWriter: " + std::to_string(f.obstacle_displacement.size()) + " obstacle displacements for " +
+            std::to_string(moving) + " moving obstacles";
   }
+  for (std::size_t j = 0, m = 0; j < obstacles_.size() && error.empty(); ++j)
+    if (obstacles_[j].moving && f.obstacle_displacement[m++].size() != obstacles_[j].rest.size())
+      error = "XdmfWriter: the displacement of obstacle \"" + obstacles_[j].name + "\" has the wrong size";
+  const double time = f.time;
   double time_range[2] = {-time, time};
   MPI_Allreduce(MPI_IN_PLACE, time_range, 2, MPI_DOUBLE, MPI_MAX, comm_);
   if (error.empty() && -time_range[0] != time_range[1]) {
@@ -234,23 +346,41 @@ void XdmfWriter::write_step(double time, const double* owned_displacement, const
   if (!group.valid()) {
     error = hdf5_failure("cannot create group " + step, h5);
   } else {
-    Hdf5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
-    Hdf5Handle attribute(
-        H5Acreate2(group.get(), "time", H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-    if (!attribute.valid() || H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0) {
-      error = hdf5_failure("cannot write attribute " + step + "/time", h5);
-    }
+    error = write_scalar_attribute(group.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, time, h5);
+    for (std::size_t k = 0; k < contact_pair_kinds_.size() && error.empty(); ++k)
+      error = write_scalar_attribute(group.get(), "contact_pairs_" + contact_pair_kinds_[k], H5T_STD_I64LE,
+                                     H5T_NATIVE_LLONG, f.contact_pairs[k], h5);
   }
   throw_if_failed_anywhere(comm_, error);
 
   const auto nodes = RowBlock{hsize_t(num_global_nodes_), 3, hsize_t(node_offset_), hsize_t(num_owned_nodes_)};
   const auto cells = RowBlock{hsize_t(num_global_elements_), 0, hsize_t(element_offset_), hsize_t(num_elements_)};
-  throw_if_failed_anywhere(comm_, write_rows(group.get(), "displacement", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes,
-                                             owned_displacement, h5));
-  throw_if_failed_anywhere(comm_, write_rows(group.get(), "velocity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes,
-                                             owned_velocity, h5));
+  const auto node_field = [&](const char* name, const double* data) {
+    throw_if_failed_anywhere(comm_,
+                             write_rows(group.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes, data, h5));
+  };
+  node_field("displacement", f.displacement);
+  node_field("velocity", f.velocity);
+  if (contact_force_) node_field("contact_force", f.contact_force);
+  if (friction_force_) node_field("friction_force", f.friction_force);
   throw_if_failed_anywhere(comm_, write_rows(group.get(), "volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, cells,
-                                             element_volume_ratio, h5));
+                                             f.volume_ratio, h5));
+  if (moving > 0) {
+    Hdf5Handle obstacles(H5Gcreate2(group.get(), "obstacles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    if (!obstacles.valid()) error = hdf5_failure("cannot create group " + step + "/obstacles", h5);
+    throw_if_failed_anywhere(comm_, error);
+    for (std::size_t j = 0, m = 0; j < obstacles_.size(); ++j) {
+      if (!obstacles_[j].moving) continue;
+      const std::string path = std::to_string(j) + "/displacement";
+      Hdf5Handle g(H5Gcreate2(obstacles.get(), std::to_string(j).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   H5Gclose);
+      if (!g.valid()) error = hdf5_failure("cannot create group " + step + "/obstacles/" + std::to_string(j), h5);
+      throw_if_failed_anywhere(comm_, error);
+      const std::vector<double>& u = f.obstacle_displacement[m++];
+      throw_if_failed_anywhere(comm_, write_rows(g.get(), "displacement", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                                                 rank0_rows(comm_, u.size() / 3, 3), u.data(), h5));
+    }
+  }
   // The step must be on disk before the .xmf points at it.
   if (H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) error = hdf5_failure("cannot flush", h5);
   throw_if_failed_anywhere(comm_, error);
@@ -264,7 +394,17 @@ void XdmfWriter::write_xdmf_on_rank0() const {
   if (rank_ == 0) {
     const std::string path = xdmf_path();
     const std::string temporary = path + ".tmp";
-    const XdmfLayout layout{name_ + ".h5", num_global_nodes_, num_global_elements_};
+    XdmfLayout layout;
+    layout.h5_file_name = name_ + ".h5";
+    layout.num_nodes = num_global_nodes_;
+    layout.num_elements = num_global_elements_;
+    layout.kinematic = kinematic_;
+    layout.contact_force = contact_force_;
+    layout.friction_force = friction_force_;
+    layout.body_names = body_names_;
+    for (const OutputObstacle& o : obstacles_)
+      layout.obstacles.push_back({o.name, o.nodes_per_cell, static_cast<std::int64_t>(o.rest.size() / 3),
+                                  static_cast<std::int64_t>(o.cells.size() / o.nodes_per_cell), o.moving});
     {
       std::ofstream out(temporary, std::ios::trunc);
       out << xdmf_document(layout, step_times_);

@@ -296,7 +296,8 @@ PetscErrorCode IncrementalPotential::all_ranks(bool ok, PetscBool* all) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include) {
+PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
+                                                     bool keep_prescribed) {
   PetscFunctionBeginUser;
   ScopedEvent timer(events().gradient, &times_.gradient);
   PetscCall(gather(x));
@@ -347,7 +348,7 @@ PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::f
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "gradient requested at an inverted state");
   PetscCall(VecZeroEntries(g));
   PetscCall(exchange_.add_to_global(g_local_, g));
-  PetscCall(VecPointwiseMult(g, g, dirichlet_keep_));
+  if (!keep_prescribed) PetscCall(VecPointwiseMult(g, g, dirichlet_keep_));
   PetscFunctionReturn(0);
 }
 

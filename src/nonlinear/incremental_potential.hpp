@@ -76,8 +76,10 @@ class IncrementalPotential {
   // E split into the contributions of each form (summed over ranks), at x.
   PetscErrorCode form_values(Vec x, std::vector<double>* values);
   PetscErrorCode gradient(Vec x, Vec g);
-  // Gradient of the forms for which include(form) is true (Dirichlet rows zeroed).
-  PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include);
+  // Gradient of the forms for which include(form) is true; Dirichlet rows zeroed unless
+  // keep_prescribed (output: the contact force on a kinematic body's nodes is its reaction).
+  PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
+                                  bool keep_prescribed = false);
   PetscErrorCode hessian(Vec x, Mat J);
   // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when the combined
   // pattern differs from the current matrix's, which the caller must then replace with

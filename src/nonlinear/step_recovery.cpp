@@ -33,6 +33,7 @@ void accumulate(const StepReport& sub, StepReport* total) {
   total->energy = sub.energy;
   total->min_volume_ratio = sub.min_volume_ratio;
   total->contact_pairs = sub.contact_pairs;
+  total->contact_pairs_by_kind = sub.contact_pairs_by_kind;
   total->min_distance = sub.min_distance;
   total->kappa = sub.kappa;
 }

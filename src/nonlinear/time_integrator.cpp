@@ -507,11 +507,15 @@ PetscErrorCode TimeIntegrator::collect_contact_stats(StepReport* report) {
   PetscFunctionBeginUser;
   PetscCall(potential_.prepare_point(x_));
   double local_d = 0;
-  long local_pairs = 0;
+  std::array<long, ContactForm::num_pair_kinds> local_kinds{};
   PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) {
     local_d = contact_->min_distance(xl);
-    local_pairs = static_cast<long>(contact_->active_pairs(xl).size());
+    local_kinds = contact_->active_pair_counts(xl);
   }));
+  PetscCallMPI(MPI_Allreduce(local_kinds.data(), report->contact_pairs_by_kind.data(), ContactForm::num_pair_kinds,
+                             MPI_LONG, MPI_SUM, mesh_->comm));
+  long local_pairs = 0;
+  for (long n : local_kinds) local_pairs += n;
   const ContactStats& st = contact_->stats();
   double times[4] = {st.broad_phase_seconds, st.ccd_seconds, st.barrier_seconds, st.exchange_seconds}, worst[4];
   MPI_Allreduce(times, worst, 4, MPI_DOUBLE, MPI_MAX, mesh_->comm);
@@ -521,6 +525,30 @@ PetscErrorCode TimeIntegrator::collect_contact_stats(StepReport* report) {
   report->alpha_ccd = report->newton.min_alpha_ccd;
   report->broad_phase_seconds = worst[0], report->ccd_seconds = worst[1];
   report->barrier_seconds = worst[2], report->exchange_seconds = worst[3];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::contact_forces(Vec contact_force, Vec friction_force,
+                                              std::array<long, ContactForm::num_pair_kinds>* pairs_by_kind) {
+  PetscFunctionBeginUser;
+  PetscCheck(contact_, mesh_->comm, PETSC_ERR_ARG_WRONGSTATE, "contact_forces: the problem has no contact");
+  PetscCall(potential_.prepare_point(x_));
+  const double h2 = problem_.is_static ? 1.0 : h_ * h_;
+  const Form* contact = contact_;
+  PetscCall(potential_.partial_gradient(x_, contact_force, [contact](const Form& f) { return &f == contact; }, true));
+  PetscCall(VecScale(contact_force, -1.0 / h2));
+  if (friction_force && friction_) {
+    const Form* friction = friction_;
+    PetscCall(
+        potential_.partial_gradient(x_, friction_force, [friction](const Form& f) { return &f == friction; }, true));
+    PetscCall(VecScale(friction_force, -1.0 / h2));
+  } else if (friction_force) {
+    PetscCall(VecZeroEntries(friction_force));
+  }
+  std::array<long, ContactForm::num_pair_kinds> local{};
+  PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) { local = contact_->active_pair_counts(xl); }));
+  PetscCallMPI(MPI_Allreduce(local.data(), pairs_by_kind->data(), ContactForm::num_pair_kinds, MPI_LONG, MPI_SUM,
+                             mesh_->comm));
   PetscFunctionReturn(0);
 }
 

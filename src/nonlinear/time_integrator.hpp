@@ -30,6 +30,7 @@ struct StepReport {
   int dirichlet_substeps = 0;  // partial solves needed to reach the prescribed positions
   // Contact (when the problem has it): global values at the end of the step.
   long contact_pairs = 0;        // active pairs (d < d̂)
+  std::array<long, ContactForm::num_pair_kinds> contact_pairs_by_kind{};  // the same by ContactForm::pair_kind_name
   double min_distance = 0;       // unsquared, over candidate pairs (∞ without any)
   double kappa = 0;              // barrier stiffness
   double alpha_ccd = 1;          // smallest CCD bound on a Newton step during the step
@@ -114,6 +115,13 @@ class TimeIntegrator {
   Vec reference_positions() const { return X_; }
   // Min det F per local element at the current state (output).
   PetscErrorCode element_volume_ratios(std::vector<double>* ratio);
+  // Collective, contact problems only (output): the forces the barrier and friction exert on
+  // each owned node at the current state, in N, prescribed nodes included, into global Vecs
+  // (friction_force may be null; without a friction form it is zeroed). The potential carries
+  // both terms in units of h²·energy (the barrier's κ and friction's λ_k are scaled like the
+  // h²Ψ of the elastic form), so the force is −∇B/h² and −∇D/h² with h the last (sub-)step's
+  // length, −∇B in a static solve. Also the active pairs by kind, summed over the ranks.
+  PetscErrorCode contact_forces(Vec contact_force, Vec friction_force, std::array<long, ContactForm::num_pair_kinds>* pairs_by_kind);
   // Evaluation times since setup began (setup's matrix and contact checks included)...
   const EvaluationTimes& evaluation_times() const { return potential_.times(); }
   // ... and those inside the Newton solves of advance(), which solve_seconds() encloses: the

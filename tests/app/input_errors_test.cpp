@@ -142,8 +142,6 @@ INSTANTIATE_TEST_SUITE_P(
                      {"contact.obstacles[0].mesh", "obstacle_nan.obj:4:", "non-finite"}},
             BadInput{"obstacle_crossing", "obstacle_crossing.json", "",
                      {"not intersection-free", "crosses triangle", "of obstacle \"floor\" (", "obstacle_floor.obj:", "\"cube\""}},
-            BadInput{"obstacle_on_cuda", "obstacle_floor.json", "-dipc_backend cuda",
-                     {"-dipc_backend cuda", "obstacles", "CPU only"}},
             BadInput{"negative_steps", "small_box.json", "-dipc_steps -1", {"-dipc_steps -1"}},
             BadInput{"zero_steps", "small_box.json", "-dipc_steps 0", {"-dipc_steps 0"}},
             BadInput{"non_numeric_steps", "small_box.json", "-dipc_steps abc", {"-dipc_steps abc", "not an integer"}},
@@ -180,11 +178,29 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"not_hdf5_checkpoint", "small_box.json", "-dipc_restart " + data_dir + "small_box.json",
                      {"small_box.json", "not an HDF5 file", "not a dipc checkpoint"}},
             BadInput{"mismatched_checkpoint", "small_box.json", "-dipc_refine 2 -dipc_restart " + good_checkpoint,
-                     {"dipc.checkpoint.000001.h5", "another scene or mesh"}}),
+                     {"dipc.checkpoint.000001.h5", "another scene or mesh"}},
+            // PolyFEM-format scenes with what dipc cannot model (issue 16 part 3).
+            BadInput{"polyfem_bdf2", "polyfem/refused_bdf2.json", "",
+                     {"refused_bdf2.json: time.integrator", "dipc cannot model this", "ImplicitEuler"}},
+            BadInput{"polyfem_rotating_dirichlet", "polyfem/refused_rotating_dirichlet.json", "",
+                     {"refused_rotating_dirichlet.json: boundary_conditions.dirichlet_boundary[0].value[0]",
+                      "dipc cannot model this", "x, y or z"}}),
         ::testing::Values(1, 2)),
     [](const auto& info) {
       return std::string(std::get<0>(info.param).name) + "_np" + std::to_string(std::get<1>(info.param));
     });
+
+// A PolyFEM-format scene runs, and rank 0 alone names each key dipc ignores, once.
+TEST(InputErrors, PolyfemSceneNamesIgnoredKeys) {
+  for (int ranks : {1, 2}) {
+    const Outcome o = run_dipc("polyfem/drop_on_ground.json", "-dipc_steps 1", ranks);
+    EXPECT_EQ(o.status, 0) << o.output;
+    const std::string line = "dipc: PolyFEM scene: " + data_dir + "polyfem/drop_on_ground.json: solver.linear: ignored";
+    const std::size_t at = o.output.find(line);
+    EXPECT_NE(at, std::string::npos) << o.output;
+    EXPECT_EQ(o.output.find(line, at + 1), std::string::npos) << "printed twice:\n" << o.output;
+  }
+}
 
 TEST(InputErrors, GoodMeshRuns) {
   const Outcome o = run_dipc("cube_good.json");

@@ -31,7 +31,7 @@ TEST_P(SceneInvariants, EveryStepKeepsTheInvariants) {
 
 INSTANTIATE_TEST_SUITE_P(Shipped, SceneInvariants,
                          ::testing::Values("default", "boxes_drop", "roller_squeeze", "fast_impact", "friction_stack",
-                                           "block_on_plane", "box_on_obj_ramp"),
+                                           "block_on_plane", "box_on_obj_ramp", "funnel_drop", "obj_rollers"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

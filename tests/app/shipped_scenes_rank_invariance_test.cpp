@@ -39,6 +39,8 @@ const ShippedScene kShippedScenes[] = {
     {"fast_impact", 10},             // 40: impact at step 2, rebound by step 9
     {"friction_stack", 20},          // 150: the stack lands and settles on the slope
     {"box_on_obj_ramp", 20},         // 60: lands on the OBJ ramp at step 13
+    {"funnel_drop", 20},             // 40: the voxelised ball meets the OBJ funnel at step 17
+    {"obj_rollers", 16},             // 30: the OBJ rollers grip the block from step 12
 };
 
 Scene load(const std::string& name) {

@@ -88,9 +88,11 @@ TEST(StopSignal, SigintToOneProcess) {
 }
 
 TEST(StopSignal, SecondSignalExitsAtOnce) {
-  // Steps of about a second (1024 elements), so that the second signal, 0.2 s after the first,
-  // comes while the first waits for the end of the step.
-  const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.2; kill -TERM $pid", "-dipc_refine 8");
+  // Steps of well over 0.1 s on any machine (8192 elements with the tight `accurate` preset), so
+  // that the second signal, 0.1 s after the first, comes while the first waits for the end of
+  // the step; the pause lets the first be delivered on its own rather than merged with it.
+  const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.1; kill -TERM $pid",
+                                   "-dipc_refine 16 -dipc_preset accurate");
   EXPECT_EQ(o.status, 128 + 15) << o.output;
 }
 

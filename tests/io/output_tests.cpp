@@ -124,7 +124,12 @@ struct ColumnPart {
       }
     }
     for (std::int64_t e = element_offset; e < element_offset + elements(); ++e) ratio.push_back(volume_ratio(step, e));
-    writer.write_step(time, u.data(), v.data(), ratio.data());
+    StepFields fields;
+    fields.time = time;
+    fields.displacement = u.data();
+    fields.velocity = v.data();
+    fields.volume_ratio = ratio.data();
+    writer.write_step(fields);
   }
 };
 
@@ -209,7 +214,7 @@ void check_h5_contents(const std::string& path, std::int64_t nodes, std::int64_t
 // Rank 0: the .xmf has one grid per step with the right times, and every DataItem names a
 // dataset of the .h5 next to it with exactly the dimensions stated.
 void check_xdmf_against_h5(const std::string& xmf_path, const std::string& h5_name, const std::string& h5_path,
-                           const std::vector<double>& times) {
+                           const std::vector<double>& times, int items_per_step = 7, int grids_per_step = 1) {
   const std::string xmf = read_text(xmf_path);
   ASSERT_NE(xmf.find("GridType=\"Collection\" CollectionType=\"Temporal\""), std::string::npos) << xmf;
   EXPECT_FALSE(std::filesystem::exists(xmf_path + ".tmp"));
@@ -222,7 +227,7 @@ void check_xdmf_against_h5(const std::string& xmf_path, const std::string& h5_na
   EXPECT_EQ(listed, times);
   const std::regex grid_re("<Grid Name=\"[^\"]*\" GridType=\"Uniform\">");
   EXPECT_EQ(std::distance(std::sregex_iterator(xmf.begin(), xmf.end(), grid_re), std::sregex_iterator()),
-            static_cast<std::ptrdiff_t>(times.size()));
+            static_cast<std::ptrdiff_t>(grids_per_step * times.size()));
 
   const hid_t file = H5Fopen(h5_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
@@ -243,7 +248,7 @@ void check_xdmf_against_h5(const std::string& xmf_path, const std::string& h5_na
     EXPECT_EQ(stated, actual) << dataset_path;
   }
   H5Fclose(file);
-  EXPECT_EQ(items, 7 * static_cast<int>(times.size()));  // topology, geometry, 5 attributes
+  EXPECT_EQ(items, items_per_step * static_cast<int>(times.size()));  // default: topology, geometry, 5 attributes
 }
 
 TEST_F(OutputTest, WritesMeshAndStepsCollectively) {
@@ -271,6 +276,111 @@ TEST_F(OutputTest, WritesMeshAndStepsCollectively) {
     check_h5_contents(h5, part.global_nodes, part.global_elements, times);
     check_xdmf_against_h5(xmf, "column.h5", h5, times);
   }
+}
+
+// The fields of contact scenes: body names, kinematic flags, contact and friction forces, the
+// active pairs per kind, and obstacles as their own grids (a fixed quad, a moving triangle
+// pair written by rank 0 only). Values are read back; the .xmf must point at each of them.
+TEST_F(OutputTest, WritesContactFieldsAndObstacleGrids) {
+  const ColumnPart part(comm_rank(), comm_size());
+  OutputMesh mesh = part.output_mesh();
+  mesh.body_names = {"lower", "upper & <top>"};  // escaped in the .xmf
+  std::vector<int> kinematic;
+  for (int b : part.body) kinematic.push_back(b == 1 ? 1 : 0);
+  mesh.element_kinematic = kinematic.data();
+  mesh.contact_force = mesh.friction_force = true;
+  mesh.contact_pair_kinds = {"point_plane", "edge_edge"};
+  OutputObstacle quad{"plane0", "plane", 4, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 1, 2, 3}, false};
+  OutputObstacle tri{"ramp", "triangle_mesh", 3, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1}, {0, 1, 2, 0, 2, 3}, true};
+  mesh.obstacles = {quad, tri};
+  const auto force = [](int step, std::int64_t n, int c, double sign) { return sign * (step + 0.25 * n + 0.5 * c); };
+  std::string h5, xmf;
+  {
+    XdmfWriter writer(dir_, "fields", mesh);
+    h5 = writer.h5_path();
+    xmf = writer.xdmf_path();
+    for (int step = 0; step < 2; ++step) {
+      std::vector<double> u, v, fc, ff, ratio;
+      for (std::int64_t n = part.node_offset; n < part.node_offset + part.owned_nodes(); ++n)
+        for (int c = 0; c < 3; ++c) {
+          u.push_back(ColumnPart::displacement(step, n, c));
+          v.push_back(ColumnPart::velocity(step, n, c));
+          fc.push_back(force(step, n, c, 1));
+          ff.push_back(force(step, n, c, -1));
+        }
+      for (std::int64_t e = part.element_offset; e < part.element_offset + part.elements(); ++e)
+        ratio.push_back(ColumnPart::volume_ratio(step, e));
+      StepFields fields;
+      fields.time = 0.5 * step;
+      fields.displacement = u.data();
+      fields.velocity = v.data();
+      fields.volume_ratio = ratio.data();
+      fields.contact_force = fc.data();
+      fields.friction_force = ff.data();
+      fields.contact_pairs = {7 + step, 3};
+      // Only rank 0's copy is written: the others pass garbage of the right size.
+      fields.obstacle_displacement = {std::vector<double>(12, comm_rank() == 0 ? 0.1 * step : -99.0)};
+      writer.write_step(fields);
+    }
+    // A step without a field the mesh announced fails on every rank.
+    StepFields missing;
+    missing.time = 1.0;
+    EXPECT_THROW(writer.write_step(missing), std::runtime_error);
+  }
+  if (comm_rank() != 0) return;
+  // bodies: topology, geometry, 2 node + 2 force + 4 cell attributes; quad and triangles: 3 each.
+  check_xdmf_against_h5(xmf, "fields.h5", h5, {0.0, 0.5}, 10 + 3 + 3, 3);
+  const std::string text = read_text(xmf);
+  EXPECT_NE(text.find("CollectionType=\"Spatial\""), std::string::npos);
+  EXPECT_NE(text.find("Value=\"lower, upper &amp; &lt;top&gt;\""), std::string::npos);
+  EXPECT_NE(text.find("<Grid Name=\"ramp\" GridType=\"Uniform\">"), std::string::npos);
+  EXPECT_NE(text.find("TopologyType=\"Quadrilateral\""), std::string::npos);
+
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  {  // body names: fixed-length strings, one per body id
+    const hid_t dataset = H5Dopen2(file, "/mesh/body_names", H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    const hid_t type = H5Dget_type(dataset);
+    const std::size_t width = H5Tget_size(type);
+    std::vector<char> buffer(2 * width);
+    H5Dread(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
+    EXPECT_EQ(std::string(buffer.data()), "lower");
+    EXPECT_EQ(std::string(buffer.data() + width), "upper & <top>");
+    H5Tclose(type);
+    H5Dclose(dataset);
+  }
+  const auto flags = read_dataset<int>(file, "/mesh/kinematic", H5T_NATIVE_INT);
+  for (std::int64_t e = 0; e < part.global_elements; ++e) EXPECT_EQ(flags.values[e], ColumnPart::element_body(e));
+  for (int step = 0; step < 2; ++step) {
+    const std::string group = "/steps/" + std::to_string(step);
+    const auto fc = read_dataset<double>(file, group + "/contact_force", H5T_NATIVE_DOUBLE);
+    const auto ff = read_dataset<double>(file, group + "/friction_force", H5T_NATIVE_DOUBLE);
+    for (std::int64_t n = 0; n < part.global_nodes; ++n)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(fc.values[3 * n + c], force(step, n, c, 1));
+        EXPECT_EQ(ff.values[3 * n + c], force(step, n, c, -1));
+      }
+    for (const auto& [name, expected] : {std::pair<const char*, long long>{"contact_pairs_point_plane", 7 + step},
+                                         {"contact_pairs_edge_edge", 3}}) {
+      long long count = -1;
+      const hid_t attribute = H5Aopen_by_name(file, group.c_str(), name, H5P_DEFAULT, H5P_DEFAULT);
+      ASSERT_GE(attribute, 0) << group << " " << name;
+      H5Aread(attribute, H5T_NATIVE_LLONG, &count);
+      H5Aclose(attribute);
+      EXPECT_EQ(count, expected) << name;
+    }
+    const auto moved = read_dataset<double>(file, group + "/obstacles/1/displacement", H5T_NATIVE_DOUBLE);
+    EXPECT_EQ(moved.dims, dims({4, 3}));
+    for (double u : moved.values) EXPECT_EQ(u, 0.1 * step);
+  }
+  EXPECT_EQ(H5Lexists(file, "/steps/0/obstacles/0", H5P_DEFAULT), 0);  // the quad does not move
+  const auto quad_u = read_dataset<double>(file, "/obstacles/0/displacement", H5T_NATIVE_DOUBLE);
+  for (double u : quad_u.values) EXPECT_EQ(u, 0.0);
+  const auto ramp = read_dataset<std::int64_t>(file, "/obstacles/1/topology", H5T_NATIVE_INT64);
+  EXPECT_EQ(ramp.dims, dims({2, 3}));
+  EXPECT_EQ(ramp.values, (std::vector<std::int64_t>{0, 1, 2, 0, 2, 3}));
+  H5Fclose(file);
 }
 
 // Every rank must see the exception, or the others would wait in the next collective call.
