@@ -18,12 +18,13 @@
 
 namespace dipc {
 
-// What identifies a scene for a checkpoint: a 64-bit FNV-1a hash of the refined input mesh
-// (coordinates, connectivity, bodies) and of everything in the scene that shapes the motion
+// What identifies a scene for a checkpoint: a 64-bit FNV-1a hash of the refined input mesh's
+// digest (slice_digest of partition/mesh_slice.hpp: coordinates, connectivity, bodies, the same
+// on any number of ranks) and of everything in the scene that shapes the motion
 // (materials, bodies' initial motion, gravity, Dirichlet conditions, contact settings, time
 // integrator and dt). The number of steps and the output settings are not in it: a restart
 // may run further or write elsewhere.
-std::uint64_t scene_fingerprint(const Scene& scene, const HexMesh& mesh);
+std::uint64_t scene_fingerprint(const Scene& scene, std::uint64_t mesh_digest);
 
 std::string checkpoint_path(const std::string& directory, const std::string& name, long step);
 

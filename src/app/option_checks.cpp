@@ -94,6 +94,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       text("-dipc_output"),
       flag("-dipc_no_output"),
       flag("-dipc_quiet"),
+      flag("-dipc_setup_only"),
       flag("-dipc_check_invariants"),
       one_of("-dipc_backend", "cpu cuda auto"),
       integer_at_least("-dipc_auto_gpu_elements", 0),
@@ -108,6 +109,8 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       integer_at_least("-dipc_checkpoint_every", 1),
       positive_real("-dipc_checkpoint_minutes"),
       text("-dipc_restart"),
+      one_of("-dipc_partitioner", "metis ptscotch auto"),
+      integer_at_least("-dipc_metis_max_elements", 1),
   };
   return specs;
 }

@@ -15,6 +15,9 @@ constexpr const char* kManual = "RunOptions";
 // The backends, in the order of PetscOptionsEList's index.
 constexpr const char* kBackends[] = {"cpu", "cuda", "auto"};
 
+// The partitioners, in the order of PetscOptionsEList's index (partition/slice_partition.hpp).
+constexpr const char* kPartitioners[] = {"metis", "ptscotch", "auto"};
+
 }  // namespace
 
 PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o) {
@@ -26,6 +29,10 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   std::snprintf(dir, sizeof dir, "%s", (o->output_dir.empty() ? scene.output_directory : o->output_dir).c_str());
   PetscReal dt_min = o->dt_min > 0 ? o->dt_min : scene.dt / 1024;
   PetscBool no_output = o->write_output ? PETSC_FALSE : PETSC_TRUE, quiet = o->quiet ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool setup_only = o->setup_only ? PETSC_TRUE : PETSC_FALSE;
+  PetscInt partitioner = 2, metis_max = static_cast<PetscInt>(o->metis_max_elements);
+  for (PetscInt i = 0; i < 3; ++i)
+    if (o->partitioner == kPartitioners[i]) partitioner = i;
   PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
   PetscBool substeps = o->output_substeps ? PETSC_TRUE : PETSC_FALSE;
   PetscInt backend = 2, crossover = static_cast<PetscInt>(o->auto_gpu_min_elements), every = o->checkpoint_every;
@@ -54,6 +61,16 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
                               kBackends[backend], &backend, nullptr));
   PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU",
                             kManual, crossover, &crossover, nullptr));
+  PetscCall(PetscOptionsEList("-dipc_partitioner",
+                              "Element partitioner: metis (on rank 0), ptscotch (parallel) or auto (metis up to "
+                              "-dipc_metis_max_elements elements, ptscotch above)",
+                              kManual, kPartitioners, 3, kPartitioners[partitioner], &partitioner, nullptr));
+  PetscCall(PetscOptionsInt("-dipc_metis_max_elements",
+                            "Largest mesh (elements) that -dipc_partitioner auto partitions with METIS on rank 0", kManual,
+                            metis_max, &metis_max, nullptr));
+  PetscCall(PetscOptionsBool("-dipc_setup_only",
+                             "Build the mesh, partition and solver setup, report them and take no step (setup benchmarks)",
+                             kManual, setup_only, &setup_only, nullptr));
   PetscCall(PetscOptionsReal("-dipc_dt_min",
                              "Shortest sub-step of step recovery: a failed step is retried with dt halved down to this "
                              "(default: the scene's dt / 1024)",
@@ -86,6 +103,9 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   o->check_invariants = check;
   o->backend = kBackends[backend];
   o->auto_gpu_min_elements = crossover;
+  o->partitioner = kPartitioners[partitioner];
+  o->metis_max_elements = metis_max;
+  o->setup_only = setup_only;
   o->dt_min = dt_min;
   o->output_substeps = substeps;
   o->checkpoint_every = static_cast<int>(every);

@@ -1,6 +1,7 @@
 #include "app/simulation.hpp"
 
 #include <petscversion.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -19,7 +20,7 @@
 #include "app/option_checks.hpp"
 #include "app/output_obstacles.hpp"
 #include "app/problem_builder.hpp"
-#include "app/scene_mesh.hpp"
+#include "app/scene_slice.hpp"
 #include "app/stop_signals.hpp"
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
@@ -30,30 +31,17 @@
 #include "nonlinear/step_recovery.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
+#include "partition/mpi_exchange.hpp"
 
 namespace dipc {
 
 namespace {
 
-// Runs `build` on rank 0 and makes its failure (if any) every rank's failure, so that all ranks
-// exit together with the same message instead of waiting in a collective call.
-template <class F>
-void on_rank0_collectively(MPI_Comm comm, F&& build) {
-  int rank;
-  MPI_Comm_rank(comm, &rank);
-  std::string error;
-  if (rank == 0) {
-    try {
-      build();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  int length = static_cast<int>(error.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  error.resize(length);
-  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
-  if (length > 0) throw std::runtime_error(error);
+// This process's peak resident memory so far (getrusage's ru_maxrss, KiB on Linux), in MiB.
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
 }
 
 // Gathers an owned-node field (3 per node) on rank 0 in the input mesh's numbering.
@@ -129,6 +117,28 @@ class RunOutput {
     std::fill(local.begin(), local.end(), double(my_rank));
     throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
     for (int e = 0; e < nb; ++e) rank[e] = static_cast<int>(block[e]);
+    // Selections in input node ids, each sorted over the ranks: every owned member goes to the
+    // rank whose block of ids holds it, which writes the sorted ids it received as its rows.
+    int num_ranks;
+    MPI_Comm_size(mesh.comm, &num_ranks);
+    std::vector<std::vector<std::int64_t>> selection_rows;
+    std::vector<OutputMesh::Selection> selections;
+    for (const auto& [name, members] : mesh.node_sets) {
+      std::vector<std::vector<std::int64_t>> to_home(num_ranks);
+      for (std::int32_t l : members)
+        if (l < mesh.num_owned_nodes) {
+          const std::int64_t id = mesh.node_input_id[l];
+          to_home[block_of(id, mesh.num_global_nodes, num_ranks)].push_back(id);
+        }
+      selection_rows.push_back(exchange_records(to_home, mesh.comm));
+      std::sort(selection_rows.back().begin(), selection_rows.back().end());
+      OutputMesh::Selection set;
+      set.name = name;
+      set.count = static_cast<std::int64_t>(selection_rows.back().size());
+      set.offset = exclusive_prefix(set.count, mesh.comm, &set.size);
+      selections.push_back(set);
+    }
+    for (std::size_t k = 0; k < selections.size(); ++k) selections[k].ids = selection_rows[k].data();
     // Kinematic bodies (every node prescribed) as a cell flag, only when the scene has one.
     bool any_kinematic = false;
     for (const Body& b : scene.bodies) any_kinematic = any_kinematic || b.kinematic;
@@ -139,6 +149,7 @@ class RunOutput {
       for (int e = 0; e < nb; ++e) kinematic.push_back(static_cast<int>(block[e]));
     }
     OutputMesh om;
+    om.selections = selections;
     for (const Body& b : scene.bodies) om.body_names.push_back(b.name);
     om.element_kinematic = any_kinematic ? kinematic.data() : nullptr;
     om.contact_force = contact_;
@@ -348,24 +359,32 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     PetscCall(PetscPrintf(comm, "dipc: this PETSc's hypre runs on the GPU only, so BoomerAMG gets -vec_type cuda "
                                 "-mat_type hypre (give -vec_type/-mat_type or another -pc_type to choose)\n"));
 
-  // Mesh and partition: rank 0 builds the whole mesh, METIS splits it, each rank gets its part.
+  // Mesh and partition: every rank builds or reads its slice of the input mesh, the slices are
+  // partitioned (METIS on rank 0 for meshes it can hold, PT-Scotch in parallel beyond) and each
+  // rank receives its part (partition/distributed_mesh.hpp: distribute_slices).
   DistributedMesh mesh;
   double diagonal = 0;
   std::uint64_t fingerprint = 0;
   double t_partition = MPI_Wtime();
+  DistributeReport distribution;
+  Partitioner partitioner = Partitioner::metis;
+  double t_slices = 0;
   {
     StageScope stage(stages.partition);
-    HexMesh whole;
-    on_rank0_collectively(comm, [&] {
-      whole = build_scene_mesh(scene);
-      diagonal = bounding_box_diagonal(whole);
-      fingerprint = scene_fingerprint(scene, whole);
-    });
-    MPI_Bcast(&diagonal, 1, MPI_DOUBLE, 0, comm);
-    MPI_Bcast(&fingerprint, 1, MPI_UINT64_T, 0, comm);
-    mesh = distribute_mesh(whole, comm, scene.contact.enabled);  // the contact surface only for contact
+    MeshSlice slice = build_scene_slice(scene, comm);
+    diagonal = slice_bounding_box_diagonal(slice);
+    fingerprint = scene_fingerprint(scene, slice_digest(slice));
+    partitioner = options.partitioner == "auto"
+                      ? (slice.num_global_elements <= options.metis_max_elements || !ptscotch_available()
+                             ? Partitioner::metis
+                             : Partitioner::ptscotch)
+                      : parse_partitioner(options.partitioner);
+    t_slices = MPI_Wtime() - t_partition;
+    mesh = distribute_slices(slice, partitioner, scene.contact.enabled, &distribution);  // the surface only for contact
   }
+  check_file_elements(scene, mesh);
   t_partition = MPI_Wtime() - t_partition;
+  const double rss_partition = peak_rss_mib();
 
   double t_setup = MPI_Wtime();
   ProblemSetup problem = build_problem(scene, mesh, diagonal);
@@ -394,11 +413,23 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   StepRecovery recovery(integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
   t_setup = MPI_Wtime() - t_setup;
+  const double rss_setup = peak_rss_mib();
   // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
   // nothing read is misspelt or unknown, and would otherwise be ignored.
   check_no_unknown_options(comm);
-  if (options.report)
+  if (options.report) {
     PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use));
+    // The partition's quality and where the partition phase's time went (slowest rank per part).
+    double parts[7] = {t_slices, distribution.match_faces, distribution.partition, distribution.quality_check,
+                       distribution.elements, distribution.nodes, distribution.surface};
+    MPI_Allreduce(MPI_IN_PLACE, parts, 7, MPI_DOUBLE, MPI_MAX, comm);
+    const PartitionQuality& q = distribution.quality;
+    PetscCall(PetscPrintf(comm, "  partitioner %s | edge cut %lld of %lld interior faces | imbalance %.3f (parts %lld..%lld)\n",
+                          partitioner_name(partitioner), (long long)q.edge_cut, (long long)q.dual_edges, q.imbalance,
+                          (long long)q.smallest_part, (long long)q.largest_part));
+    PetscCall(PetscPrintf(comm, "  partition phases (s): slices %.3f faces %.3f partitioner %.3f quality %.3f elements %.3f "
+                          "nodes %.3f surface %.3f\n", parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6]));
+  }
 
   const std::string output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
   NaturalOrder order;
@@ -596,6 +627,15 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       if (r.shown) PetscCall(PetscPrintf(comm, "%-42s %10.3f\n", r.name, worst[r.row]));
     if (ev.preallocations > 0)
       PetscCall(PetscPrintf(comm, "(%ld new matrix pattern(s) after setup)\n", ev.preallocations));
+    // Peak resident memory of each rank at the end of each phase (a high-water mark, so it
+    // never decreases): the largest and smallest rank.
+    const double rss[3] = {rss_partition, rss_setup, peak_rss_mib()};
+    double rss_max[3], rss_min[3];
+    MPI_Allreduce(rss, rss_max, 3, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(rss, rss_min, 3, MPI_DOUBLE, MPI_MIN, comm);
+    PetscCall(PetscPrintf(comm, "peak host memory per rank (ru_maxrss, MiB, max/min over ranks): after partition %.1f/%.1f, "
+                          "after setup %.1f/%.1f, at end %.1f/%.1f\n", rss_max[0], rss_min[0], rss_max[1], rss_min[1],
+                          rss_max[2], rss_min[2]));
   }
   PetscFunctionReturn(0);
 }

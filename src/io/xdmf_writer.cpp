@@ -222,6 +222,16 @@ void XdmfWriter::create_file(const OutputMesh& mesh) {
   if (!body_names_.empty())
     throw_if_failed_anywhere(comm_, write_strings(file_.get(), "/mesh/body_names", body_names_, h5));
   for (std::size_t j = 0; j < obstacles_.size(); ++j) throw_if_failed_anywhere(comm_, write_obstacle(j));
+  if (!mesh.selections.empty()) {
+    Hdf5Handle g(H5Gcreate2(file_.get(), "/mesh/sets", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    if (!g.valid()) error = hdf5_failure("cannot create group /mesh/sets", h5);
+    throw_if_failed_anywhere(comm_, error);
+  }
+  for (const OutputMesh::Selection& set : mesh.selections) {
+    const auto block = RowBlock{hsize_t(set.size), 0, hsize_t(set.offset), hsize_t(set.count)};
+    throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/sets/" + set.name, H5T_STD_I64LE, H5T_NATIVE_INT64,
+                                               block, set.ids, h5));
+  }
   if (H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) error = hdf5_failure("cannot flush", h5);
   throw_if_failed_anywhere(comm_, error);
 }

@@ -59,6 +59,15 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
   bool contact_force = false, friction_force = false;  // node fields every step carries
   std::vector<std::string> contact_pair_kinds;  // step attributes "contact_pairs_<kind>"
   std::vector<OutputObstacle> obstacles;
+  // Named node selections, written to /mesh/sets/<name> (io/mesh_file.hpp) so that the file can
+  // be a later run's mesh: this rank writes rows [offset, offset + count) of `size` ids. The
+  // same names in the same order on every rank.
+  struct Selection {
+    std::string name;
+    std::int64_t size = 0, offset = 0, count = 0;
+    const std::int64_t* ids = nullptr;
+  };
+  std::vector<Selection> selections;
 };
 
 // What write_step stores; arrays are this rank's owned nodes (3 per node) and elements.

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "mesh/hex_mesh.hpp"
+#include "partition/mesh_slice.hpp"
+#include "partition/slice_partition.hpp"
 
 namespace dipc {
 
@@ -81,5 +83,22 @@ struct DistributedMesh {
 // with_surface = false (a scene without contact): no surface is extracted, and the parts have
 // no boundary-face masks and an empty owned_surface.
 DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_surface = true);
+
+// What distribute_slices measured: the partition's quality and each phase's wall time on this
+// rank (seconds).
+struct DistributeReport {
+  PartitionQuality quality;
+  double match_faces = 0, partition = 0, quality_check = 0, elements = 0, nodes = 0, surface = 0;
+};
+
+// The same DistributedMesh from a sliced mesh (mesh_slice.hpp), built in parallel: no rank holds
+// more than O(its slice + its part), except rank 0 with Partitioner::metis, which holds the
+// connectivity while METIS runs. With Partitioner::metis the result equals
+// distribute_mesh(gather_whole_mesh(slice), ...) field by field (tests check it). `report`,
+// when given, receives the partition's edge cut and imbalance (one more exchange) and the
+// phase times. Collective; throws PartitionError on every rank for bad slices, a face shared
+// by more than two elements or a partitioner failure.
+DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitioner, bool with_surface = true,
+                                  DistributeReport* report = nullptr);
 
 }  // namespace dipc

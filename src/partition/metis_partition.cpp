@@ -30,8 +30,12 @@ const char* metis_status_name(int status) {
 }  // namespace
 
 std::vector<int> partition_elements(const HexMesh& mesh, int nparts) {
-  const std::size_t ne = mesh.num_elements();
-  const std::size_t nn = mesh.num_nodes();
+  return partition_elements(mesh.hexes, mesh.num_nodes(), nparts);
+}
+
+std::vector<int> partition_elements(const std::vector<Hex>& hexes, std::size_t num_nodes, int nparts) {
+  const std::size_t ne = hexes.size();
+  const std::size_t nn = num_nodes;
   if (nparts < 1) {
     throw PartitionError("partition_elements: nparts = " + std::to_string(nparts) +
                          " (must be at least 1)");
@@ -54,7 +58,7 @@ std::vector<int> partition_elements(const HexMesh& mesh, int nparts) {
   for (std::size_t e = 0; e < ne; ++e) {
     eptr[e] = static_cast<idx_t>(kNodesPerHex * e);
     for (int k = 0; k < kNodesPerHex; ++k) {
-      const std::int64_t node = mesh.hexes[e][k];
+      const std::int64_t node = hexes[e][k];
       if (node < 0 || static_cast<std::size_t>(node) >= nn) {
         throw PartitionError("partition_elements: element " + std::to_string(e) + " node " +
                              std::to_string(k) + " has id " + std::to_string(node) +

@@ -14,5 +14,7 @@ namespace dipc {
 // the mesh is too large for METIS's idx_t, or METIS fails (the message names the code).
 // METIS may leave a part empty; callers must accept parts without elements.
 std::vector<int> partition_elements(const HexMesh& mesh, int nparts);
+// The same for a connectivity alone (node ids in [0, num_nodes)); no coordinates are needed.
+std::vector<int> partition_elements(const std::vector<Hex>& hexes, std::size_t num_nodes, int nparts);
 
 }  // namespace dipc

@@ -3,7 +3,9 @@
 // gravity for 5 steps, on the ranks of the test's communicator (CTest: 1 and 2). Each flavour
 // must give the trajectory of the ASCII MSH 4.1 file on the same ranks, and, run on all ranks,
 // the trajectory of rank 0 alone. Likewise a voxelised STL tetrahedron, written as dipc-voxelize
-// writes it.
+// writes it. And dipc's HDF5 mesh file, read in slices: converted from the ASCII MSH 4.1 file by
+// dipc-mesh-convert's code it gives that file's trajectory bit for bit, and so does the output
+// of a run used as the next run's mesh (its /mesh group and selections).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +18,7 @@
 #include "mesh/triangle_surface_reader.hpp"
 #include "mesh/voxelizer.hpp"
 #include "support/source_tree.hpp"
+#include "tools/mesh_convert.hpp"
 
 namespace dipc {
 namespace {
@@ -32,9 +35,10 @@ Scene box_scene(const std::string& mesh_file, const std::string& clamped = "bott
                           dipc::test::source_dir() + "/tests/mesh/data");
 }
 
-RunResult run(const Scene& scene, MPI_Comm comm, bool setup_only = false) {
+RunResult run(const Scene& scene, MPI_Comm comm, bool setup_only = false, const std::string& output = "") {
   RunOptions options;
-  options.write_output = false;
+  options.write_output = !output.empty();
+  options.output_dir = output;
   options.quiet = true;
   options.report = false;
   options.velocity_tol = 1e-10;
@@ -98,6 +102,48 @@ INSTANTIATE_TEST_SUITE_P(GmshWritten, MeshFormats,
                            std::string n = info.param;
                            return n.substr(0, n.size() - 4);
                          });
+
+// The converted HDF5 file on all ranks against the MSH file on all ranks (the same rows, so the
+// same trajectory to the last bit) and against itself on rank 0 alone.
+TEST(Hdf5Mesh, ConvertedMshGivesTheMshTrajectory) {
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-13");
+  PetscOptionsSetValue(nullptr, "-ksp_atol", "1e-50");
+  MPI_Comm world = PETSC_COMM_WORLD;
+  int rank;
+  MPI_Comm_rank(world, &rank);
+  const std::string h5 = ::testing::TempDir() + "gmsh_box_converted.h5";
+  convert_gmsh_to_mesh_file(world, std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data/gmsh_box.msh", h5);
+  const RunResult msh = run(box_scene("gmsh_box.msh"), world);
+  const Scene scene = box_scene(h5);
+  const RunResult parallel = run(scene, world);
+  EXPECT_EQ(parallel.positions, msh.positions);
+  MPI_Comm self;
+  MPI_Comm_split(world, rank == 0 ? 0 : MPI_UNDEFINED, 0, &self);
+  if (rank == 0) {
+    const RunResult rest = run(scene, self, true);
+    const RunResult serial = run(scene, self);
+    const double vs_serial = relative_difference(parallel.positions, serial.positions, rest.positions);
+    std::printf("converted HDF5 mesh: vs one rank %.3e\n", vs_serial);
+    EXPECT_LE(vs_serial, 1e-8);
+    MPI_Comm_free(&self);
+  }
+  for (const char* o : {"-ksp_rtol", "-ksp_atol"}) PetscOptionsClearValue(nullptr, o);
+}
+
+// A run's output file names the next run's mesh: its /mesh rows are the input rows, its
+// selections the input's, so a run from it is the run from the MSH file.
+TEST(Hdf5Mesh, OutputSeedsTheNextRun) {
+  MPI_Comm world = PETSC_COMM_WORLD;
+  const std::string dir = ::testing::TempDir() + "hdf5_mesh_seed";
+  const RunResult first = run(box_scene("gmsh_box.msh"), world, false, dir);
+  ASSERT_FALSE(first.xdmf_path.empty());
+  std::string h5 = first.xdmf_path.substr(0, first.xdmf_path.size() - 4) + ".h5";
+  const RunResult again = run(box_scene("gmsh_box.msh"), world);
+  // The output's selections keep their scene names ("box.bottom"); the seeded body "box"
+  // prefixes them again.
+  const RunResult seeded = run(box_scene(h5, "box.bottom"), world);
+  EXPECT_EQ(seeded.positions, again.positions);
+}
 
 // The binary STL tetrahedron (0.5,0.5,0.5) + 2 {0, e_x, e_y, e_z} voxelised at cell size 0.2
 // (rank 0 writes the file), clamped by its boundary faces on the bottom layer.

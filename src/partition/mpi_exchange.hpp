@@ -1,0 +1,73 @@
+// Small MPI building blocks of the parallel mesh setup (mesh_slice.hpp, distribute_slices.cpp):
+// balanced contiguous blocks of ids, the home rank of an id, an all-to-all of trivially
+// copyable records, and errors that one rank finds made every rank's error.
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace dipc {
+
+// Ids [0, n) cut into `parts` contiguous blocks whose sizes differ by at most one, the first
+// n % parts blocks one longer. Block p is [block_begin(n, parts, p), block_begin(n, parts, p + 1)).
+inline std::int64_t block_begin(std::int64_t n, int parts, int p) {
+  const std::int64_t base = n / parts, extra = n % parts;
+  return p * base + (p < extra ? p : extra);
+}
+// The block holding id (0 <= id < n): the inverse of block_begin.
+inline int block_of(std::int64_t id, std::int64_t n, int parts) {
+  const std::int64_t base = n / parts, extra = n % parts;
+  const std::int64_t long_end = extra * (base + 1);
+  if (id < long_end) return static_cast<int>(id / (base + 1));
+  return static_cast<int>(extra + (id - long_end) / base);
+}
+
+// Collective: throws PartitionError on every rank when `local_error` is non-empty on any rank,
+// with the message of the lowest failing rank.
+void agree_on_error(MPI_Comm comm, const std::string& local_error);
+
+// Collective all-to-all of records: send[r] goes to rank r; the result holds what every rank
+// sent here, in rank order, and *from_rank (when given) the source rank of each record. T is
+// sent as raw bytes, so it must be trivially copyable and the same type on every rank.
+template <class T>
+std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
+                                std::vector<int>* from_rank = nullptr);
+
+// Collective: the sum of `value` over the ranks before this one (0 on rank 0), and the total.
+std::int64_t exclusive_prefix(std::int64_t value, MPI_Comm comm, std::int64_t* total = nullptr);
+
+// ----- implementation of the template -----
+namespace detail {
+// Exchanges counts and runs MPI_Alltoallv on one contiguous datatype of `record_bytes`, so that
+// the counts are in records (not bytes) and stay inside MPI's int range longer.
+std::vector<char> exchange_bytes(const std::vector<const char*>& send, const std::vector<std::size_t>& counts,
+                                 std::size_t record_bytes, MPI_Comm comm, std::vector<int>* recv_counts);
+}  // namespace detail
+
+template <class T>
+std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
+                                std::vector<int>* from_rank) {
+  static_assert(std::is_trivially_copyable<T>::value, "exchange_records sends raw bytes");
+  std::vector<const char*> data(send.size());
+  std::vector<std::size_t> counts(send.size());
+  for (std::size_t r = 0; r < send.size(); ++r) {
+    data[r] = reinterpret_cast<const char*>(send[r].data());
+    counts[r] = send[r].size();
+  }
+  std::vector<int> recv_counts;
+  const std::vector<char> bytes = detail::exchange_bytes(data, counts, sizeof(T), comm, &recv_counts);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), bytes.data(), bytes.size());
+  if (from_rank) {
+    from_rank->clear();
+    from_rank->reserve(out.size());
+    for (std::size_t r = 0; r < recv_counts.size(); ++r) from_rank->insert(from_rank->end(), recv_counts[r], static_cast<int>(r));
+  }
+  return out;
+}
+
+}  // namespace dipc
