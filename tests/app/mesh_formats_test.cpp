@@ -112,7 +112,7 @@ TEST(Hdf5Mesh, ConvertedMshGivesTheMshTrajectory) {
   int rank;
   MPI_Comm_rank(world, &rank);
   const std::string h5 = ::testing::TempDir() + "gmsh_box_converted.h5";
-  convert_gmsh_to_mesh_file(world, std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data/gmsh_box.msh", h5);
+  convert_gmsh_to_mesh_file(world, dipc::test::source_dir() + "/tests/mesh/data/gmsh_box.msh", h5);
   const RunResult msh = run(box_scene("gmsh_box.msh"), world);
   const Scene scene = box_scene(h5);
   const RunResult parallel = run(scene, world);
