@@ -61,7 +61,7 @@ bool elastic_energy(const ElementBlock& block, const double* x, double* energy) 
     double Xe[24], xe[24], ee;
     gather(block.reference, en, Xe);
     gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], &ee, nullptr, nullptr)) return false;
+    if (!hex8_elastic(block.volumetric_term(e), block.material_model(e), Xe, xe, block.lambda[e], block.mu[e], &ee, nullptr, nullptr)) return false;
     total += ee;
   }
   *energy = total;
@@ -74,7 +74,7 @@ bool elastic_gradient(const ElementBlock& block, const double* x, double* g) {
     double Xe[24], xe[24], ge[24];
     gather(block.reference, en, Xe);
     gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, ge, nullptr)) return false;
+    if (!hex8_elastic(block.volumetric_term(e), block.material_model(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, ge, nullptr)) return false;
     scatter_add(ge, en, g);
   }
   return true;
@@ -87,7 +87,7 @@ bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_val
     gather(block.reference, en, Xe);
     gather(x, en, xe);
     double He[576];
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He)) return false;
+    if (!hex8_elastic(block.volumetric_term(e), block.material_model(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He)) return false;
     scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
   }
   return true;
@@ -101,7 +101,7 @@ bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x,
     double Xe[24], xe[24], ge[24], ee, He[576];
     gather(block.reference, en, Xe);
     gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], &ee, ge, He)) return false;
+    if (!hex8_elastic(block.volumetric_term(e), block.material_model(e), Xe, xe, block.lambda[e], block.mu[e], &ee, ge, He)) return false;
     scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
     total += ee;
     scatter_add(ge, en, g);
@@ -123,7 +123,8 @@ bool elastic_hessian_split(const ElementBlock& block, const double* x, double* c
       ok = detail::hex8_mean_dilatation<true>(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He, b,
                                               &volume_curvatures[e]);
     } else {
-      ok = hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He);
+      ok = hex8_elastic(VolumetricTerm::gauss_points, block.material_model(e), Xe, xe, block.lambda[e], block.mu[e],
+                        nullptr, nullptr, He);
       for (int k = 0; k < 24; ++k) b[k] = 0;
       volume_curvatures[e] = 0;
     }

@@ -121,7 +121,7 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
       double C[81];
       if (mean_dilatation) {
         mean_dilatation_point_tangent(F, mu, p, C);
-        NeoHookeanEigensystem es;
+        IsotropicEigensystem es;
         mean_dilatation_eigensystem(F, mu, p, &es);
         add_psd_correction(es, C);
         for (int k = 0; k < 9; ++k) s[kB + 9 * t + k] = wdet * J * FinvT[k];
