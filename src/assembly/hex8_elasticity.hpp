@@ -1,8 +1,8 @@
 // Element energy, gradient and Hessian of the hyperelastic hex8 (trilinear, 2x2x2 Gauss) for
-// any material type of materials.hpp, and its volume ratio check. Host/device point functions on plain arrays: node reference
-// coordinates X[3a + i] and current positions x[3a + i] (Gmsh/VTK node order, see
-// mesh/hex_mesh.hpp); gradients have 24 entries (element dof 3a + i), Hessians are 24x24
-// row-major.
+// any material type of materials.hpp, and its volume ratio check. Host/device point functions
+// on plain arrays: node reference coordinates X[3a + i] and current positions x[3a + i]
+// (Gmsh/VTK node order, see mesh/hex_mesh.hpp); gradients have 24 entries (element dof
+// 3a + i), Hessians are 24x24 row-major.
 #pragma once
 #include "assembly/materials.hpp"
 #include "assembly/small_matrix.hpp"

@@ -158,11 +158,18 @@ enum class VolumetricTerm : unsigned char { gauss_points = 0, mean_dilatation = 
 // PSD-projected Hessian as above. The mean-dilatation element is the neo-Hookean one: with
 // `term` mean_dilatation, `model` must be neo_hookean (ElementData and the scene parser refuse
 // other materials with it).
+template <class Material>
+DIPC_HD bool hex8_elastic(VolumetricTerm term, const double X[24], const double x[24], double lambda, double mu,
+                          double* energy, double* gradient, double* hessian) {
+  if (term == VolumetricTerm::mean_dilatation) return hex8_mean_dilatation(X, x, lambda, mu, energy, gradient, hessian);
+  return hex8_element<Material>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
+// The same with the material chosen at run time.
 DIPC_HD bool hex8_elastic(VolumetricTerm term, MaterialModel model, const double X[24], const double x[24],
                           double lambda, double mu, double* energy, double* gradient, double* hessian) {
-  if (term == VolumetricTerm::mean_dilatation) return hex8_mean_dilatation(X, x, lambda, mu, energy, gradient, hessian);
   return visit_material(model, [&](auto material) {
-    return hex8_element<decltype(material)>(X, x, lambda, mu, energy, gradient, hessian);
+    return hex8_elastic<decltype(material)>(term, X, x, lambda, mu, energy, gradient, hessian);
   });
 }
 

@@ -20,9 +20,10 @@ namespace dipc {
 
 // Singular value decomposition F = U diag(sigma) V^T with U, V proper rotations. For
 // det F > 0 all sigma_i > 0; for det F <= 0 (F of rank >= 2) sigma_2, the smallest in
-// magnitude, carries the sign of det F (columns of F V are orthogonal, so F V = U diag(sigma)). V comes from the Jacobi eigenvectors of F^T F (sorted
-// by decreasing eigenvalue, last column flipped if needed so det V = +1); U from the
-// Gram-Schmidt QR of F V, whose diagonal gives sigma. Orthogonalising F V instead of
+// magnitude, carries the sign of det F (the columns of F V are orthogonal, so F V =
+// U diag(sigma)). V comes from the Jacobi eigenvectors of F^T F (sorted by decreasing
+// eigenvalue, last column flipped if needed so det V = +1); U from the Gram-Schmidt QR of
+// F V, whose diagonal gives sigma. Orthogonalising F V instead of
 // dividing by sigma keeps U orthonormal to rounding even when singular values coincide.
 DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3], double V[9]) {
   double C[9], w[3], E[9];

@@ -19,9 +19,9 @@ namespace dipc {
 
 // Per-element material id (scene key materials[].model).
 enum class MaterialModel : unsigned char { neo_hookean = 0, stable_neo_hookean = 1 };
-constexpr int kMaterialModels = 2;
 
-// Calls visitor(Material{}) with the material type of `model` and returns its result.
+// Calls visitor(Material{}) with the material type of `model` and returns its result. Ids come
+// from the scene parser's names only; the default branch exists for the compiler.
 template <class Visitor>
 DIPC_HD auto visit_material(MaterialModel model, Visitor&& visitor) {
   switch (model) {

@@ -19,12 +19,8 @@ DeviceElementData::DeviceElementData(const ElementData& elements) : num_elements
       volumetric_.upload(elements.volumetric);
       break;
     }
-  // Likewise the materials: all neo-Hookean keeps the kernel without per-element dispatch.
-  for (MaterialModel m : elements.model)
-    if (m != MaterialModel::neo_hookean) {
-      model_.upload(elements.model);
-      break;
-    }
+  // Likewise the materials (ElementData keeps them only when some element is not neo-Hookean).
+  if (!elements.model.empty()) model_.upload(elements.model);
 }
 
 ElementBlock DeviceElementData::block() const {

@@ -18,7 +18,7 @@ struct ElementData {
   std::vector<double> reference;    // 3 per local node
   std::vector<double> lambda, mu, rho;
   std::vector<VolumetricTerm> volumetric;  // per element
-  std::vector<MaterialModel> model;        // per element
+  std::vector<MaterialModel> model;        // per element; empty when all are neo-Hookean
   std::vector<std::int64_t> local_to_global;
 
   // skip_body[b] (optional): leave out the elements of body b (kinematic bodies, whose nodes are

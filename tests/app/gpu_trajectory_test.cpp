@@ -65,8 +65,8 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ContactScenes, GpuTrajectory,
-                         ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze", "rubber_drop_md",
-                                           "rubber_drop_snh"),
+                         ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze",
+                                           "rubber_drop_md", "rubber_drop_snh"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

@@ -1,9 +1,9 @@
 // CUDA element kernels over an ElementBlock whose pointers are device memory: hyperelastic
-// energy, gradient and PSD-projected Hessian (each element's material, materials.hpp) (COO values in the order of elastic_coo_pattern),
-// volume ratios, and the inertia and body-force terms. They call the same point functions as
-// the CPU loops in element_loops.cpp. Plain C++ interface; every pointer argument named d_*
-// or documented as device memory lives on the current device. Scalars come back to the host
-// through the Reducer, nothing else does.
+// energy, gradient and PSD-projected Hessian of each element's material (materials.hpp; COO
+// values in the order of elastic_coo_pattern), volume ratios, and the inertia and body-force
+// terms. They call the same point functions as the CPU loops in element_loops.cpp. Plain C++
+// interface; every pointer argument named d_* or documented as device memory lives on the
+// current device. Scalars come back to the host through the Reducer, nothing else does.
 #pragma once
 #include <cstddef>
 
