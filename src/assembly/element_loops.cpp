@@ -54,8 +54,9 @@ bool element_terms(const ElementBlock& block, int e, const double Xe[24], const 
 }
 
 // Runs loop(std::bool_constant<AnyModel>) with AnyModel true when the block has a per-element
-// material (block.model): a loop over an all-neo-Hookean block has no per-element dispatch,
-// the code it had before there were materials (measured, README "Benchmarks").
+// material (block.model): a loop over an all-neo-Hookean block has no per-element dispatch, so
+// its code is what it was before there were materials (a per-element switch made GCC stop
+// inlining hex8_quadrature_point into some loops).
 template <class Loop>
 bool dispatch_models(const ElementBlock& block, Loop&& loop) {
   return block.model ? loop(std::true_type{}) : loop(std::false_type{});
