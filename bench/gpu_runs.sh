@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The GPU measurements of bench/README.md, as run on the lent GPU machine (16 cores, one or
-# more H100/H200). Expects the programs in $DEVICE_BIN (../shared/device/pack + activate) and
+# The GPU measurements of docs/performance.md, as run on a GPU machine (16 cores, one or
+# more H100/H200). Expects the programs in $DEVICE_BIN (a folder holding dipc, bench_* and the GPU tests) and
 # writes logs and CSVs into $OUT (default: bench/results/raw).
 #
 #   bench/gpu_runs.sh tests        GPU tests (element, contact and broad-phase kernels, GPU vs CPU trajectories on 1 and 2 ranks)

@@ -82,8 +82,6 @@ int main(int argc, char** argv) {
   std::string preset;
   std::vector<std::string> preset_inserted;
   PetscCall(dipc::apply_solver_preset(PETSC_COMM_WORLD, &preset, &preset_inserted));
-  dipc::RunOptions from_options;
-  PetscCall(dipc::read_run_options(PETSC_COMM_WORLD, &from_options));
   int ranks, rank;
   MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -105,7 +103,8 @@ int main(int argc, char** argv) {
                         "ksp_solve", "total", "s/newton"));
   for (PetscInt i = 0; i < nsizes; ++i) {
     dipc::Scene scene = box_scene(sizes[i]);
-    dipc::RunOptions options = from_options;
+    dipc::RunOptions options;  // the -dipc_ options, with this scene's defaults
+    PetscCall(dipc::read_run_options(PETSC_COMM_WORLD, scene, &options));
     options.steps = static_cast<int>(steps);
     options.write_output = false;
     options.quiet = true;

@@ -1,8 +1,8 @@
-// Backend choice per run (DESIGN.md §2, "Backend choice per rank"): -dipc_backend cpu | cuda |
+// Backend choice per run (docs/design.md §4.2): -dipc_backend cpu | cuda |
 // auto. Each rank takes the GPU of its node-local rank (MPI_Comm_split_type), so `mpirun -n 4`
 // on a 4-GPU node puts one rank on each. `auto` stays on the CPU where CUDA is not built, no
 // device is present, or a rank holds fewer elements than the measured crossover (below it the
-// kernels' launch and transfer latency costs more than the CPU loop saves; bench/README.md).
+// kernels' launch and transfer latency costs more than the CPU loop saves; docs/performance.md, "GPU").
 #pragma once
 #include <mpi.h>
 

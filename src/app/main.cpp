@@ -5,9 +5,11 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 
 #include "app/option_checks.hpp"
 #include "app/options_files.hpp"
+#include "app/petsc_input_errors.hpp"
 #include "app/simulation.hpp"
 #include "app/solver_presets.hpp"
 #include "app/stop_signals.hpp"
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, help));
   MPI_Comm comm = PETSC_COMM_WORLD;
   dipc::install_stop_signal_handlers();  // after PETSc's, which would abort on SIGTERM
+  PetscCall(dipc::push_input_error_handler());
 
   int status = 0;
   try {
@@ -51,13 +54,24 @@ int main(int argc, char** argv) {
     dipc::RunOptions options;
     std::vector<std::string> preset_inserted;
     PetscCall(dipc::apply_solver_preset(comm, &options.preset, &preset_inserted));  // before the options are read
-    PetscCall(dipc::read_run_options(comm, &options));
+    // The scene before the run options: some of their defaults are the scene's.
+    const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
+    PetscCall(dipc::read_run_options(comm, scene, &options));
     PetscBool help_requested = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
-    const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
-    if (help_requested) options.setup_only = true;  // list every option, then stop
+    // A PolyFEM scene's keys that dipc ignores or reads its own way, one line each.
+    for (const std::string& note : scene.notes) PetscCall(PetscPrintf(comm, "dipc: PolyFEM scene: %s\n", note.c_str()));
+    if (help_requested) {
+      // The solvers read their options while they are set up, so -help builds everything (and
+      // so lists every option with the value this scene would use), then stops: no run
+      // header, step or timing table.
+      options.setup_only = true;
+      options.report = false;
+    }
     dipc::RunResult result;
-    PetscCall(dipc::run_scene(scene, comm, options, &result));
+    const PetscErrorCode run_error = dipc::run_scene(scene, comm, options, &result);
+    if (run_error == PETSC_ERR_USER_INPUT) throw std::runtime_error(dipc::last_petsc_error_message());
+    PetscCall(run_error);
     // Exit status: 1 bad input, 2 a step that step recovery could not take, 3 a violated
     // invariant (an inverted element or an intersection after a step: a solver defect), 4
     // stopped on a signal with a checkpoint written.

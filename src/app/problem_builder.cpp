@@ -58,7 +58,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
   ProblemSetup p;
   for (const Body& body : scene.bodies) {
     const Material& m = scene.materials[body.material];
-    // Lamé parameters from (E, ν), as in DESIGN.md §1.
+    // Lamé parameters from (E, ν), as in docs/design.md §1.2.
     BodyMaterial bm;
     bm.lambda = m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu));
     bm.mu = m.E / (2 * (1 + m.nu));

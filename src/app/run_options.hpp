@@ -1,11 +1,14 @@
 // RunOptions: the numerics of a run that live in the PETSc options database (-dipc_*), with
-// their defaults and help strings (`dipc -help` lists them).
+// their defaults and help strings (`dipc -help` lists them). Code that builds a RunOptions
+// itself (the tests) may leave the scene-dependent fields at their "the scene's" values
+// (steps, dt_min, velocity_tol <= 0; output_dir empty); read_run_options fills them in.
 #pragma once
 #include <petscsys.h>
 
 #include <string>
 
 #include "app/backend.hpp"
+#include "io/scene.hpp"
 
 namespace dipc {
 
@@ -33,11 +36,18 @@ struct RunOptions {
   // wall-clock minutes (0: not by that rule); a stop signal always writes one.
   int checkpoint_every = 0;
   double checkpoint_minutes = 0;
-  std::string restart;  // -dipc_restart FILE | auto (the newest checkpoint in the output directory)
+  std::string restart;  // -dipc_restart FILE | auto (the newest checkpoint in the output directory); "": none
 };
 
+// Reads the -dipc_ run options into *options, whose values are the defaults; those that
+// default to the scene's (steps, output directory, dt_min) are shown with the scene's value.
 // Values are taken as given: check_option_values (app/option_checks.hpp), which refuses those
 // out of range, runs first; a new option needs its row there.
-PetscErrorCode read_run_options(MPI_Comm comm, RunOptions* options);
+PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* options);
+
+// The Newton tolerance of the run: -dipc_velocity_tol, whose default (options.velocity_tol when
+// set, else velocity_tol_rel x the bounding-box diagonal of the built mesh) is known only once
+// the mesh is; run_scene reads it there, so -help shows the real default.
+PetscErrorCode read_velocity_tol(MPI_Comm comm, const RunOptions& options, double diagonal, double* velocity_tol);
 
 }  // namespace dipc

@@ -24,11 +24,14 @@ void read_obstacle(const Scene& scene, const Obstacle& o, ContactParameters::Obs
   if (surface.vertices.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 2))
     throw SceneError(where + o.mesh_file + ": too many vertices (" + std::to_string(surface.vertices.size()) + ")");
   for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
+    const std::array<double, 3>& F = surface.vertices[v];
     std::array<double, 3> X;
-    for (int c = 0; c < 3; ++c) X[c] = o.scale * surface.vertices[v][c] + o.translation[c];
+    for (int c = 0; c < 3; ++c)
+      X[c] = o.scale * (o.linear[3 * c] * F[0] + o.linear[3 * c + 1] * F[1] + o.linear[3 * c + 2] * F[2]) +
+             o.translation[c];
     if (!std::isfinite(X[0]) || !std::isfinite(X[1]) || !std::isfinite(X[2]))
       throw SceneError(where + o.mesh_file + ": vertex " + std::to_string(v) +
-                       " is not finite once scaled and translated");
+                       " is not finite once placed");
     out->rest.push_back(X);
   }
   out->triangle_origin = surface.triangle_origin;

@@ -369,18 +369,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
 
   double t_setup = MPI_Wtime();
   ProblemSetup problem = build_problem(scene, mesh, diagonal);
-  const double velocity_tol = options.velocity_tol > 0 ? options.velocity_tol : options.velocity_tol_rel * diagonal;
-  // Triangle-mesh obstacles have no device path yet: auto falls back to the CPU and says so in
-  // the run header; an explicit cuda request is refused.
-  const bool obstacles = !problem.contact_parameters.obstacles.empty();
-  if (obstacles && options.backend == "cuda")
-    throw std::runtime_error("-dipc_backend cuda: triangle-mesh obstacles (contact.obstacles) are evaluated on the "
-                             "CPU only; run with -dipc_backend cpu or auto");
-  BackendChoice backend;
-  if (obstacles && options.backend == "auto")
-    backend.description = "cpu (auto: triangle-mesh obstacles run on the CPU only)";
-  else
-    backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+  double velocity_tol = 0;
+  PetscCall(read_velocity_tol(comm, options, diagonal, &velocity_tol));
+  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
   DeviceUse device_use;
   if (backend.space == MemorySpace::device) {
     device_use.matrix_on_device = device_matrix_requested();

@@ -59,7 +59,8 @@ PetscErrorCode apply_solver_preset(MPI_Comm comm, std::string* applied, std::vec
   }
   PetscOptionsBegin(comm, nullptr, "dipc solver preset", "dipc");
   PetscCall(PetscOptionsEList("-dipc_preset",
-                              "Solver preset (scenes/solver/presets/<name>.opts); options you give win over it", "",
+                              "Solver preset (scenes/solver/presets/<name>.opts); options you give win over it",
+                              "SolverPreset",
                               names.data(), static_cast<PetscInt>(names.size()), names[chosen], &chosen, nullptr));
   PetscOptionsEnd();
   inserted->clear();

@@ -1,4 +1,4 @@
-// Compressible neo-Hookean material at a quadrature point (DESIGN.md section 1; the form
+// Compressible neo-Hookean material at a quadrature point (docs/design.md §1.2; the form
 // used by the IPC paper and PolyFEM):
 //   psi(F) = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2,   J = det F > 0,
 // its first Piola-Kirchhoff stress P = d psi/dF, the exact 9x9 tangent dP/dF and the tangent

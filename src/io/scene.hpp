@@ -32,12 +32,25 @@ struct BoxGenerator {
   std::array<double, 3> origin{0, 0, 0};
 };
 
+// Boundary faces that a PolyFEM surface selection gives an id (io/polyfem_scene.cpp): every
+// boundary face of the body, or those whose centroid lies in `box` (inclusive); a face takes the
+// id of the first selection that holds it. The mesh builder turns each id into the node set
+// "<body>.surface_selection_<id>" (the nodes of its faces).
+struct FaceSelection {
+  int id = 0;
+  std::optional<std::array<double, 6>> box;  // xmin ymin zmin xmax ymax zmax; none: every face
+};
+
 struct Body {
   std::string name;                  // used to prefix generated selections ("beam.xmin")
   std::string mesh_file;             // Gmsh MSH 4.1/2.2 (resolved relative to the scene file), or
   std::optional<BoxGenerator> box;   // a generated box (exactly one of the two)
   std::array<double, 3> translation{0, 0, 0};  // applied to a mesh file's coordinates
   double scale = 1.0;                          // applied before the translation
+  // A linear map applied first (row-major): x = scale·(linear·X) + translation. The identity
+  // in dipc's own format; PolyFEM's `transformation` gives rotation · diag(scale).
+  std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::vector<FaceSelection> face_selections;  // PolyFEM surface selections, in priority order
   std::size_t material = 0;                    // index into Scene::materials
   std::array<double, 3> initial_velocity{0, 0, 0};
   // Initial spin: the velocity at X is initial_velocity + ω × (X − center).
@@ -89,6 +102,7 @@ struct Obstacle {
   std::string mesh_file;  // resolved relative to the scene file
   double scale = 1.0;
   std::array<double, 3> translation{0, 0, 0};
+  std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};  // x = scale·(linear·X) + translation
   Motion motion;
   std::string key_path;   // "contact.obstacles[0]"
 };
@@ -126,6 +140,9 @@ struct Scene {
   std::string output_name = "dipc";
   int output_every = 1;  // write every N-th step (the last step is always written)
   ContactSettings contact;
+  // Lines for rank 0 to print before the run: what a scene in PolyFEM's format held that dipc
+  // ignores or reads differently (io/polyfem_scene.cpp); empty for dipc's own format.
+  std::vector<std::string> notes;
 };
 
 // Parses and validates a scene. On any problem throws SceneError whose message names the
@@ -133,6 +150,8 @@ struct Scene {
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// Either format: dipc's own (scene_parser.cpp) or PolyFEM's (polyfem_scene.cpp), told apart
+// by is_polyfem_scene().
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory);

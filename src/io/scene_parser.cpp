@@ -1,6 +1,8 @@
 // Scene file parser: reads the JSON format documented below into a Scene and validates every
 // value, so that the solver never starts on a scene with a typo or an impossible parameter.
 //
+// A scene in PolyFEM's own format is recognised by is_polyfem_scene() and translated by
+// polyfem_scene.cpp instead.
 // Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
 //   materials            [ {name, E, nu, rho, model: neo_hookean|stable_neo_hookean,
 //                           volumetric: gauss_points|mean_dilatation} ]  required, >= 1
@@ -40,6 +42,7 @@
 #include <sstream>
 
 #include "io/json_document.hpp"
+#include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json_node.hpp"
 
@@ -527,6 +530,15 @@ std::string Selection::describe() const {
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory) {
   const nlohmann::json document = parse_json_document(json_text, source_name);
+  // A PolyFEM file's errors say why it was read as one: a typo in a dipc scene can be a
+  // PolyFEM key ("tend" for "t_end").
+  if (const std::string marker = polyfem_marker(document); !marker.empty()) {
+    try {
+      return translate_polyfem_scene(document, source_name, base_directory);
+    } catch (const SceneError& e) {
+      throw SceneError(std::string(e.what()) + " [read in PolyFEM's format: it has " + marker + "]");
+    }
+  }
   const SceneJsonNode root(document, "", source_name);
   root.expect_object({"materials", "geometry", "boundary_conditions", "time", "solver", "output", "contact"});
 

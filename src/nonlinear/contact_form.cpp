@@ -55,9 +55,6 @@ const double* plane_normal(const ContactForm::PairInfo& info) {
 ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
     : comm_(mesh.comm), mesh_(mesh), parameters_(std::move(parameters)), space_(space),
       obstacles_(parameters_.obstacles) {
-  if (space_ == MemorySpace::device && !obstacles_.empty())
-    throw std::runtime_error("triangle-mesh obstacles (contact.obstacles) are evaluated on the CPU only: "
-                             "run with -dipc_backend cpu");
   if (space_ == MemorySpace::device) {
     if (device::device_count() == 0)
       throw device::DeviceError(device::built_with_cuda()
@@ -69,7 +66,8 @@ ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters paramete
       plane_points.insert(plane_points.end(), plane.point.begin(), plane.point.end());
       plane_normals.insert(plane_normals.end(), plane.normal.begin(), plane.normal.end());
     }
-    device_planes_.upload(plane_points, plane_normals);
+    device_obstacles_.upload_planes(plane_points, plane_normals);
+    upload_obstacle_positions();
   }
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
@@ -328,9 +326,60 @@ device::BroadPhaseSurface ContactForm::number_surface() const {
 void ContactForm::upload_surface() {
   const double start = MPI_Wtime();
   device::BroadPhaseSurface s = number_surface();
+  device_body_vertices_ = s.num_vertices;
+  if (!obstacles_.empty()) append_obstacles(&s);
   device_broad_phase_.upload(s);
   device_surface_nodes_ = std::move(s.vertex_node);
   stats_.broad_phase_seconds += MPI_Wtime() - start;
+}
+
+// Every obstacle primitive joins the device search after the body's, in group −1 (never paired
+// with itself), with the ownership of find_candidates' filter as data: an obstacle vertex's
+// pair belongs to the body face's owner (kFaceDecides), an obstacle edge's to the body edge's
+// owner (obstacle edges get the largest global id, so the body edge is the one that decides).
+// The host search takes only the obstacle primitives near the rank's swept surface box; the
+// device search of all of them finds the same pairs, since two inflated boxes overlap only
+// where the obstacle primitive comes within d̂ of that box (up to the rounding of a box bound
+// at exactly that distance). The obstacle vertices' rows are their obstacle_node ids, whose
+// positions find_candidates_on_device passes.
+void ContactForm::append_obstacles(device::BroadPhaseSurface* s) const {
+  const auto base = static_cast<std::int32_t>(s->num_vertices);
+  for (std::int32_t v = 0; v < obstacles_.num_vertices(); ++v) {
+    s->vertex_node.push_back(obstacle_node(v));
+    s->vertex_group.push_back(-1);
+    s->owned_vertex.push_back(device::kFaceDecides);
+  }
+  for (const auto& e : obstacles_.edges) {
+    s->edges.insert(s->edges.end(), {base + e[0], base + e[1]});
+    s->edge_gid.push_back(std::numeric_limits<std::int64_t>::max());
+    s->owned_edge.push_back(0);
+  }
+  s->owned_face.assign(faces_.size(), 0);
+  for (std::size_t f = 0; f < owned_faces_; ++f) s->owned_face[f] = 1;
+  for (const auto& f : obstacles_.faces) {
+    s->faces.insert(s->faces.end(), {base + f[0], base + f[1], base + f[2]});
+    s->owned_face.push_back(0);
+  }
+  s->num_vertices += obstacles_.num_vertices();
+}
+
+void ContactForm::move_obstacles(double t0, double t1) {
+  obstacles_.move(parameters_.obstacles, t0, t1);
+  // The positions are functions of the two times alone: the device keeps them while those stay.
+  if (space_ == MemorySpace::device && !(t0 == uploaded_t0_ && t1 == uploaded_t1_)) {
+    upload_obstacle_positions();
+    uploaded_t0_ = t0, uploaded_t1_ = t1;
+  }
+}
+
+// Device space: the obstacle vertices' positions to the device, for the broad phase, the
+// barrier and the CCD.
+void ContactForm::upload_obstacle_positions() {
+  if (obstacles_.empty()) return;
+  const std::size_t n = 3 * static_cast<std::size_t>(obstacles_.num_vertices());
+  const double* start = obstacles_.start(0);
+  const double* end = obstacles_.end(0);
+  device_obstacles_.upload_vertices(std::vector<double>(start, start + n), std::vector<double>(end, end + n));
 }
 
 void ContactForm::find_candidates(const double* x, const double* p) {
@@ -423,10 +472,33 @@ void ContactForm::find_candidates(const double* x, const double* p) {
 void ContactForm::find_candidates_on_device(const double* x, const double* p) {
   const double start = MPI_Wtime();
   contact::Candidates candidates;
-  device_broad_phase_.find_candidates_on_segment(x, p, 0.5 * parameters_.dhat, &candidates);
-  vertex_face_.clear();
-  for (const auto& vf : candidates.vertex_face) vertex_face_.push_back({device_surface_nodes_[vf[0]], vf[1]});
-  edge_edge_ = std::move(candidates.edge_edge);
+  device::PrescribedVertices prescribed;
+  if (!obstacles_.empty()) {
+    prescribed.start = device_obstacles_.vertex_start.data();
+    prescribed.end = device_obstacles_.vertex_end.data();
+    prescribed.moving = obstacles_.moving();
+  }
+  device_broad_phase_.find_candidates_on_segment(x, p, 0.5 * parameters_.dhat, &candidates, prescribed);
+  // Split as find_candidates does: obstacle primitives follow the body's (append_obstacles).
+  const auto body_vertices = static_cast<std::int32_t>(device_body_vertices_);
+  const auto body_edges = static_cast<std::int32_t>(edges_.size());
+  const auto body_faces = static_cast<std::int32_t>(faces_.size());
+  vertex_face_.clear(), vertex_obstacle_face_.clear(), obstacle_vertex_face_.clear();
+  edge_edge_.clear(), edge_obstacle_edge_.clear();
+  for (const auto& [v, f] : candidates.vertex_face) {
+    if (v >= body_vertices)
+      obstacle_vertex_face_.push_back({v - body_vertices, f});
+    else if (f >= body_faces)
+      vertex_obstacle_face_.push_back({device_surface_nodes_[v], f - body_faces});
+    else
+      vertex_face_.push_back({device_surface_nodes_[v], f});
+  }
+  for (const auto& [a, b] : candidates.edge_edge) {
+    if (b >= body_edges)
+      edge_obstacle_edge_.push_back({a, b - body_edges});
+    else
+      edge_edge_.push_back({a, b});
+  }
   stats_.broad_phase_seconds += MPI_Wtime() - start;
 }
 
@@ -540,7 +612,7 @@ bool ContactForm::value(const double* x, double* energy) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
     const bool ok =
-        device::contact_barrier_energy(device_candidates_, device_planes_, barrier_constants(), x, reducer_, energy);
+        device::contact_barrier_energy(device_candidates_, device_obstacles_, barrier_constants(), x, reducer_, energy);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -561,7 +633,7 @@ bool ContactForm::gradient(const double* x, double* g) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
     const bool ok =
-        device::add_contact_barrier_gradient(device_candidates_, device_planes_, barrier_constants(), x, g, reducer_);
+        device::add_contact_barrier_gradient(device_candidates_, device_obstacles_, barrier_constants(), x, g, reducer_);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -643,7 +715,7 @@ bool ContactForm::hessian(const double* x, double* values) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
     const bool ok =
-        device::contact_barrier_hessian(device_pattern_, device_planes_, barrier_constants(), x, values, reducer_);
+        device::contact_barrier_hessian(device_pattern_, device_obstacles_, barrier_constants(), x, values, reducer_);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -670,7 +742,7 @@ double ContactForm::max_step(const double* x, const double* p) {
   const double start = MPI_Wtime();
   double t = 1.0;
   if (space_ == MemorySpace::device) {
-    t = device::contact_min_time_of_impact(device_candidates_, device_planes_, x, p, 1.0, reducer_);
+    t = device::contact_min_time_of_impact(device_candidates_, device_obstacles_, x, p, 1.0, reducer_);
   } else {
     // Every pair on [0, 1], as on the device (see the header).
     for_each_pair([&](int kind, std::size_t i) {

@@ -40,7 +40,9 @@
 // contact_pair_terms.hpp. update_extra_nodes and update_pattern receive host arrays in both
 // spaces (update_pattern uploads the pattern's pairs when they change), and so do the queries
 // min_distance, active_pairs and count_intersections, which stay on the CPU. Triangle-mesh
-// obstacles are evaluated on the host only: a ContactForm in the device space refuses them.
+// obstacles are evaluated in both spaces: the device holds their vertices' positions (uploaded
+// when move_obstacles changes the segment's times) and all their primitives join the device
+// broad phase (append_obstacles); pairs name their vertices by obstacle_node ids in both.
 // Both spaces search every pair's time of impact on [0, 1] and take the minimum, so the step
 // bound is the same bit for bit on the host and the device, and does not depend on the order
 // of the pairs (which differs between rank counts). Searching up to the running minimum
@@ -78,8 +80,7 @@ struct ContactStats {
 class ContactForm : public Form {
  public:
   // space: where value, gradient, hessian and max_step run (and where their arrays live).
-  // MemorySpace::device throws device::DeviceError when no CUDA device is available, and
-  // std::runtime_error when the parameters hold triangle-mesh obstacles (host only).
+  // MemorySpace::device throws device::DeviceError when no CUDA device is available.
   ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space = MemorySpace::host);
   std::string name() const override { return "contact barrier"; }
   MemorySpace memory_space() const override { return space_; }
@@ -115,7 +116,7 @@ class ContactForm : public Form {
   // Triangle-mesh obstacles (contact_obstacles.hpp). Until the first call they stand at t = 0.
   // Evaluations see them at t1; the next segments' broad phase and CCD follow them from t0 to
   // t1 (linearly), so a prescribed motion of the obstacles is checked as the body's steps are.
-  void move_obstacles(double t0, double t1) { obstacles_.move(parameters_.obstacles, t0, t1); }
+  void move_obstacles(double t0, double t1);
   // The start of a time step at t: obstacles at t, which friction's sliding is measured from.
   void start_obstacle_step(double t) {
     move_obstacles(t, t);
@@ -195,7 +196,9 @@ class ContactForm : public Form {
   device::BroadPhaseSurface number_surface() const;
   void find_candidates(const double* x, const double* p);           // host arrays
   void find_candidates_on_device(const double* x, const double* p);  // device arrays
-  void upload_surface();  // device space: number_surface() to the device broad phase
+  void upload_surface();  // device space: number_surface() and the obstacles to the device broad phase
+  void append_obstacles(device::BroadPhaseSurface* s) const;
+  void upload_obstacle_positions();  // device space
   template <class F>
   bool for_each_pair(F&& f) const;
   // Stacked positions of a pair's nodes at x (obstacles at t1) and, for CCD, at the segment's
@@ -245,15 +248,18 @@ class ContactForm : public Form {
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
   long pattern_version_ = 0;
   // Device space: the candidates, the pattern's pairs (and the host copy they were uploaded
-  // from, to upload only changes), the planes, and the reducer that brings scalars back.
+  // from, to upload only changes), the planes and obstacle vertex positions (and the segment
+  // times of those positions), and the reducer that brings scalars back.
   device::DeviceContactPairs device_candidates_, device_pattern_;
   device::ContactPairList uploaded_pattern_;
-  device::DeviceContactPlanes device_planes_;
+  device::DeviceContactObstacles device_obstacles_;
+  double uploaded_t0_ = 0, uploaded_t1_ = 0;  // ObstacleSurface starts at t = 0
   device::Reducer reducer_;
   // Device space: the broad phase over the uploaded surface and the ext-local node of each of
   // its compact vertices.
   device::DeviceBroadPhase device_broad_phase_;
   std::vector<std::int32_t> device_surface_nodes_;
+  int device_body_vertices_ = 0;  // compact vertices before the obstacles' (append_obstacles)
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;
   ContactStats stats_;

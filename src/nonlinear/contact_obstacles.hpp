@@ -11,12 +11,15 @@
 // pass over the obstacle per search. The costs that grow with the obstacle rather than with the
 // rank's share are that pass and the obstacle's memory on every rank (about 150 bytes per
 // triangle): fine for floors, funnels and rollers of up to a few 10⁵ triangles; an obstacle far
-// larger would want its own BVH (or a partition by space) instead.
+// larger would want its own BVH (or a partition by space) instead. A ContactForm on the device
+// keeps the positions there too and gives its broad phase every obstacle primitive (no
+// culling pass; the BVH over them is rebuilt per search with the body's).
 //
 // Node ids. ContactForm's pairs name body nodes by ext-local id (>= 0); obstacle vertex k is
-// named -2 - k (obstacle_node), so -1 keeps meaning "unused slot". Obstacle nodes have no
-// unknowns: forms skip them in gradients and take only the body nodes' blocks of pair Hessians
-// (the potential is a function of the body positions, the obstacle's being constants).
+// named -2 - k (obstacle_node, obstacle_nodes.hpp), so -1 keeps meaning "unused slot". Obstacle
+// nodes have no unknowns: forms skip them in gradients and take only the body nodes' blocks of
+// pair Hessians (the potential is a function of the body positions, the obstacle's being
+// constants).
 //
 // Time. Evaluations see the obstacles at one time (end()); a segment x + αp of the body may come
 // with an obstacle segment from start() to end() (linear in between, as IPC's CCD assumes for
@@ -29,32 +32,9 @@
 #include <vector>
 
 #include "nonlinear/contact_parameters.hpp"
+#include "nonlinear/obstacle_nodes.hpp"
 
 namespace dipc {
-
-inline bool is_obstacle_node(std::int64_t node) { return node <= -2; }
-inline std::int32_t obstacle_node(std::int32_t vertex) { return -2 - vertex; }
-inline std::int32_t obstacle_vertex(std::int64_t node) { return static_cast<std::int32_t>(-2 - node); }
-
-// Body (non-obstacle, non-unused) slots of a pair's nodes; returns how many.
-template <class Id>
-int body_slots(const Id* nodes, int count, int* slots) {
-  int n = 0;
-  for (int k = 0; k < count; ++k)
-    if (nodes[k] >= 0) slots[n++] = k;
-  return n;
-}
-
-// The body nodes' block of a pair Hessian H (3·count square, row-major), in the order
-// (slot a, component i, slot b, component j) of the COO patterns.
-inline void body_block(const double* H, int count, const int* slots, int num_slots, double* out) {
-  const int n = 3 * count;
-  int r = 0;
-  for (int a = 0; a < num_slots; ++a)
-    for (int i = 0; i < 3; ++i)
-      for (int b = 0; b < num_slots; ++b)
-        for (int j = 0; j < 3; ++j) out[r++] = H[(3 * slots[a] + i) * n + 3 * slots[b] + j];
-}
 
 class ObstacleSurface {
  public:

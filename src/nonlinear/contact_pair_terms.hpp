@@ -6,7 +6,7 @@
 // A pair is `kind` 0 (vertex–triangle, stacked X = [v, t0, t1, t2]), 1 (edge–edge,
 // X = [ea0, ea1, eb0, eb1]) or 2 (vertex–plane, X = [v]); plane pairs also take the plane's
 // point and unit normal (3 doubles each; the solid side lies behind the normal), the others
-// ignore them. Distances are squared, as the barrier's d and d̂ (DESIGN.md §1).
+// ignore them. Distances are squared, as the barrier's d and d̂ (docs/design.md §1.3).
 #pragma once
 #include "assembly/symmetric_eigen.hpp"
 #include "contact/ccd/time_of_impact.hpp"

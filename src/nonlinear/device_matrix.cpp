@@ -6,19 +6,22 @@
 
 namespace dipc {
 
+// These two answer a bool, so a failing PETSc call aborts (PetscCallAbort) rather than being
+// ignored: an option or type query fails only on a defect (a corrupt object or database).
 bool device_matrix_requested() {
   char type[64] = "";
   PetscBool set = PETSC_FALSE;
-  PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set);
+  PetscCallAbort(PETSC_COMM_SELF, PetscOptionsGetString(nullptr, nullptr, "-mat_type", type, sizeof type, &set));
   if (!set) return false;
   return std::strstr(type, "cusparse") != nullptr || (PetscDefined(HAVE_HYPRE_DEVICE) && !std::strcmp(type, MATHYPRE));
 }
 
 bool matrix_on_device(Mat J) {
   PetscBool cusparse = PETSC_FALSE, hypre = PETSC_FALSE;
-  PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(J), &cusparse, MATAIJCUSPARSE, MATSEQAIJCUSPARSE,
-                            MATMPIAIJCUSPARSE, "");
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATHYPRE, &hypre);
+  const PetscObject object = reinterpret_cast<PetscObject>(J);
+  PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompareAny(object, &cusparse, MATAIJCUSPARSE,
+                                                                    MATSEQAIJCUSPARSE, MATMPIAIJCUSPARSE, ""));
+  PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompare(object, MATHYPRE, &hypre));
   return cusparse || (PetscDefined(HAVE_HYPRE_DEVICE) && hypre);
 }
 

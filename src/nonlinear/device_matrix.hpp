@@ -16,7 +16,7 @@ bool device_matrix_requested();
 bool matrix_on_device(Mat J);
 
 // With a PETSc whose hypre runs only on the GPU (PETSC_HAVE_HYPRE_DEVICE and CUDA, such as
-// ../shared/gpu-stack), BoomerAMG cannot take host vectors: KSP stops in PCApply with "HYPRE_MEMORY_
+// a PETSc 3.22 configured --with-cuda --download-hypre), BoomerAMG cannot take host vectors: KSP stops in PCApply with "HYPRE_MEMORY_
 // DEVICE expects a device vector". So where BoomerAMG is the preconditioner (-pc_type unset or
 // hypre) and neither -vec_type nor -mat_type is given, this sets -vec_type cuda -mat_type hypre.
 // Call before any Vec or Mat is created; a no-op with Debian's PETSc. Sets *changed when it did.

@@ -1,5 +1,5 @@
 // ElasticForm: scale · Ψ(x), Ψ the neo-Hookean strain energy of this rank's hex8 elements
-// (DESIGN.md §1); scale = h² in implicit Euler, 1 in a static solve.
+// (docs/design.md §1.2); scale = h² in implicit Euler, 1 in a static solve.
 #pragma once
 #include "nonlinear/element_data.hpp"
 #include "nonlinear/form.hpp"

@@ -1,4 +1,4 @@
-// Form: one term of the incremental potential E(x) (DESIGN.md §2, "The Form contract").
+// Form: one term of the incremental potential E(x) (docs/design.md §3, "The Form contract").
 //
 // Forms see this rank's *local* nodal arrays (owned nodes then ghosts, 3 values per node,
 // see partition/distributed_mesh.hpp); IncrementalPotential gathers x once per evaluation,

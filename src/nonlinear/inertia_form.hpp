@@ -1,5 +1,5 @@
 // InertiaForm: ½ (x − x̂)ᵀ M (x − x̂), the kinetic part of the implicit-Euler incremental
-// potential (DESIGN.md §1; Kane et al. 2000, variational implicit Euler), x̂ = x_n + h v_n.
+// potential (docs/design.md §1.1; Kane et al. 2000, variational implicit Euler), x̂ = x_n + h v_n.
 // Lumped M (diagonal, row-sum of the consistent mass) by default, consistent as an option.
 #pragma once
 #include "nonlinear/element_data.hpp"

@@ -5,7 +5,6 @@
 #include <petsc/private/petscimpl.h>
 
 #include <cmath>
-#include <stdexcept>
 
 #include "nonlinear/device_matrix.hpp"
 
@@ -22,18 +21,17 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
   PetscCall(PetscOptionsBool("-dipc_mixed_solve",
                              "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES); "
                              "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
-                             "", flag, &flag, &set));
+                             "MixedLinearSolve", flag, &flag, &set));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
                              "Preconditioner of the mixed solve's pressure block: mass (I + D W) or selfp "
                              "(AMG on I + Bs diag(A)^-1 Bs^T)",
-                             "", schur_names, schur_choice, &schur_choice, nullptr));
+                             "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
   PetscOptionsEnd();
   if (schur) *schur = static_cast<SchurApproximation>(schur_choice);
-  // Bad input (exit status 1); has_split_elements is the same on every rank.
-  if (set && flag && !has_split_elements)
-    throw std::invalid_argument(
-        "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
-        "\"mean_dilatation\"), and this scene has none");
+  // Bad input (exit status 1, PETSC_ERR_USER_INPUT); has_split_elements is the same on every rank.
+  PetscCheck(!(set && flag && !has_split_elements), comm, PETSC_ERR_USER_INPUT,
+             "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
+             "\"mean_dilatation\"), and this scene has none");
   *use = flag && has_split_elements;
   PetscFunctionReturn(0);
 }

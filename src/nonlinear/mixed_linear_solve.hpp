@@ -50,7 +50,8 @@ constexpr double kMixedSolveStiffnessRatio = 1000;
 // mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
 // among them (0 where the mixed solve cannot run by default: device forms or matrix). Default:
 // on from kMixedSolveStiffnessRatio on.
-// -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass).
+// -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass). Asking for the
+// mixed solve without such elements is bad input (PETSC_ERR_USER_INPUT).
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
                                      SchurApproximation* schur = nullptr);
 

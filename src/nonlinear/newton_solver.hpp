@@ -9,7 +9,7 @@
 //    small-update test), so they are consulted only when the user gives one of -snes_rtol,
 //    -snes_atol, -snes_stol. A solve fails on -snes_max_it, a failed line search or linear
 //    solve, a NaN, or a line search stuck below alpha_floor for kStallIterations iterations;
-//  - KSP CG + BoomerAMG with the elasticity settings of DESIGN.md §2 as overridable defaults;
+//  - KSP CG + BoomerAMG with the elasticity settings of docs/design.md §1.7 as overridable defaults;
 //    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp);
 //  - with mean-dilatation elements (unless -dipc_mixed_solve 0) the forms keep the volumetric
 //    rank-one terms out of the assembled matrix A, and each Newton system H du = -g is solved as

@@ -55,9 +55,10 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   // Read inside an options block so that -help lists them with the run options.
   PetscOptionsBegin(comm, nullptr, "dipc preconditioner reuse", "SNES");
   PetscCall(PetscOptionsBool("-dipc_pc_reuse", "Keep the preconditioner across Newton iterations while that is cheaper",
-                             "", flag, &flag, nullptr));
+                             "PreconditionerReuse", flag, &flag, nullptr));
   PetscCall(PetscOptionsReal("-dipc_pc_reuse_setup_cost",
-                             "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)", "",
+                             "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)",
+                             "PreconditionerReuse",
                              setup_cost, &setup_cost, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_lag_preconditioner", &lag_set));

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "assembly/hex8_mass.hpp"
 #include "nonlinear/body_force_form.hpp"
@@ -51,13 +50,8 @@ PetscErrorCode assemble_node_masses(const DistributedMesh& mesh, const ElementDa
 }  // namespace
 
 TimeIntegrator::~TimeIntegrator() {
-  VecDestroy(&X_);
-  VecDestroy(&x_);
-  VecDestroy(&x_n_);
-  VecDestroy(&v_);
-  VecDestroy(&x_hat_);
-  VecDestroy(&x_local_);
-  VecDestroy(&x_lag_);
+  // A destructor cannot return the error: a failing destroy (a defect) aborts.
+  for (Vec* v : {&X_, &x_, &x_n_, &v_, &x_hat_, &x_local_, &x_lag_}) PetscCallAbort(PETSC_COMM_SELF, VecDestroy(v));
 }
 
 PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemSetup& problem,
@@ -80,7 +74,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
   }
 
-  // Only the terms this problem needs (DESIGN.md: "model only what a scene requires").
+  // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
   const bool on_device = space == MemorySpace::device;
@@ -112,10 +106,12 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     // asked for (stiffness ratio 0: off by default), which is refused rather than ignored.
     bool mixed = false;
     PetscCall(mixed_solve_requested(mesh.comm, true, 0.0, &mixed));
-    if (mixed)
-      throw std::runtime_error("-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the "
-                               "CPU elastic form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the "
-                               "Krylov solve of the full Hessian on the GPU");
+    // Bad input: raised as PETSC_ERR_USER_INPUT, which the program reports with exit status 1
+    // (a C++ exception would unwind through PETSc's call stack).
+    PetscCheck(!mixed, mesh.comm, PETSC_ERR_USER_INPUT,
+               "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
+               "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
+               "Hessian on the GPU");
   }
   if (on_device)
     forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
@@ -132,7 +128,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     // κ bounds from the average nodal mass (IPC supplement).
     double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
     for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];
-    MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm);
+    PetscCallMPI(MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm));
     contact->set_kappa_bounds(total[0] / std::max(1.0, total[1]), problem.length_scale);
     contact_ = contact.get();
     forms.push_back(std::move(contact));
@@ -192,8 +188,9 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   if (contact_) {
     std::string problem_at_start;
     PetscCall(contact_state_problem(x_, &problem_at_start));
-    if (!problem_at_start.empty())
-      throw std::runtime_error("the initial state is not intersection-free: " + problem_at_start);
+    // Bad input (exit status 1); the message is the same on every rank.
+    PetscCheck(problem_at_start.empty(), mesh.comm, PETSC_ERR_USER_INPUT, "the initial state is not intersection-free: %s",
+               problem_at_start.c_str());
   }
   PetscFunctionReturn(0);
 }
@@ -211,20 +208,20 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
   }));
   long total = 0;
   double global_min = 0;
-  MPI_Allreduce(&crossings, &total, 1, MPI_LONG, MPI_SUM, mesh_->comm);
-  MPI_Allreduce(&d_min, &global_min, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  PetscCallMPI(MPI_Allreduce(&crossings, &total, 1, MPI_LONG, MPI_SUM, mesh_->comm));
+  PetscCallMPI(MPI_Allreduce(&d_min, &global_min, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
   if (total == 0 && global_min > 0) PetscFunctionReturn(0);
   // The message of the lowest rank that saw a crossing.
   int rank, size;
-  MPI_Comm_rank(mesh_->comm, &rank);
-  MPI_Comm_size(mesh_->comm, &size);
+  PetscCallMPI(MPI_Comm_rank(mesh_->comm, &rank));
+  PetscCallMPI(MPI_Comm_size(mesh_->comm, &size));
   int mine = crossings > 0 ? rank : size, lowest = size;
-  MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, mesh_->comm);
+  PetscCallMPI(MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, mesh_->comm));
   if (lowest < size) {
     int length = rank == lowest ? static_cast<int>(first.size()) : 0;
-    MPI_Bcast(&length, 1, MPI_INT, lowest, mesh_->comm);
+    PetscCallMPI(MPI_Bcast(&length, 1, MPI_INT, lowest, mesh_->comm));
     first.resize(length);
-    MPI_Bcast(first.data(), length, MPI_CHAR, lowest, mesh_->comm);
+    PetscCallMPI(MPI_Bcast(first.data(), length, MPI_CHAR, lowest, mesh_->comm));
     *problem = std::to_string(total) + " edge-triangle crossing(s), e.g. " + first;
   } else {
     std::string pair;
@@ -236,7 +233,7 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
 
 PetscInt TimeIntegrator::num_dofs() const {
   PetscInt n = 0;
-  VecGetSize(x_, &n);
+  PetscCallAbort(PetscObjectComm(reinterpret_cast<PetscObject>(x_)), VecGetSize(x_, &n));
   return n;
 }
 
@@ -478,7 +475,7 @@ PetscErrorCode TimeIntegrator::initialize_barrier_stiffness() {
   double local = 0, d2 = 0;
   PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) { local = contact_->min_distance(xl); }));
   local *= local;
-  MPI_Allreduce(&local, &d2, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  PetscCallMPI(MPI_Allreduce(&local, &d2, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
   const double eps2 = contact_->min_distance_threshold2();
   if (previous_min_distance2_ >= 0 && previous_min_distance2_ < eps2 && d2 < eps2 && d2 < previous_min_distance2_)
     kappa = std::min(contact_->kappa_max(), 2 * kappa);
@@ -518,9 +515,9 @@ PetscErrorCode TimeIntegrator::collect_contact_stats(StepReport* report) {
   for (long n : local_kinds) local_pairs += n;
   const ContactStats& st = contact_->stats();
   double times[4] = {st.broad_phase_seconds, st.ccd_seconds, st.barrier_seconds, st.exchange_seconds}, worst[4];
-  MPI_Allreduce(times, worst, 4, MPI_DOUBLE, MPI_MAX, mesh_->comm);
-  MPI_Allreduce(&local_pairs, &report->contact_pairs, 1, MPI_LONG, MPI_SUM, mesh_->comm);
-  MPI_Allreduce(&local_d, &report->min_distance, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm);
+  PetscCallMPI(MPI_Allreduce(times, worst, 4, MPI_DOUBLE, MPI_MAX, mesh_->comm));
+  PetscCallMPI(MPI_Allreduce(&local_pairs, &report->contact_pairs, 1, MPI_LONG, MPI_SUM, mesh_->comm));
+  PetscCallMPI(MPI_Allreduce(&local_d, &report->min_distance, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
   report->kappa = contact_->kappa();
   report->alpha_ccd = report->newton.min_alpha_ccd;
   report->broad_phase_seconds = worst[0], report->ccd_seconds = worst[1];

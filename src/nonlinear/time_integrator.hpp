@@ -1,4 +1,4 @@
-// TimeIntegrator: implicit Euler as incremental-potential minimisation (DESIGN.md §1), or a
+// TimeIntegrator: implicit Euler as incremental-potential minimisation (docs/design.md §1.1), or a
 // sequence of static solves. Builds only the forms the problem needs (no inertia in a static
 // solve, no body force when g = 0), owns the distributed state and advances it step by step.
 #pragma once
@@ -69,8 +69,9 @@ class TimeIntegrator {
   TimeIntegrator(const TimeIntegrator&) = delete;
   TimeIntegrator& operator=(const TimeIntegrator&) = delete;
 
-  // With contact, an initial state whose surfaces intersect or touch is an error (thrown as
-  // std::runtime_error with the bodies and nodes).
+  // With contact, an initial state whose surfaces intersect or touch is bad input: a PETSc
+  // error PETSC_ERR_USER_INPUT naming the bodies and nodes (app/petsc_input_errors.hpp), as is
+  // -dipc_mixed_solve with device forms.
   // space: where the element and nodal forms (and contact, where ported) evaluate.
   PetscErrorCode setup(const DistributedMesh& mesh, const ProblemSetup& problem, const StepControl& control,
                        MemorySpace space = MemorySpace::host);

@@ -19,13 +19,14 @@ PetscErrorCode run_default(RunResult* result, std::string* preset) {
   PetscFunctionBeginUser;
   RunOptions options;
   std::vector<std::string> inserted;
+  const Scene scene = default_scene();
   PetscCall(apply_solver_preset(PETSC_COMM_WORLD, preset, &inserted));
-  PetscCall(read_run_options(PETSC_COMM_WORLD, &options));
+  PetscCall(read_run_options(PETSC_COMM_WORLD, scene, &options));
   options.steps = 12;  // the cube lands at step 10
   options.write_output = false;
   options.quiet = true;
   options.report = false;
-  PetscCall(run_scene(default_scene(), PETSC_COMM_WORLD, options, result));
+  PetscCall(run_scene(scene, PETSC_COMM_WORLD, options, result));
   for (const std::string& name : inserted) PetscCall(PetscOptionsClearValue(nullptr, name.c_str()));
   PetscFunctionReturn(0);
 }

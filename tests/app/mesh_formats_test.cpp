@@ -15,6 +15,7 @@
 #include "mesh/gmsh_writer.hpp"
 #include "mesh/triangle_surface_reader.hpp"
 #include "mesh/voxelizer.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -28,7 +29,7 @@ Scene box_scene(const std::string& mesh_file, const std::string& clamped = "bott
       R"( "dirichlet": [{"selection": "box.)" + clamped + R"(", "type": "fixed"}]},)"
       R"( "time": {"dt": 0.02, "steps": 5}, "contact": {"enabled": false}})";
   return parse_scene_text(text, "mesh_formats_test",
-                          std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data");
+                          dipc::test::source_dir() + "/tests/mesh/data");
 }
 
 RunResult run(const Scene& scene, MPI_Comm comm, bool setup_only = false) {
@@ -107,7 +108,7 @@ TEST(VoxelisedMesh, RunsAndMatchesOneRank) {
   const std::string path = ::testing::TempDir() + "voxelised_tetrahedron.msh";
   if (rank == 0) {
     const HexMesh mesh =
-        voxelize(read_triangle_surface(std::string(DIPC_SOURCE_DIR) +
+        voxelize(read_triangle_surface(dipc::test::source_dir() +
                                        "/tests/mesh/data/surfaces/tetrahedron_binary.stl"),
                  0, 0.2);
     QuadGroup bottom{"base", {}};

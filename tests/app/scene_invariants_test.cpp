@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/simulation.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -15,7 +16,7 @@ class SceneInvariants : public ::testing::TestWithParam<std::string> {};
 TEST_P(SceneInvariants, EveryStepKeepsTheInvariants) {
   const std::string name = GetParam();
   const Scene scene = name == "default" ? default_scene()
-                                        : parse_scene_file(std::string(DIPC_SOURCE_DIR) + "/scenes/" + name + ".json");
+                                        : parse_scene_file(dipc::test::source_dir() + "/scenes/" + name + ".json");
   ASSERT_TRUE(scene.contact.enabled) << name << " is not a contact scene";
   RunOptions options;
   options.write_output = false;
@@ -31,7 +32,7 @@ TEST_P(SceneInvariants, EveryStepKeepsTheInvariants) {
 
 INSTANTIATE_TEST_SUITE_P(Shipped, SceneInvariants,
                          ::testing::Values("default", "boxes_drop", "roller_squeeze", "fast_impact", "friction_stack",
-                                           "block_on_plane", "box_on_obj_ramp"),
+                                           "block_on_plane", "box_on_obj_ramp", "funnel_drop", "obj_rollers"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "app/solver_presets.hpp"
 #include "displacement_difference.hpp"
 #include "io/default_scene.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc {
 namespace {
@@ -99,7 +100,7 @@ PetscErrorCode run_preset(const Scene& scene, const std::string& preset, int ste
   RunOptions options = quiet(steps);
   std::vector<std::string> inserted;
   PetscCall(apply_solver_preset(PETSC_COMM_WORLD, &options.preset, &inserted));
-  PetscCall(read_run_options(PETSC_COMM_WORLD, &options));
+  PetscCall(read_run_options(PETSC_COMM_WORLD, scene, &options));
   options.steps = steps;
   PetscCall(run_scene(scene, PETSC_COMM_WORLD, options, result));
   for (const std::string& name : inserted) PetscCall(PetscOptionsClearValue(nullptr, name.c_str()));
@@ -113,7 +114,7 @@ TEST_P(PresetAccuracy, TighterIsNeverWorseAndWithinTheStatedBound) {
   const SmallScene& s = GetParam();
   const Scene scene = std::string(s.name) == "default"
                           ? default_scene()
-                          : parse_scene_file(std::string(DIPC_SOURCE_DIR) + "/scenes/" + s.name + ".json");
+                          : parse_scene_file(dipc::test::source_dir() + "/scenes/" + s.name + ".json");
   RunResult reference, rest;
   PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-10");
   PetscOptionsSetValue(nullptr, "-dipc_pc_reuse", "0");

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "support/source_tree.hpp"
+
 namespace {
 
 struct Outcome {
@@ -33,7 +35,7 @@ Outcome shell(const std::string& script) {
   return o;
 }
 
-const std::string scene = std::string(DIPC_SOURCE_DIR) + "/tests/app/data/small_box.json";
+const std::string scene = dipc::test::source_dir() + "/tests/app/data/small_box.json";
 
 std::string launcher(int ranks) { return ranks > 1 ? std::string(DIPC_MPIEXEC) + " -n 2 " : ""; }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mesh/hex8_reference.hpp"
+#include "support/finite_difference.hpp"
 
 namespace dipc::test {
 
@@ -101,37 +102,22 @@ inline double max_asymmetry(const double* A, int n) {
   return m;
 }
 
-// Central differences, step h, of an element function with the signature of
-// hex8_neo_hookean(X, x, lambda, mu, energy, gradient, hessian): the gradient of its energy
-// (24) and the Jacobian of its gradient (24x24, row-major). False if a perturbed state fails.
+// Central differences (tests/support/finite_difference.hpp), step h, of an element function
+// with the signature of hex8_neo_hookean(X, x, lambda, mu, energy, gradient, hessian): the
+// gradient of its energy (24) and the Jacobian of its gradient (24x24, row-major). False if a
+// perturbed state fails.
 template <class Element>
 bool central_difference_gradient(Element element, const std::array<double, 24>& X, const std::array<double, 24>& x,
                                  double lambda, double mu, double h, double g_fd[24]) {
-  for (int k = 0; k < 24; ++k) {
-    std::array<double, 24> xp = x, xm = x;
-    xp[k] += h;
-    xm[k] -= h;
-    double ep, em;
-    if (!element(X.data(), xp.data(), lambda, mu, &ep, nullptr, nullptr)) return false;
-    if (!element(X.data(), xm.data(), lambda, mu, &em, nullptr, nullptr)) return false;
-    g_fd[k] = (ep - em) / (2 * h);
-  }
-  return true;
+  const auto energy = [&](const double* y, double* e) { return element(X.data(), y, lambda, mu, e, nullptr, nullptr); };
+  return central_difference(energy, x.data(), 24, 1, h, g_fd);
 }
 
 template <class Element>
 bool central_difference_hessian(Element element, const std::array<double, 24>& X, const std::array<double, 24>& x,
                                 double lambda, double mu, double h, double H_fd[576]) {
-  for (int l = 0; l < 24; ++l) {
-    std::array<double, 24> xp = x, xm = x;
-    xp[l] += h;
-    xm[l] -= h;
-    double gp[24], gm[24];
-    if (!element(X.data(), xp.data(), lambda, mu, nullptr, gp, nullptr)) return false;
-    if (!element(X.data(), xm.data(), lambda, mu, nullptr, gm, nullptr)) return false;
-    for (int k = 0; k < 24; ++k) H_fd[24 * k + l] = (gp[k] - gm[k]) / (2 * h);
-  }
-  return true;
+  const auto gradient = [&](const double* y, double* g) { return element(X.data(), y, lambda, mu, nullptr, g, nullptr); };
+  return central_difference(gradient, x.data(), 24, 24, h, H_fd);
 }
 
 }  // namespace dipc::test

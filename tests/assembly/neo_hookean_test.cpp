@@ -72,12 +72,8 @@ TEST(NeoHookean, StressIsCentralDifferenceOfEnergy) {
       const double h = 1e-6 * s.min_sigma;
       double P[9], P_fd[9];
       neo_hookean_stress(s.F.data(), lambda, mu, P);
-      for (int k = 0; k < 9; ++k) {
-        test::Mat3 Fp = s.F, Fm = s.F;
-        Fp[k] += h;
-        Fm[k] -= h;
-        P_fd[k] = (neo_hookean_energy(Fp.data(), lambda, mu) - neo_hookean_energy(Fm.data(), lambda, mu)) / (2 * h);
-      }
+      const auto energy = [&](const double* F, double* e) { *e = neo_hookean_energy(F, lambda, mu); };
+      test::central_difference(energy, s.F.data(), 9, 1, h, P_fd);
       // mu is the stress scale where P itself vanishes (F a rotation).
       EXPECT_LT(test::max_abs_difference(P, P_fd, 9), 1e-6 * (test::max_abs(P, 9) + mu))
           << "E=" << m.E << " nu=" << m.nu << " J=" << hex8::det3(s.F.data());
@@ -94,15 +90,8 @@ TEST(NeoHookean, StressDerivativeIsCentralDifferenceOfStress) {
       double C[81];
       neo_hookean_stress_derivative(s.F.data(), lambda, mu, C);
       double C_fd[81];
-      for (int l = 0; l < 9; ++l) {
-        test::Mat3 Fp = s.F, Fm = s.F;
-        Fp[l] += h;
-        Fm[l] -= h;
-        double Pp[9], Pm[9];
-        neo_hookean_stress(Fp.data(), lambda, mu, Pp);
-        neo_hookean_stress(Fm.data(), lambda, mu, Pm);
-        for (int k = 0; k < 9; ++k) C_fd[9 * k + l] = (Pp[k] - Pm[k]) / (2 * h);
-      }
+      const auto stress = [&](const double* F, double* P) { neo_hookean_stress(F, lambda, mu, P); };
+      test::central_difference(stress, s.F.data(), 9, 9, h, C_fd);
       EXPECT_LT(test::max_abs_difference(C, C_fd, 81), 1e-6 * test::max_abs(C, 81))
           << "E=" << m.E << " nu=" << m.nu << " J=" << hex8::det3(s.F.data());
       EXPECT_EQ(test::max_asymmetry(C, 9), 0.0);

@@ -4,7 +4,8 @@
 // cube boundaries with swept and static boxes, self-contact on and off, ownership filters,
 // boxes that only touch, coincident vertices, empty and one-primitive inputs and surfaces of
 // about 100K triangles; the same errors with the same messages; and the segment search as
-// ContactForm forms its boxes.
+// ContactForm forms its boxes, also with triangle-mesh obstacles (vertices on prescribed
+// segments, pairs owned by the body face's owner).
 // Skips where no GPU is present; runs on the lent GPU machine.
 #include <gtest/gtest.h>
 
@@ -448,6 +449,112 @@ TEST(DeviceBroadPhase, SegmentSearchFormsBoxesAsContactForm) {
   for (int v = 0; v < nv; ++v)
     for (int c = 0; c < 3; ++c) p[3 * node[v] + c] = u(rng) - (c == 0 && s.groups[v] == 1 ? 0.03 : 0.0);
   expect_segment("moving");
+}
+
+TEST(DeviceBroadPhase, PrescribedVerticesAndFaceOwnedPairsAsContactForm) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  // A body (a deformed cube, group 0, its vertices rows of x and p) and an obstacle after it
+  // (a lattice cube in group −1, which never meets itself, its vertices rows of prescribed
+  // start and end positions): ContactForm's triangle-mesh obstacles. The obstacle's vertex–face
+  // pairs belong to the owner of the body face (kFaceDecides, owned_face), its edges have the
+  // largest global id (the body edge's owner decides).
+  const TestSurface body = deformed_cube(7, {0.0, 0.0, 0.0}, 0);
+  TestSurface obstacle = testing::cube_boundary(5, 1.0, {1.02, 0.15, 0.1});
+  const TestSurface s = join(body, obstacle);
+  const int nb = body.num_vertices(), no = obstacle.num_vertices(), nv = nb + no;
+  const int body_edges = static_cast<int>(body.edges.size() / 2), body_faces = static_cast<int>(body.faces.size() / 3);
+  Filters f = random_ownership(s, 41, 0.5);
+  f.groups = true;
+  f.self_contact = {1};  // the body touches itself; the obstacle (−1) never does
+  std::vector<std::int32_t> groups = s.groups;
+  for (int v = nb; v < nv; ++v) groups[v] = -1, f.owned_vertex[v] = device::kFaceDecides;
+  for (std::size_t e = body_edges; e < s.edges.size() / 2; ++e)
+    f.edge_gid[e] = std::numeric_limits<std::int64_t>::max(), f.owned_edge[e] = 0;
+  std::vector<char> owned_face(s.faces.size() / 3, 0);
+  std::mt19937 rng(43);
+  for (int k = 0; k < body_faces; ++k) owned_face[k] = rng() % 2;
+  device::BroadPhaseSurface d = device_surface(s, f);
+  d.vertex_group = groups;
+  d.owned_face = owned_face;
+  // Body vertices are shuffled rows of larger node arrays; obstacle vertex k is row −2 − k.
+  const int num_nodes = 2 * nb + 3;
+  std::vector<std::int32_t> node(num_nodes);
+  for (int n = 0; n < num_nodes; ++n) node[n] = n;
+  std::shuffle(node.begin(), node.end(), rng);
+  node.resize(nb);
+  for (int k = 0; k < no; ++k) node.push_back(-2 - k);
+  d.vertex_node = node;
+  device::DeviceBroadPhase search;
+  search.upload(d);
+
+  // ContactForm's host filter with the same data.
+  CandidateFilter filter;
+  filter.allow_groups = [](int a, int b) {
+    if (a < 0 || b < 0) return a >= 0 || b >= 0;
+    return a != b || a == 0;
+  };
+  filter.keep_vertex_face = [&](std::int32_t v, std::int32_t face) {
+    return f.owned_vertex[v] == device::kFaceDecides ? owned_face[face] != 0 : f.owned_vertex[v] != 0;
+  };
+  filter.keep_edge_edge = [&](std::int32_t a, std::int32_t b) {
+    return f.owned_edge[f.edge_gid[a] < f.edge_gid[b] ? a : b] != 0;
+  };
+
+  std::vector<double> x(3 * num_nodes, 1e300), p(3 * num_nodes, 0.0);  // unused rows stay far away
+  for (int v = 0; v < nb; ++v)
+    for (int c = 0; c < 3; ++c) x[3 * node[v] + c] = s.x0[3 * v + c];
+  std::vector<double> start(s.x0.begin() + 3 * nb, s.x0.end()), end = start;
+  device::Array<double> x_device("test x"), p_device("test p"), start_device("test start"), end_device("test end");
+  x_device.upload(x);
+  auto expect_segment = [&](const std::string& label, bool obstacle_moving) {
+    SCOPED_TRACE(label);
+    p_device.upload(p);
+    start_device.upload(start);
+    end_device.upload(end);
+    Candidates got, want;
+    search.find_candidates_on_segment(x_device.data(), p_device.data(), 0.01, &got,
+                                      {start_device.data(), end_device.data(), obstacle_moving});
+    TestSurface host = s;
+    host.groups = groups;
+    host.x1.assign(3 * nv, 0.0);
+    bool moving = obstacle_moving;
+    for (int v = 0; v < nb; ++v)
+      for (int c = 0; c < 3; ++c) {
+        host.x1[3 * v + c] = host.x0[3 * v + c] + p[3 * node[v] + c];
+        moving = moving || p[3 * node[v] + c] != 0.0;
+      }
+    std::copy(start.begin(), start.end(), host.x0.begin() + 3 * nb);
+    std::copy(end.begin(), end.end(), host.x1.begin() + 3 * nb);
+    if (!moving) host.x1.clear();
+    find_candidates(host.view(), 0.01, &want, filter);
+    EXPECT_TRUE(same_pairs(got.vertex_face, want.vertex_face));
+    EXPECT_TRUE(same_pairs(got.edge_edge, want.edge_edge));
+    // Not vacuous: pairs of the obstacle's vertices, of its faces and of its edges.
+    auto count = [](const Pairs& pairs, auto&& test) {
+      return std::count_if(pairs.begin(), pairs.end(), [&](const auto& q) { return test(q[0], q[1]); });
+    };
+    EXPECT_GT(count(want.vertex_face, [&](int v, int) { return v >= nb; }), 0);
+    EXPECT_GT(count(want.vertex_face, [&](int v, int face) { return v < nb && face >= body_faces; }), 0);
+    EXPECT_GT(count(want.edge_edge, [&](int, int b) { return b >= body_edges; }), 0);
+    return want.vertex_face.size() + want.edge_edge.size();
+  };
+  // 0.02 apart: pairs between body and obstacle at rest (inflation 0.01 on each side).
+  const std::size_t at_rest = expect_segment("all still", false);
+  // The obstacle alone moves 0.05 towards the body (a prescribed motion): more pairs.
+  for (std::size_t k = 0; k < end.size(); k += 3) end[k] -= 0.05;
+  EXPECT_GT(expect_segment("obstacle moving", true), at_rest);
+  // Both move.
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  for (int v = 0; v < nb; ++v)
+    for (int c = 0; c < 3; ++c) p[3 * node[v] + c] = u(rng);
+  expect_segment("body and obstacle moving", true);
+
+  // Prescribed rows need prescribed positions.
+  Candidates none;
+  EXPECT_NE(error_of([&] { search.find_candidates_on_segment(x_device.data(), p_device.data(), 0.01, &none); }), "");
+  // kFaceDecides needs owned_face.
+  d.owned_face.clear();
+  EXPECT_NE(error_of([&] { search.upload(d); }), "");
 }
 
 }  // namespace

@@ -105,8 +105,8 @@ TEST(PairFriction, GradientAndHessianMatchFiniteDifferences) {
         double g[12], H[144];
         friction_gradient(x.data(), xn.data(), f, g);
         friction_hessian_unprojected(x.data(), xn.data(), f, H);
-        const auto g_fd = test::fd_gradient(energy, x.data(), 12, h);
-        const auto H_fd = test::fd_jacobian(gradient, x.data(), 12, 12, h);
+        const auto g_fd = test::central_difference_gradient(energy, x.data(), 12, h);
+        const auto H_fd = test::central_difference_jacobian(gradient, x.data(), 12, 12, h);
         EXPECT_LE(test::max_abs_diff(g, g_fd.data(), 12), 1e-6 * test::max_abs(g, 12))
             << c.name << " eps " << eps << " |u|/eps " << ratio;
         EXPECT_LE(test::max_abs_diff(H, H_fd.data(), 144), 1e-6 * test::max_abs(H, 144))
@@ -130,7 +130,7 @@ TEST(PairFriction, ZeroDisplacementIsTheMinimumWithAStickingSpringHessian) {
       // differentiable there, so finite differences apply.
       friction_hessian_unprojected(xn.data(), xn.data(), f, H);
       const auto gradient = [&](const double* y, double* out) { friction_gradient(y, xn.data(), f, out); };
-      const auto H_fd = test::fd_jacobian(gradient, xn.data(), 12, 12, 1e-7 * eps);
+      const auto H_fd = test::central_difference_jacobian(gradient, xn.data(), 12, 12, 1e-7 * eps);
       EXPECT_LE(test::max_abs_diff(H, H_fd.data(), 144), 1e-5 * test::max_abs(H, 144)) << c.name << " " << eps;
       double Hp[144];
       friction_hessian(xn.data(), xn.data(), f, Hp);
@@ -313,8 +313,8 @@ TEST(PointPlaneFriction, GradientAndHessianMatchFiniteDifferences) {
         double g[3], H[9];
         friction_gradient(s.x.data(), s.xn.data(), s.f, g);
         friction_hessian_unprojected(s.x.data(), s.xn.data(), s.f, H);
-        const auto g_fd = test::fd_gradient(energy, s.x.data(), 3, h);
-        const auto H_fd = test::fd_jacobian(gradient, s.x.data(), 3, 3, h);
+        const auto g_fd = test::central_difference_gradient(energy, s.x.data(), 3, h);
+        const auto H_fd = test::central_difference_jacobian(gradient, s.x.data(), 3, 3, h);
         EXPECT_LE(test::max_abs_diff(g, g_fd.data(), 3), 1e-6 * test::max_abs(g, 3)) << eps << " " << ratio;
         EXPECT_LE(test::max_abs_diff(H, H_fd.data(), 9), 1e-6 * test::max_abs(H, 9)) << eps << " " << ratio;
         double Hp[9];

@@ -9,6 +9,8 @@
 #include <random>
 #include <vector>
 
+#include "support/finite_difference.hpp"
+
 namespace dipc::test {
 
 // A 3-vector whose arithmetic operators are found by argument-dependent lookup.
@@ -100,43 +102,6 @@ inline std::array<double, 2> reference_edge_edge(const Vec3& a0, const Vec3& a1,
   consider(reference_segment_parameter(b0, a0, a1), 0);
   consider(reference_segment_parameter(b1, a0, a1), 1);
   return best;
-}
-
-// Central differences of a scalar function; the step actually taken, (x + h) - x, is used as
-// the denominator so the rounding of x + h does not bias the quotient.
-inline std::vector<double> fd_gradient(const std::function<double(const double*)>& f, const double* x, int n,
-                                       double h) {
-  std::vector<double> xp(x, x + n), g(n);
-  for (int i = 0; i < n; ++i) {
-    const double xi = x[i];
-    xp[i] = xi + h;
-    const double hp = xp[i] - xi;
-    const double fp = f(xp.data());
-    xp[i] = xi - h;
-    const double hm = xi - xp[i];
-    const double fm = f(xp.data());
-    xp[i] = xi;
-    g[i] = (fp - fm) / (hp + hm);
-  }
-  return g;
-}
-
-// Central differences of a vector function with m outputs: J[m_i * n + j] = d f_i / d x_j.
-inline std::vector<double> fd_jacobian(const std::function<void(const double*, double*)>& f, const double* x, int n,
-                                       int m, double h) {
-  std::vector<double> xp(x, x + n), fp(m), fm(m), J(m * n);
-  for (int j = 0; j < n; ++j) {
-    const double xj = x[j];
-    xp[j] = xj + h;
-    const double hp = xp[j] - xj;
-    f(xp.data(), fp.data());
-    xp[j] = xj - h;
-    const double hm = xj - xp[j];
-    f(xp.data(), fm.data());
-    xp[j] = xj;
-    for (int i = 0; i < m; ++i) J[i * n + j] = (fp[i] - fm[i]) / (hp + hm);
-  }
-  return J;
 }
 
 inline double max_abs(const double* a, int n) {

@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include "support/finite_difference.hpp"
+
 namespace dipc::contact::test {
 
 using Vec3 = std::array<double, 3>;
@@ -187,24 +189,11 @@ struct FiniteDifferenceErrors {
 
 inline FiniteDifferenceErrors finite_difference_errors(const Derivatives& f, const double* x0, double h,
                                                        double gradient_floor, double hessian_floor) {
-  std::array<double, 12> x;
-  std::copy(x0, x0 + 12, x.begin());
   double g[12], H[144], g_fd[12], H_fd[144];
-  f.gradient(x.data(), g);
-  f.hessian(x.data(), H);
-  for (int i = 0; i < 12; ++i) {
-    const double xi = x[i];
-    double gp[12], gm[12];
-    x[i] = xi + h;
-    const double fp = f.value(x.data());
-    f.gradient(x.data(), gp);
-    x[i] = xi - h;
-    const double fm = f.value(x.data());
-    f.gradient(x.data(), gm);
-    x[i] = xi;
-    g_fd[i] = (fp - fm) / (2.0 * h);
-    for (int j = 0; j < 12; ++j) H_fd[12 * j + i] = (gp[j] - gm[j]) / (2.0 * h);
-  }
+  f.gradient(x0, g);
+  f.hessian(x0, H);
+  dipc::test::central_difference([&f](const double* x, double* value) { *value = f.value(x); }, x0, 12, 1, h, g_fd);
+  dipc::test::central_difference(f.gradient, x0, 12, 12, h, H_fd);
   double eg = 0.0, eh = 0.0, asym = 0.0;
   for (int i = 0; i < 12; ++i) eg = std::max(eg, std::abs(g[i] - g_fd[i]));
   for (int i = 0; i < 144; ++i) eh = std::max(eh, std::abs(H[i] - H_fd[i]));

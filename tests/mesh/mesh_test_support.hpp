@@ -5,11 +5,12 @@
 
 #include "mesh/hex8_reference.hpp"
 #include "mesh/hex_mesh.hpp"
+#include "support/source_tree.hpp"
 
 namespace dipc::test {
 
 inline std::string mesh_data(const std::string& file) {
-  return std::string(DIPC_SOURCE_DIR) + "/tests/mesh/data/" + file;
+  return dipc::test::source_dir() + "/tests/mesh/data/" + file;
 }
 
 inline void element_coordinates(const HexMesh& mesh, std::size_t e, double X[24]) {

@@ -5,7 +5,10 @@
 // smallest distance over them), the same COO pattern, energy, gradient and Hessian values to
 // 1e-12 relative to the largest entry, a pattern change followed on the device, and a CCD step
 // bound no larger than the host's (the host shortens each pair's search to the smallest time so
-// far, see contact_form.hpp). Skips where no GPU is present.
+// far, see contact_form.hpp). The same with triangle-mesh obstacles (a box hovering over a
+// pyramid and a moving roof, as contact_obstacles_test.cpp): the same active pairs of every
+// body–obstacle kind, terms, pattern and, bit for bit, CCD bound with the obstacle moving, and
+// terms after the obstacle moved on. Skips where no GPU is present.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +18,7 @@
 
 #include "contact_test_scene.hpp"
 #include "device/device_runtime.hpp"
+#include "mesh/box_generator.hpp"
 #include "nonlinear/contact_form.hpp"
 
 namespace dipc {
@@ -37,11 +41,14 @@ struct TwoForms {
   std::unique_ptr<ContactForm> host, gpu;
   device::Array<double> x_device{"test x"}, p_device{"test p"};
 
-  TwoForms() {
-    mesh = distribute_mesh(slab_and_box(0.29), PETSC_COMM_WORLD);
-    const ContactParameters params = slab_and_box_parameters();
+  TwoForms(const HexMesh& whole = slab_and_box(0.29), const ContactParameters& params = slab_and_box_parameters()) {
+    mesh = distribute_mesh(whole, PETSC_COMM_WORLD);
     host = std::make_unique<ContactForm>(mesh, params);
     gpu = std::make_unique<ContactForm>(mesh, params, MemorySpace::device);
+  }
+
+  void move_obstacles(double t0, double t1) {
+    for (ContactForm* f : {host.get(), gpu.get()}) f->move_obstacles(t0, t1);
   }
 
   // The hooks of both forms on the segment x + αp, α ∈ [0, 1], each prepare_segment in its
@@ -141,6 +148,103 @@ TEST(ContactFormGpu, DeviceFormMatchesHostForm) {
   EXPECT_GT(f.gpu->stats().transfer_seconds, 0.0);
   EXPECT_GT(f.gpu->stats().barrier_seconds, 0.0);
   EXPECT_GT(f.gpu->stats().ccd_seconds, 0.0);
+}
+
+// The obstacles of contact_obstacles_test.cpp under a 2×2×2 box whose bottom face is at z = 0.3:
+// a pyramid whose apex is kGap below the box's bottom face (obstacle vertex–body triangle
+// pairs) and a roof whose ridge runs kGap under the box's bottom edges (body edge–obstacle edge
+// pairs) and whose slopes lie under its bottom vertices (body vertex–obstacle triangle pairs),
+// here rising at `roof_velocity`.
+constexpr double kGap = 0.005;
+
+ContactParameters obstacle_parameters(const std::array<double, 3>& roof_velocity) {
+  ContactParameters params;
+  params.dhat = 0.02;
+  params.kappa = 1.0;
+  params.kappa_adaptive = false;
+  params.self_contact = {1};
+  const double top = 0.3 - kGap;
+  ContactParameters::Obstacle pyramid;
+  pyramid.name = "pyramid";
+  pyramid.source = "test";
+  pyramid.rest = {{0.35, 0.30, top}, {0.15, 0.10, 0.1}, {0.55, 0.10, 0.1}, {0.55, 0.50, 0.1}, {0.15, 0.50, 0.1}};
+  pyramid.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+  ContactParameters::Obstacle roof;
+  roof.name = "roof";
+  roof.source = "test";
+  const double eave = top - 0.03;
+  roof.rest = {{0.6, 0.0, top}, {0.6, 0.8, top}, {0.3, 0.0, eave}, {0.3, 0.8, eave}, {0.9, 0.0, eave}, {0.9, 0.8, eave}};
+  roof.triangles = {{2, 0, 1}, {2, 1, 3}, {0, 4, 5}, {0, 5, 1}};
+  roof.motion.kind = PrescribedMotion::Kind::Velocity;
+  roof.motion.velocity = roof_velocity;
+  params.obstacles = {pyramid, roof};
+  return params;
+}
+
+TEST(ContactFormGpu, ObstaclesMatchHostForm) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  if (size != 1) GTEST_SKIP() << "one rank only: the test fills the local arrays itself";
+  TwoForms f(generate_box({0.5, 0.5, 0.5}, {2, 2, 2}, {0.21, 0.17, 0.3}, 0, "box"),
+             obstacle_parameters({0.02, 0.01, 0.02}));
+
+  // x: the rest state jittered by 1e-3; p: the box moves 0.01 down (through the obstacles,
+  // kGap below), while the roof rises 0.002 from t = 0 to 0.1.
+  const int n = f.mesh.num_local_nodes();
+  std::vector<double> x(3 * n), p(3 * n);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      x[3 * i + c] = f.mesh.coordinates[i][c] + 1e-3 * u(rng);
+      p[3 * i + c] = 1e-4 * u(rng) - (c == 2 ? 0.01 : 0.0);
+    }
+  f.move_obstacles(0.0, 0.1);
+  f.prepare(x, p);
+
+  // The device broad phase found the host's candidates: the same active pairs, in the same
+  // order, with every body–obstacle kind present.
+  const auto host_pairs = f.host->active_pairs(x.data());
+  const auto gpu_pairs = f.gpu->active_pairs(x.data());
+  ASSERT_EQ(gpu_pairs.size(), host_pairs.size());
+  int kinds[3] = {0, 0, 0};  // body vertex–obstacle triangle, body edge–obstacle edge, obstacle vertex–body triangle
+  for (std::size_t i = 0; i < host_pairs.size(); ++i) {
+    const auto& a = host_pairs[i].info;
+    const auto& b = gpu_pairs[i].info;
+    EXPECT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.nodes, b.nodes);
+    EXPECT_EQ(a.weight, b.weight);
+    EXPECT_EQ(a.eps_x, b.eps_x);
+    if (is_obstacle_node(a.nodes[0])) ++kinds[2];
+    else if (a.kind == 0 && is_obstacle_node(a.nodes[1])) ++kinds[0];
+    else if (a.kind == 1 && is_obstacle_node(a.nodes[2])) ++kinds[1];
+  }
+  for (int k = 0; k < 3; ++k) EXPECT_GT(kinds[k], 0) << "no active body–obstacle pair of kind " << k;
+  f.expect_same_terms(x);
+
+  // CCD with the roof moving: the same bound bit for bit (both search every pair on [0, 1]).
+  f.x_device.upload(x);
+  const double host_step = f.host->max_step(x.data(), p.data());
+  const double gpu_step = f.gpu->max_step(f.x_device.data(), f.p_device.data());
+  EXPECT_LT(host_step, 1.0) << "the box must hit the obstacles along p";
+  EXPECT_EQ(gpu_step, host_step);
+  // The body still, only the roof moving: from t = 0 to 0.5 it rises 1 cm, through the box's
+  // bottom (5 mm ± 1 mm above the ridge), so its motion alone bounds the step.
+  const std::vector<double> zero(x.size(), 0.0);
+  f.move_obstacles(0.0, 0.5);
+  f.prepare(x, zero);
+  const double roof_host = f.host->max_step(x.data(), zero.data());
+  const double roof_gpu = f.gpu->max_step(f.x_device.data(), f.p_device.data());
+  EXPECT_LT(roof_host, 1.0) << "the rising roof must reach the box";
+  EXPECT_EQ(roof_gpu, roof_host);
+
+  // The obstacles moved on and stand still (a later step): the device sees their new positions.
+  f.move_obstacles(0.05, 0.05);
+  f.prepare(x, zero);
+  EXPECT_EQ(f.host->max_step(x.data(), zero.data()), 1.0);
+  EXPECT_EQ(f.gpu->max_step(f.x_device.data(), f.p_device.data()), 1.0);
+  f.expect_same_terms(x);
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 // vertex–triangle, edge–edge (skew and nearly parallel, i.e. mollified), vertex–plane — closer
 // than d̂: energy, gradient and Hessian (raw and PSD-projected) to 1e-12 relative to the
 // pair's largest entry, active flags and the minimum distance exactly, and the CCD time of
-// impact bit for bit on 10⁴ random trajectories per kind, many of them colliding. Skips where
-// no GPU is present; runs on the lent GPU machine.
+// impact bit for bit on 10⁴ random trajectories per kind, many of them colliding; the same for
+// pairs with triangle-mesh obstacle vertices (positions from the obstacle arrays, only the body
+// nodes' gradient and Hessian blocks, obstacles moving from start to end in the CCD). Skips
+// where no GPU is present; runs on the lent GPU machine.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +18,7 @@
 #include "device/device_runtime.hpp"
 #include "nonlinear/contact_pair_terms.hpp"
 #include "nonlinear/cuda/contact_kernels.hpp"
+#include "nonlinear/obstacle_nodes.hpp"
 
 namespace dipc {
 namespace {
@@ -146,12 +149,12 @@ class RandomPairs {
 // Device copies of a RandomPairs.
 struct DeviceScene {
   device::DeviceContactPairs pairs;
-  device::DeviceContactPlanes planes;
+  device::DeviceContactObstacles planes;
   device::Array<double> x{"test positions"};
   device::Reducer reducer;
   explicit DeviceScene(const RandomPairs& r) {
     pairs.upload(r.pairs);
-    planes.upload(r.plane_points, r.plane_normals);
+    planes.upload_planes(r.plane_points, r.plane_normals);
     x.upload(r.x);
   }
 };
@@ -443,10 +446,201 @@ TEST(ContactKernelsGpu, VertexPlaneTimeOfImpactIsBitIdentical) {
   expect_same_times_of_impact(2);
 }
 
+// Pairs with triangle-mesh obstacles: random vertex–triangle and edge–edge pairs (as above)
+// whose nodes in `slots` (a bit per slot) become obstacle vertices, named −2 − k, with their
+// positions moved from x to the obstacle arrays: at the end of the segment the pair's own
+// position, at its start that position moved by `start_shift` (evaluations must read the end).
+// Plane arguments for pairs of the other kinds, which ignore them.
+constexpr double kNoPlane[3] = {0, 0, 1};
+
+struct ObstaclePairs {
+  RandomPairs r;
+  std::vector<double> start, end;  // obstacle vertex positions, 3 per vertex
+  std::vector<int> slot_mask;      // per pair
+  std::vector<std::int32_t> former_rows;  // the rows of x that obstacle vertices left
+
+  explicit ObstaclePairs(unsigned seed) : r(seed) {}
+
+  void make_obstacle(std::size_t i, int slots, const std::vector<double>* p, double start_shift) {
+    for (int k = 0; k < 4; ++k) {
+      if (!(slots & (1 << k))) continue;
+      std::int32_t& node = r.pairs.nodes[4 * i + k];
+      const auto vertex = static_cast<std::int32_t>(end.size() / 3);
+      for (int c = 0; c < 3; ++c) {
+        const double x = r.x[3 * node + c];
+        // With p: the obstacle moves from x to x + p; without: it stands at x, start elsewhere.
+        start.push_back(p ? x : x + start_shift);
+        end.push_back(p ? x + (*p)[3 * node + c] : x);
+        r.x[3 * node + c] = std::nan("");  // the body row of x is no longer this node's
+      }
+      former_rows.push_back(node);
+      node = obstacle_node(vertex);
+    }
+    slot_mask.push_back(slots);
+  }
+
+  // The three kinds of body–obstacle pairs, `per_kind` each: body vertex–obstacle triangle,
+  // body edge–obstacle edge (skew and nearly parallel), obstacle vertex–body triangle.
+  void mixed(int per_kind) {
+    for (int i = 0; i < per_kind; ++i) {
+      r.vertex_triangle(r.distance(), false);
+      make_obstacle(r.pairs.size() - 1, 0b1110, nullptr, 0.3);
+      r.edge_edge(r.distance(), i % 2 ? r.uniform(0.05, 1.5) : r.log_uniform(1e-6, 0.03), false);
+      make_obstacle(r.pairs.size() - 1, 0b1100, nullptr, 0.3);
+      r.vertex_triangle(r.distance(), false);
+      make_obstacle(r.pairs.size() - 1, 0b0001, nullptr, 0.3);
+    }
+  }
+
+  // Stacked positions of pair i at the end (obstacle vertices at `end`).
+  void gather(std::size_t i, double* X) const {
+    for (int k = 0; k < 4; ++k) {
+      const std::int32_t node = r.pairs.nodes[4 * i + k];
+      const double* xk = is_obstacle_node(node) ? &end[3 * obstacle_vertex(node)] : &r.x[3 * node];
+      for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
+    }
+  }
+};
+
+TEST(ContactKernelsGpu, ObstaclePairsMatchHostOnTheirBodyNodes) {
+  if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
+  ObstaclePairs o(23);
+  o.mixed(1500);
+  const std::size_t n = o.r.pairs.size();
+  DeviceScene d(o.r);
+  d.planes.upload_vertices(o.start, o.end);
+  // The COO layout: each pair's body nodes' block only (9, 36 or 81 values).
+  std::size_t values = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b = 4 - __builtin_popcount(o.slot_mask[i]);
+    values += 9 * b * b;
+  }
+  ASSERT_EQ(d.pairs.hessian_values, values);
+
+  for (bool project : {false, true}) {
+    SCOPED_TRACE(project ? "projected Hessian" : "exact Hessian");
+    const device::BarrierConstants c = constants(project);
+    long double energy = 0;
+    std::vector<double> g(o.r.x.size(), 0.0), H(values, 0.0);
+    std::vector<std::int32_t> active(n);
+    std::size_t offset = 0;
+    int active_count[3] = {0, 0, 0};
+    double min_d2 = INFINITY;
+    for (std::size_t i = 0; i < n; ++i) {
+      double X[12];
+      o.gather(i, X);
+      const int kind = o.r.pairs.kind[i];
+      min_d2 = std::min(min_d2, contact_pair_squared_distance(kind, X, kNoPlane, kNoPlane));
+      bool is_active;
+      ContactPairTerms t;
+      ASSERT_TRUE(contact_pair_terms(kind, X, kNoPlane, kNoPlane, c.dhat2, c.kappa, o.r.pairs.weight[i],
+                                     o.r.pairs.eps_x[i], true, true, c.project, &is_active, &t));
+      active[i] = is_active ? 1 : 0;
+      energy += t.energy;
+      int slots[4];
+      const int b = body_slots(&o.r.pairs.nodes[4 * i], 4, slots);
+      if (is_active) {
+        ++active_count[i % 3];
+        for (int a = 0; a < b; ++a)
+          for (int k = 0; k < 3; ++k) g[3 * o.r.pairs.nodes[4 * i + slots[a]] + k] += t.g[3 * slots[a] + k];
+        body_block(t.H, 4, slots, b, &H[offset]);
+      }
+      offset += 9 * static_cast<std::size_t>(b) * b;
+    }
+    for (int kind = 0; kind < 3; ++kind) EXPECT_GT(active_count[kind], 100) << "obstacle pair kind " << kind;
+
+    double gpu_energy = 0;
+    ASSERT_TRUE(device::contact_barrier_energy(d.pairs, d.planes, c, d.x.data(), d.reducer, &gpu_energy));
+    EXPECT_NEAR(gpu_energy, static_cast<double>(energy), 1e-12 * static_cast<double>(energy));
+    EXPECT_EQ(device::contact_min_squared_distance(d.pairs, d.planes, d.x.data(), d.reducer), min_d2);
+
+    // The gradient array has rows for the body nodes only; obstacle rows must stay untouched.
+    device::Array<double> dg("test gradient");
+    dg.resize(o.r.x.size());
+    dg.set_zero();
+    ASSERT_TRUE(device::add_contact_barrier_gradient(d.pairs, d.planes, c, d.x.data(), dg.data(), d.reducer));
+    const std::vector<double> gpu_g = dg.to_host();
+    device::Array<double> dH("test Hessian");
+    dH.resize(values);
+    ASSERT_TRUE(device::contact_barrier_hessian(d.pairs, d.planes, c, d.x.data(), dH.data(), d.reducer));
+    const std::vector<double> gpu_H = dH.to_host();
+    device::Array<std::int32_t> dactive("test active flags");
+    dactive.resize(n);
+    ASSERT_TRUE(device::contact_active_flags(d.pairs, d.planes, c, d.x.data(), dactive.data(), d.reducer));
+    EXPECT_EQ(dactive.to_host(), active);
+
+    double worst_g = 0, worst_H = 0;
+    for (std::size_t k = 0; k < g.size(); k += 3) worst_g = std::max(worst_g, block_error(&gpu_g[k], &g[k], 3));
+    offset = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int m = 3 * (4 - __builtin_popcount(o.slot_mask[i]));
+      worst_H = std::max(worst_H, block_error(&gpu_H[offset], &H[offset], m * m));
+      offset += static_cast<std::size_t>(m) * m;
+    }
+    EXPECT_LE(worst_g, 1e-12);
+    EXPECT_LE(worst_H, 1e-12);
+  }
+}
+
+// The CCD of pairs with obstacles: body nodes move along p, obstacle vertices from their start
+// to their end positions (the trajectories of Trajectories, with the obstacle nodes' motion
+// moved into the obstacle arrays), bit for bit as on the host.
+TEST(ContactKernelsGpu, ObstaclePairTimesOfImpactAreBitIdentical) {
+  if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
+  for (int kind : {0, 1}) {
+    SCOPED_TRACE("kind " + std::to_string(kind));
+    constexpr int kCount = 9000;
+    Trajectories t(kind, kCount, 300 + kind);
+    ObstaclePairs o(0);
+    o.r = t.r;
+    // Vertex–triangle: the triangle (2 of 3 pairs) or the vertex (1 of 3) is the obstacle;
+    // edge–edge: edge b, the one mode (1) drives into edge a.
+    for (int i = 0; i < kCount; ++i)
+      o.make_obstacle(i, kind == 1 ? 0b1100 : (i % 3 == 2 ? 0b0001 : 0b1110), &t.p, 0.0);
+    for (std::int32_t row : o.former_rows)
+      for (int c = 0; c < 3; ++c) t.p[3 * row + c] = std::nan("");  // obstacles do not move along p
+    DeviceScene d(o.r);
+    d.planes.upload_vertices(o.start, o.end);
+    device::Array<double> dp("test directions"), dtoi("test times of impact");
+    dp.upload(t.p);
+    dtoi.resize(kCount);
+    device::contact_times_of_impact(d.pairs, d.planes, d.x.data(), dp.data(), 1.0, dtoi.data());
+    const std::vector<double> gpu = dtoi.to_host();
+    int mismatches = 0, early = 0;
+    double host_min = 1.0;
+    for (int i = 0; i < kCount; ++i) {
+      double X0[12], X1[12];
+      for (int k = 0; k < 4; ++k) {
+        const std::int32_t node = o.r.pairs.nodes[4 * i + k];
+        for (int c = 0; c < 3; ++c) {
+          if (is_obstacle_node(node)) {
+            X0[3 * k + c] = o.start[3 * obstacle_vertex(node) + c];
+            X1[3 * k + c] = o.end[3 * obstacle_vertex(node) + c];
+          } else {
+            X0[3 * k + c] = o.r.x[3 * node + c];
+            X1[3 * k + c] = X0[3 * k + c] + t.p[3 * node + c];
+          }
+        }
+      }
+      const double host = contact_pair_time_of_impact(kind, X0, X1, kNoPlane, kNoPlane, 1.0);
+      host_min = std::min(host_min, host);
+      if (host < 1.0) ++early;
+      if (t.must_report[i]) {
+        EXPECT_LT(host, 1.0) << "pair " << i << " collides, CCD returned " << host;
+      }
+      if (gpu[i] != host && ++mismatches <= 5)
+        ADD_FAILURE() << "pair " << i << ": GPU toi " << gpu[i] << " != CPU toi " << host;
+    }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(early, kCount / 3) << "too few trajectories come close";
+    EXPECT_EQ(device::contact_min_time_of_impact(d.pairs, d.planes, d.x.data(), dp.data(), 1.0, d.reducer), host_min);
+  }
+}
+
 TEST(ContactKernelsGpu, EmptyListsNeedNoLaunch) {
   if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
   device::DeviceContactPairs none;
-  device::DeviceContactPlanes planes;
+  device::DeviceContactObstacles planes;
   device::Reducer reducer;
   double e = 1;
   EXPECT_TRUE(device::contact_barrier_energy(none, planes, constants(true), nullptr, reducer, &e));

@@ -22,6 +22,7 @@
 #include "nonlinear/contact_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/incremental_potential.hpp"
+#include "support/directional_difference.hpp"
 
 namespace dipc {
 namespace {
@@ -110,9 +111,9 @@ TEST(ContactObstacles, GradientAndExactHessianMatchDifferences) {
   ContactParameters params = obstacle_parameters();
   params.project_hessian = false;
   ObstacleFixture f(params);
-  Vec x, d, g, gp, gm, Hd, w, twice;
+  Vec x, d, w, twice;
   f.potential.create_global_vec(&x);
-  for (Vec* v : {&d, &g, &gp, &gm, &Hd, &w, &twice}) VecDuplicate(x, v);
+  for (Vec* v : {&d, &w, &twice}) VecDuplicate(x, v);
   f.fill(x, 3e-3, 1, true);
   f.fill(d, 1.0, 3, false);
   const double eps = 1e-7;
@@ -125,32 +126,15 @@ TEST(ContactObstacles, GradientAndExactHessianMatchDifferences) {
   const std::array<long, 3> kinds = f.obstacle_pair_counts(x);
   for (int k = 0; k < 3; ++k) EXPECT_GT(kinds[k], 0) << "obstacle pair kind " << k << " is never active";
 
-  PetscReal E0, Ep, Em, gd;
+  PetscReal E0;
   f.potential.objective(x, &E0);
   EXPECT_GT(E0, 0);
-  VecWAXPY(w, eps, d, x);
-  f.potential.objective(w, &Ep);
-  VecWAXPY(w, -eps, d, x);
-  f.potential.objective(w, &Em);
-  f.potential.gradient(x, g);
-  VecDot(g, d, &gd);
-  EXPECT_NEAR((Ep - Em) / (2 * eps), gd, 1e-5 * std::abs(gd));
-
-  VecWAXPY(w, eps, d, x);
-  f.potential.gradient(w, gp);
-  VecWAXPY(w, -eps, d, x);
-  f.potential.gradient(w, gm);
-  VecAXPY(gp, -1.0, gm);
-  VecScale(gp, 1.0 / (2 * eps));
-  f.potential.hessian(x, f.H);
-  MatMult(f.H, d, Hd);
-  PetscReal diff, ref;
-  VecNorm(Hd, NORM_INFINITY, &ref);
-  EXPECT_GT(ref, 0);
-  VecAXPY(gp, -1.0, Hd);
-  VecNorm(gp, NORM_INFINITY, &diff);
-  EXPECT_LT(diff, 1e-4 * ref);
-  for (Vec* v : {&x, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDestroy(v);
+  test::DirectionalDifferences fd;
+  ASSERT_EQ(test::directional_differences(f.potential, f.H, x, d, eps, &fd), 0);
+  EXPECT_NEAR(fd.slope_fd, fd.slope, 1e-5 * std::abs(fd.slope));
+  EXPECT_GT(fd.hessian_scale, 0);
+  EXPECT_LT(fd.hessian_error, 1e-4 * fd.hessian_scale);
+  for (Vec* v : {&x, &d, &w, &twice}) VecDestroy(v);
 }
 
 // The roof slides along x at 0.05 m/s; friction is lagged at the step's start x_start with the
@@ -162,9 +146,9 @@ TEST(ContactObstacles, FrictionAgainstASlidingObstacleMatchesDifferences) {
   ContactParameters params = obstacle_parameters(slide);
   params.project_hessian = false;
   ObstacleFixture f(params, PETSC_COMM_WORLD, 0.5);
-  Vec x_start, x, d, g, gp, gm, Hd, w, twice;
+  Vec x_start, x, d, g, w, twice;
   f.potential.create_global_vec(&x);
-  for (Vec* v : {&x_start, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDuplicate(x, v);
+  for (Vec* v : {&x_start, &d, &g, &w, &twice}) VecDuplicate(x, v);
   f.fill(x_start, 3e-3, 1, true);
   f.contact->start_obstacle_step(0.0);
   ASSERT_EQ(f.potential.prepare_point(x_start), 0);
@@ -205,28 +189,11 @@ TEST(ContactObstacles, FrictionAgainstASlidingObstacleMatchesDifferences) {
   VecScale(twice, 2 * eps);
   PetscReal alpha;
   ASSERT_EQ(f.potential.max_step(w, twice, &alpha), 0);
-  PetscReal Ep, Em, gd;
-  VecWAXPY(w, eps, d, x);
-  f.potential.objective(w, &Ep);
-  VecWAXPY(w, -eps, d, x);
-  f.potential.objective(w, &Em);
-  f.potential.gradient(x, g);
-  VecDot(g, d, &gd);
-  EXPECT_NEAR((Ep - Em) / (2 * eps), gd, 1e-5 * std::abs(gd));
-  VecWAXPY(w, eps, d, x);
-  f.potential.gradient(w, gp);
-  VecWAXPY(w, -eps, d, x);
-  f.potential.gradient(w, gm);
-  VecAXPY(gp, -1.0, gm);
-  VecScale(gp, 1.0 / (2 * eps));
-  f.potential.hessian(x, f.H);
-  MatMult(f.H, d, Hd);
-  PetscReal diff, ref;
-  VecNorm(Hd, NORM_INFINITY, &ref);
-  VecAXPY(gp, -1.0, Hd);
-  VecNorm(gp, NORM_INFINITY, &diff);
-  EXPECT_LT(diff, 1e-4 * ref);
-  for (Vec* v : {&x_start, &x, &d, &g, &gp, &gm, &Hd, &w, &twice}) VecDestroy(v);
+  test::DirectionalDifferences fd;
+  ASSERT_EQ(test::directional_differences(f.potential, f.H, x, d, eps, &fd), 0);
+  EXPECT_NEAR(fd.slope_fd, fd.slope, 1e-5 * std::abs(fd.slope));
+  EXPECT_LT(fd.hessian_error, 1e-4 * fd.hessian_scale);
+  for (Vec* v : {&x_start, &x, &d, &g, &w, &twice}) VecDestroy(v);
 }
 
 TEST(ContactObstacles, ProjectedHessianIsSymmetricPositiveSemidefinite) {

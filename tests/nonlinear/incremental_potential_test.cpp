@@ -19,6 +19,7 @@
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/incremental_potential.hpp"
 #include "nonlinear/inertia_form.hpp"
+#include "support/directional_difference.hpp"
 
 namespace dipc {
 namespace {
@@ -80,9 +81,9 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   ASSERT_EQ(potential.create_matrix(&H), 0);
 
   // x = 1.05 X + small perturbation, x̂ = X + another, direction d zero at Dirichlet dofs.
-  Vec x, xhat, d, g, gp, gm, Hd, w;
+  Vec x, xhat, d;
   exchange.create_global_vec(&x);
-  for (Vec* v : {&xhat, &d, &g, &gp, &gm, &Hd, &w}) VecDuplicate(x, v);
+  for (Vec* v : {&xhat, &d}) VecDuplicate(x, v);
   PetscScalar *xa, *xh, *da;
   VecGetArray(x, &xa);
   VecGetArray(xhat, &xh);
@@ -99,33 +100,12 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   VecRestoreArray(d, &da);
   ASSERT_EQ(potential.begin_step(xhat), 0);
 
-  // Energy -> gradient.
-  const double eps = 1e-6;
-  PetscReal Ep, Em, gd;
-  VecWAXPY(w, eps, d, x);
-  potential.objective(w, &Ep);
-  VecWAXPY(w, -eps, d, x);
-  potential.objective(w, &Em);
-  potential.gradient(x, g);
-  VecDot(g, d, &gd);
-  const double fd = (Ep - Em) / (2 * eps);
-  EXPECT_NEAR(fd, gd, 1e-6 * std::abs(gd)) << "directional derivative";
-  EXPECT_GT(std::abs(gd), 1e-8);
-
-  // Gradient -> Hessian.
-  VecWAXPY(w, eps, d, x);
-  potential.gradient(w, gp);
-  VecWAXPY(w, -eps, d, x);
-  potential.gradient(w, gm);
-  VecAXPY(gp, -1.0, gm);
-  VecScale(gp, 1.0 / (2 * eps));
-  potential.hessian(x, H);
-  MatMult(H, d, Hd);
-  PetscReal diff, ref;
-  VecNorm(Hd, NORM_INFINITY, &ref);
-  VecAXPY(gp, -1.0, Hd);
-  VecNorm(gp, NORM_INFINITY, &diff);
-  EXPECT_LT(diff, 1e-6 * ref) << "Hessian-vector product vs differences of the gradient";
+  // Energy -> gradient, gradient -> Hessian, along d.
+  test::DirectionalDifferences fd;
+  ASSERT_EQ(test::directional_differences(potential, H, x, d, 1e-6, &fd), 0);
+  EXPECT_NEAR(fd.slope_fd, fd.slope, 1e-6 * std::abs(fd.slope)) << "directional derivative";
+  EXPECT_GT(std::abs(fd.slope), 1e-8);
+  EXPECT_LT(fd.hessian_error, 1e-6 * fd.hessian_scale) << "Hessian-vector product vs differences of the gradient";
 
   // The Hessian is symmetric (eliminated Dirichlet rows and columns included).
   PetscBool symmetric;
@@ -133,7 +113,7 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   EXPECT_TRUE(symmetric);
 
   MatDestroy(&H);
-  for (Vec* v : {&x, &xhat, &d, &g, &gp, &gm, &Hd, &w}) VecDestroy(v);
+  for (Vec* v : {&x, &xhat, &d}) VecDestroy(v);
 }
 
 INSTANTIATE_TEST_SUITE_P(InertiaAndMaterial, PotentialFiniteDifferences,

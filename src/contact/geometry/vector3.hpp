@@ -1,7 +1,7 @@
 // Tiny 3-vector and 3x3 helpers for every contact point function (geometry, CCD, friction):
 // plain double arrays (matrices row-major, A[3*i + j] = A_ij) so the same code runs on the host
 // and in CUDA kernels. Kept inside contact/ because contact must not depend on assembly/
-// (DESIGN.md §2). The CCD relies on host and device rounding alike: keep these free of
+// (docs/design.md §2). The CCD relies on host and device rounding alike: keep these free of
 // fused operations the compiler could form differently (its kernels build with --fmad=false).
 #pragma once
 #include "host_device.hpp"

@@ -8,6 +8,7 @@
 #include "device/cuda_check.cuh"
 #include "nonlinear/contact_pair_terms.hpp"
 #include "nonlinear/cuda/contact_kernels.hpp"
+#include "nonlinear/obstacle_nodes.hpp"
 
 namespace dipc::device {
 
@@ -19,7 +20,7 @@ namespace {
 constexpr int kHessianThreads = 64;
 constexpr int kThreads = 128;
 
-// Device pointers of a pair list and the planes, passed to kernels by value.
+// Device pointers of a pair list and the obstacles, passed to kernels by value.
 struct PairView {
   std::size_t count;
   const std::int32_t* kind;
@@ -29,15 +30,31 @@ struct PairView {
   const std::int32_t* plane;
   const double* plane_point;
   const double* plane_normal;
+  const double* obstacle_start;  // triangle-mesh obstacle vertices, 3 per vertex
+  const double* obstacle_end;
 };
 
-PairView view(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes) {
-  return {pairs.count,        pairs.kind.data(),  pairs.nodes.data(),  pairs.weight.data(),
-          pairs.eps_x.data(), pairs.plane.data(), planes.point.data(), planes.normal.data()};
+PairView view(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles) {
+  return {pairs.count,
+          pairs.kind.data(),
+          pairs.nodes.data(),
+          pairs.weight.data(),
+          pairs.eps_x.data(),
+          pairs.plane.data(),
+          obstacles.point.data(),
+          obstacles.normal.data(),
+          obstacles.vertex_start.data(),
+          obstacles.vertex_end.data()};
 }
 
-// One pair read from the list: kind, node count, ext-local nodes, stacked positions at x and
-// plane (nullptr unless a vertex–plane pair).
+// Position of a pair's node: row `node` of x, or an obstacle vertex's row of `obstacle`.
+__device__ const double* node_position(const double* x, const double* obstacle, std::int32_t node) {
+  return is_obstacle_node(node) ? obstacle + 3 * static_cast<std::size_t>(obstacle_vertex(node))
+                                : x + 3 * static_cast<std::size_t>(node);
+}
+
+// One pair read from the list: kind, node count, ext-local nodes, stacked positions at x
+// (obstacle vertices at their end positions) and plane (nullptr unless a vertex–plane pair).
 struct Pair {
   int kind, count;
   std::int32_t node[4];
@@ -51,7 +68,8 @@ __device__ void load_pair(const PairView& v, std::size_t i, const double* x, Pai
   pair->count = pair->kind == 2 ? 1 : 4;
   for (int k = 0; k < pair->count; ++k) {
     pair->node[k] = v.nodes[k * v.count + i];
-    for (int c = 0; c < 3; ++c) pair->X[3 * k + c] = x[3 * static_cast<std::size_t>(pair->node[k]) + c];
+    const double* xk = node_position(x, v.obstacle_end, pair->node[k]);
+    for (int c = 0; c < 3; ++c) pair->X[3 * k + c] = xk[c];
   }
   const std::int32_t plane = v.plane[i];
   pair->plane_point = plane >= 0 ? v.plane_point + 3 * plane : nullptr;
@@ -95,7 +113,8 @@ __global__ void gradient_kernel(PairView v, BarrierConstants c, const double* x,
   }
   if (!active) return;
   for (int k = 0; k < pair.count; ++k)
-    for (int d = 0; d < 3; ++d) atomicAdd(g + 3 * static_cast<std::size_t>(pair.node[k]) + d, t.g[3 * k + d]);
+    if (!is_obstacle_node(pair.node[k]))
+      for (int d = 0; d < 3; ++d) atomicAdd(g + 3 * static_cast<std::size_t>(pair.node[k]) + d, t.g[3 * k + d]);
 }
 
 __global__ void hessian_kernel(PairView v, const std::size_t* offset, BarrierConstants c, const double* x,
@@ -107,9 +126,17 @@ __global__ void hessian_kernel(PairView v, const std::size_t* offset, BarrierCon
   bool active;
   ContactPairTerms t;
   if (!pair_terms(v, i, pair, c, true, true, &active, &t)) *failed = 1;
-  const int n = 3 * pair.count;
+  // The body nodes' block (all of H without obstacle nodes), as ContactForm's COO pattern.
+  int slots[4];
+  const int num_slots = body_slots(pair.node, pair.count, slots);
+  const int n = 3 * num_slots;
   double* out = values + offset[i];
-  for (int r = 0; r < n * n; ++r) out[r] = active ? t.H[r] : 0.0;
+  if (!active)
+    for (int r = 0; r < n * n; ++r) out[r] = 0.0;
+  else if (num_slots == pair.count)
+    for (int r = 0; r < n * n; ++r) out[r] = t.H[r];
+  else
+    body_block(t.H, pair.count, slots, num_slots, out);
 }
 
 __global__ void active_kernel(PairView v, BarrierConstants c, const double* x, std::int32_t* active_out, int* failed) {
@@ -136,14 +163,23 @@ __global__ void squared_distance_kernel(PairView v, const double* x, double* par
   if (threadIdx.x == 0) partials[blockIdx.x] = m;
 }
 
-// Time of impact of pair i along x + t p; the end positions are formed as the CPU forms them.
+// Time of impact of pair i along x + t p, obstacle vertices moving from their start to their
+// end positions; the positions are formed as the CPU forms them (ContactForm::gather_segment).
 __device__ double pair_time_of_impact(const PairView& v, std::size_t i, const double* x, const double* p,
                                       double t_max) {
   Pair pair;
   load_pair(v, i, x, &pair);
   double X1[12];
-  for (int k = 0; k < pair.count; ++k)
-    for (int c = 0; c < 3; ++c) X1[3 * k + c] = pair.X[3 * k + c] + p[3 * static_cast<std::size_t>(pair.node[k]) + c];
+  for (int k = 0; k < pair.count; ++k) {
+    const std::int32_t node = pair.node[k];
+    if (is_obstacle_node(node)) {
+      const double* start = v.obstacle_start + 3 * static_cast<std::size_t>(obstacle_vertex(node));
+      const double* end = v.obstacle_end + 3 * static_cast<std::size_t>(obstacle_vertex(node));
+      for (int c = 0; c < 3; ++c) pair.X[3 * k + c] = start[c], X1[3 * k + c] = end[c];
+    } else {
+      for (int c = 0; c < 3; ++c) X1[3 * k + c] = pair.X[3 * k + c] + p[3 * static_cast<std::size_t>(node) + c];
+    }
+  }
   return contact_pair_time_of_impact(pair.kind, pair.X, X1, pair.plane_point, pair.plane_normal, t_max);
 }
 
@@ -163,67 +199,67 @@ __global__ void min_time_of_impact_kernel(PairView v, const double* x, const dou
 
 }  // namespace
 
-bool contact_barrier_energy(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+bool contact_barrier_energy(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                             const BarrierConstants& c, const double* x, Reducer& reducer, double* energy) {
   *energy = 0;
   if (pairs.count == 0) return true;
   const unsigned blocks = blocks_for(pairs.count, kReduceThreads);
   reducer.reset_flag();
-  energy_kernel<<<blocks, kReduceThreads>>>(view(pairs, planes), c, x, reducer.partials(blocks), reducer.flag());
+  energy_kernel<<<blocks, kReduceThreads>>>(view(pairs, obstacles), c, x, reducer.partials(blocks), reducer.flag());
   DIPC_CUDA_CHECK_LAUNCH();
   *energy = reducer.sum_partials(blocks);
   return !reducer.flag_set();
 }
 
-bool add_contact_barrier_gradient(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+bool add_contact_barrier_gradient(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                                   const BarrierConstants& c, const double* x, double* g, Reducer& reducer) {
   if (pairs.count == 0) return true;
   reducer.reset_flag();
-  gradient_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, planes), c, x, g, reducer.flag());
+  gradient_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, obstacles), c, x, g, reducer.flag());
   DIPC_CUDA_CHECK_LAUNCH();
   return !reducer.flag_set();
 }
 
-bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                              const BarrierConstants& c, const double* x, double* values, Reducer& reducer) {
   if (pairs.count == 0) return true;
   reducer.reset_flag();
   hessian_kernel<<<blocks_for(pairs.count, kHessianThreads), kHessianThreads>>>(
-      view(pairs, planes), pairs.hessian_offset.data(), c, x, values, reducer.flag());
+      view(pairs, obstacles), pairs.hessian_offset.data(), c, x, values, reducer.flag());
   DIPC_CUDA_CHECK_LAUNCH();
   return !reducer.flag_set();
 }
 
-bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const BarrierConstants& c,
+bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const BarrierConstants& c,
                           const double* x, std::int32_t* active, Reducer& reducer) {
   if (pairs.count == 0) return true;
   reducer.reset_flag();
-  active_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, planes), c, x, active, reducer.flag());
+  active_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, obstacles), c, x, active, reducer.flag());
   DIPC_CUDA_CHECK_LAUNCH();
   return !reducer.flag_set();
 }
 
-double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                                     Reducer& reducer) {
   if (pairs.count == 0) return INFINITY;
   const unsigned blocks = blocks_for(pairs.count, kReduceThreads);
-  squared_distance_kernel<<<blocks, kReduceThreads>>>(view(pairs, planes), x, reducer.partials(blocks));
+  squared_distance_kernel<<<blocks, kReduceThreads>>>(view(pairs, obstacles), x, reducer.partials(blocks));
   DIPC_CUDA_CHECK_LAUNCH();
   return reducer.min_partials(blocks);
 }
 
-void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                              const double* p, double t_max, double* toi) {
   if (pairs.count == 0) return;
-  times_of_impact_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, planes), x, p, t_max, toi);
+  times_of_impact_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, obstacles), x, p, t_max, toi);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                                   const double* p, double t_max, Reducer& reducer) {
   if (pairs.count == 0) return t_max;
   const unsigned blocks = blocks_for(pairs.count, kReduceThreads);
-  min_time_of_impact_kernel<<<blocks, kReduceThreads>>>(view(pairs, planes), x, p, t_max, reducer.partials(blocks));
+  min_time_of_impact_kernel<<<blocks, kReduceThreads>>>(view(pairs, obstacles), x, p, t_max, reducer.partials(blocks));
   DIPC_CUDA_CHECK_LAUNCH();
   return reducer.min_partials(blocks);
 }

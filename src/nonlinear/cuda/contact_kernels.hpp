@@ -7,7 +7,9 @@
 // builds without CUDA, in contact_kernels_host.cpp, where they throw dipc::device::DeviceError;
 // the host lists and uploads in contact_pair_list.cpp. Node positions x, directions p,
 // gradients g and Hessian values are device pointers (3 values per ext-local node, as
-// ContactForm numbers them); pair lists and planes are uploaded from the host.
+// ContactForm numbers them); pair lists and obstacles are uploaded from the host. Pairs with
+// triangle-mesh obstacles name the obstacle's vertices by node id −2 − k (obstacle_nodes.hpp):
+// their positions come from DeviceContactObstacles, and they get no gradient or Hessian entries.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -19,8 +21,9 @@ namespace dipc::device {
 
 // A contact pair list on the host, in the order the device list keeps: pair i has kind[i]
 // (0 vertex–triangle, 1 edge–edge, 2 vertex–plane, as contact_pair_terms.hpp), ext-local
-// nodes nodes[4i..4i+3] (unused slots −1), weight w_i, mollifier threshold eps_x[i] (edge–edge)
-// and plane[i] (vertex–plane: index into the planes, −1 otherwise).
+// nodes nodes[4i..4i+3] (unused slots −1, obstacle vertices −2 − k), weight w_i, mollifier
+// threshold eps_x[i] (edge–edge) and plane[i] (vertex–plane: index into the planes, −1
+// otherwise).
 struct ContactPairList {
   std::vector<std::int32_t> kind;
   std::vector<std::int32_t> nodes;
@@ -36,8 +39,9 @@ struct ContactPairList {
 
 // The same list in device memory. Nodes are stored slot-major (node k of pair i at
 // nodes[k·n + i]) so that neighbouring threads read neighbouring words. hessian_offset[i] is
-// the first COO value of pair i when the list is a Hessian pattern: pairs take 144 values, or
-// 9 for vertex–plane pairs, one after the other.
+// the first COO value of pair i when the list is a Hessian pattern: a pair takes (3 b)² values,
+// b the number of its body nodes (4 for body pairs, 1 for vertex–plane pairs, 1 to 3 for pairs
+// with an obstacle: the body nodes' block, as ContactForm's COO pattern), one after the other.
 struct DeviceContactPairs {
   Array<std::int32_t> kind{"contact pair kinds"};
   Array<std::int32_t> nodes{"contact pair nodes"};
@@ -51,12 +55,19 @@ struct DeviceContactPairs {
   void upload(const ContactPairList& pairs);
 };
 
-// Half-space obstacles: 3 doubles of point and of unit normal per plane.
-struct DeviceContactPlanes {
+// The obstacles that pairs refer to. Half-space obstacles: 3 doubles of point and of unit
+// normal per plane (a pair's plane[i] indexes them). Triangle-mesh obstacles: the positions of
+// their vertices (3 doubles per vertex, vertex k named −2 − k by pairs) at the start and at the
+// end of the current segment; evaluations see the end positions, the CCD moves each vertex
+// linearly from start to end (ContactForm::gather_segment, the same on the CPU).
+struct DeviceContactObstacles {
   Array<double> point{"contact plane points"};
   Array<double> normal{"contact plane normals"};
+  Array<double> vertex_start{"obstacle vertex start positions"};
+  Array<double> vertex_end{"obstacle vertex end positions"};
 
-  void upload(const std::vector<double>& points, const std::vector<double>& normals);
+  void upload_planes(const std::vector<double>& points, const std::vector<double>& normals);
+  void upload_vertices(const std::vector<double>& start, const std::vector<double>& end);
 };
 
 // The barrier's constants: squared activation distance d̂², stiffness κ, and whether pair
@@ -67,34 +78,36 @@ struct BarrierConstants {
   bool project = true;
 };
 
-// Σ_i κ w_i m_i b(d_i) at x, summed per block and then over blocks in a fixed order (the
+// Σ_i κ w_i m_i b(d_i) at x (obstacle vertices at their end positions), summed per block and then over blocks in a fixed order (the
 // result does not depend on scheduling). Returns false if a pair is not admissible (d ≤ 0 or
 // a vertex on or behind its plane); such pairs add nothing, as on the CPU.
-bool contact_barrier_energy(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+bool contact_barrier_energy(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                             const BarrierConstants& c, const double* x, Reducer& reducer, double* energy);
-// Adds the barrier gradient into g (atomics). Returns false as contact_barrier_energy.
-bool add_contact_barrier_gradient(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+// Adds the barrier gradient into g (atomics; body nodes only). Returns false as
+// contact_barrier_energy.
+bool add_contact_barrier_gradient(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                                   const BarrierConstants& c, const double* x, double* g, Reducer& reducer);
-// Writes every pair's Hessian (PSD-projected when c.project) at values + hessian_offset[i];
-// inactive and inadmissible pairs write zeros. Returns false as contact_barrier_energy.
-bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes,
+// Writes every pair's Hessian (PSD-projected when c.project; its body nodes' block) at
+// values + hessian_offset[i]; inactive and inadmissible pairs write zeros. Returns false as contact_barrier_energy.
+bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
                              const BarrierConstants& c, const double* x, double* values, Reducer& reducer);
 // active[i] = 1 if pair i is active at x (0 < d < d̂²), else 0 (active: device array, one per
 // pair). Returns false as contact_barrier_energy.
-bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const BarrierConstants& c,
+bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const BarrierConstants& c,
                           const double* x, std::int32_t* active, Reducer& reducer);
 // Smallest squared distance over the pairs at x (contact_pair_squared_distance); +∞ without
 // pairs.
-double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                                     Reducer& reducer);
-// toi[i] = time of impact of pair i along x + t p, searched on [0, t_max]
+// toi[i] = time of impact of pair i along x + t p (obstacle vertices from their start to their
+// end positions), searched on [0, t_max]
 // (contact_pair_time_of_impact, bit-identical to the CPU: no fused multiply-add); toi is a
 // device array with one entry per pair.
-void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                              const double* p, double t_max, double* toi);
 // Smallest time of impact over the pairs along x + t p, t ∈ [0, t_max], each pair searched on
 // [0, t_max] as contact_times_of_impact; t_max without pairs.
-double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactPlanes& planes, const double* x,
+double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
                                   const double* p, double t_max, Reducer& reducer);
 
 }  // namespace dipc::device

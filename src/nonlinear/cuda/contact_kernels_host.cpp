@@ -10,30 +10,30 @@ namespace {
 }
 }  // namespace
 
-bool contact_barrier_energy(const DeviceContactPairs&, const DeviceContactPlanes&, const BarrierConstants&,
+bool contact_barrier_energy(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&,
                             const double*, Reducer&, double*) {
   no_cuda("contact barrier energy on the device");
 }
-bool add_contact_barrier_gradient(const DeviceContactPairs&, const DeviceContactPlanes&, const BarrierConstants&,
+bool add_contact_barrier_gradient(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&,
                                   const double*, double*, Reducer&) {
   no_cuda("contact barrier gradient on the device");
 }
-bool contact_barrier_hessian(const DeviceContactPairs&, const DeviceContactPlanes&, const BarrierConstants&,
+bool contact_barrier_hessian(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&,
                              const double*, double*, Reducer&) {
   no_cuda("contact barrier Hessian on the device");
 }
-bool contact_active_flags(const DeviceContactPairs&, const DeviceContactPlanes&, const BarrierConstants&, const double*,
+bool contact_active_flags(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&, const double*,
                           std::int32_t*, Reducer&) {
   no_cuda("contact active set on the device");
 }
-double contact_min_squared_distance(const DeviceContactPairs&, const DeviceContactPlanes&, const double*, Reducer&) {
+double contact_min_squared_distance(const DeviceContactPairs&, const DeviceContactObstacles&, const double*, Reducer&) {
   no_cuda("contact distances on the device");
 }
-void contact_times_of_impact(const DeviceContactPairs&, const DeviceContactPlanes&, const double*, const double*,
+void contact_times_of_impact(const DeviceContactPairs&, const DeviceContactObstacles&, const double*, const double*,
                              double, double*) {
   no_cuda("contact CCD on the device");
 }
-double contact_min_time_of_impact(const DeviceContactPairs&, const DeviceContactPlanes&, const double*, const double*,
+double contact_min_time_of_impact(const DeviceContactPairs&, const DeviceContactObstacles&, const double*, const double*,
                                   double, Reducer&) {
   no_cuda("contact CCD on the device");
 }

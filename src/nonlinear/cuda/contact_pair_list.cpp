@@ -1,6 +1,8 @@
 // The host side of contact_kernels.hpp shared by CUDA and CPU-only builds: the host pair list
-// and the uploads of pair lists and planes (plain Array copies).
+// and the uploads of pair lists and obstacles (plain Array copies).
 #include "nonlinear/cuda/contact_kernels.hpp"
+
+#include "nonlinear/obstacle_nodes.hpp"
 
 namespace dipc::device {
 
@@ -28,7 +30,9 @@ void DeviceContactPairs::upload(const ContactPairList& pairs) {
   for (std::size_t i = 0; i < count; ++i) {
     for (int k = 0; k < 4; ++k) slot_major[k * count + i] = pairs.nodes[4 * i + k];
     offset[i] = hessian_values;
-    hessian_values += pairs.kind[i] == 2 ? 9 : 144;
+    int slots[4];
+    const std::size_t n = 3 * static_cast<std::size_t>(body_slots(&pairs.nodes[4 * i], pairs.kind[i] == 2 ? 1 : 4, slots));
+    hessian_values += n * n;
   }
   kind.upload(pairs.kind);
   nodes.upload(slot_major);
@@ -38,9 +42,14 @@ void DeviceContactPairs::upload(const ContactPairList& pairs) {
   hessian_offset.upload(offset);
 }
 
-void DeviceContactPlanes::upload(const std::vector<double>& points, const std::vector<double>& normals) {
+void DeviceContactObstacles::upload_planes(const std::vector<double>& points, const std::vector<double>& normals) {
   point.upload(points);
   normal.upload(normals);
+}
+
+void DeviceContactObstacles::upload_vertices(const std::vector<double>& start, const std::vector<double>& end) {
+  vertex_start.upload(start);
+  vertex_end.upload(end);
 }
 
 }  // namespace dipc::device

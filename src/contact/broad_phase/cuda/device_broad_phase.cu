@@ -24,6 +24,7 @@
 #include <cub/device/device_reduce.cuh>
 #include <cub/device/device_scan.cuh>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <limits>
@@ -55,6 +56,7 @@ struct SurfaceData {
   const char* self;
   int num_self;
   const char* owned_vertex;      // null: every vertex–face pair kept
+  const char* owned_face;        // read for kFaceDecides vertices
   const std::int64_t* edge_gid;  // null: every edge–edge pair kept
   const char* owned_edge;
 };
@@ -105,7 +107,8 @@ struct VertexFaceQuery {
     const std::int32_t* tri = s.faces + 3 * static_cast<std::int64_t>(f);
     if (tri[0] == v || tri[1] == v || tri[2] == v) return false;
     if (s.group && !allow_groups(s, s.group[v], s.group[tri[0]])) return false;
-    return !s.owned_vertex || s.owned_vertex[v] != 0;
+    if (!s.owned_vertex) return true;
+    return s.owned_vertex[v] == kFaceDecides ? s.owned_face[f] != 0 : s.owned_vertex[v] != 0;
   }
 };
 
@@ -128,10 +131,20 @@ struct EdgeEdgeQuery {
 
 __device__ std::size_t thread_index() { return blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x; }
 
-__global__ void gather_kernel(const std::int32_t* node, int n, const double* x, const double* p, double* x0,
-                              double* x1, int* moving) {
+// x0 and x1 of each vertex: x and x + p at its node's row, or a prescribed vertex's start and
+// end (node −2 − k: row k).
+__global__ void gather_kernel(const std::int32_t* node, int n, const double* x, const double* p,
+                              PrescribedVertices prescribed, double* x0, double* x1, int* moving) {
   const std::size_t v = thread_index();
   if (v >= static_cast<std::size_t>(n)) return;
+  if (node[v] <= -2) {
+    const std::size_t row = 3 * static_cast<std::size_t>(-2 - node[v]);
+    for (int c = 0; c < 3; ++c) {
+      x0[3 * v + c] = prescribed.start[row + c];
+      x1[3 * v + c] = prescribed.end[row + c];
+    }
+    return;
+  }
   const std::size_t row = 3 * static_cast<std::size_t>(node[v]);
   for (int c = 0; c < 3; ++c) {
     x0[3 * v + c] = x[row + c];
@@ -326,10 +339,11 @@ static_assert(sizeof(std::array<std::int32_t, 2>) == 2 * sizeof(std::int32_t),
 struct DeviceBroadPhase::Impl {
   int num_vertices = 0, num_edges = 0, num_faces = 0, num_self = 0;
   bool groups = false, owned_vertices = false, owned_edges = false, nodes = false;
+  bool prescribed_rows = false;  // some vertex_node is −2 − k
   Array<std::int32_t> edges{"broad phase edges"}, faces{"broad phase faces"}, group{"broad phase groups"},
       node{"broad phase vertex nodes"};
   Array<char> self{"broad phase self-contact flags"}, owned_vertex{"broad phase owned vertices"},
-      owned_edge{"broad phase owned edges"};
+      owned_face{"broad phase owned faces"}, owned_edge{"broad phase owned edges"};
   Array<std::int64_t> edge_gid{"broad phase edge ids"};
 
   // Workspace, grown as needed.
@@ -352,6 +366,7 @@ struct DeviceBroadPhase::Impl {
             self.data(),
             num_self,
             owned_vertices ? owned_vertex.data() : nullptr,
+            owned_face.data(),
             owned_edges ? edge_gid.data() : nullptr,
             owned_edge.data()};
   }
@@ -501,6 +516,11 @@ void DeviceBroadPhase::upload(const BroadPhaseSurface& s) {
   check_ids(s.faces, 3, s.num_vertices, "face");
   check_length(s.vertex_group, s.num_vertices, "vertex_group", "vertices");
   check_length(s.owned_vertex, s.num_vertices, "owned_vertex", "vertices");
+  check_length(s.owned_face, num_faces, "owned_face", "faces");
+  if (s.owned_face.empty() && num_faces > 0 &&
+      std::find(s.owned_vertex.begin(), s.owned_vertex.end(), kFaceDecides) != s.owned_vertex.end())
+    throw BroadPhaseError("DeviceBroadPhase: owned_vertex leaves pairs to the faces' owners (kFaceDecides) "
+                          "but owned_face is not given");
   check_length(s.vertex_node, s.num_vertices, "vertex_node", "vertices");
   check_length(s.edge_gid, num_edges, "edge_gid", "edges");
   check_length(s.owned_edge, num_edges, "owned_edge", "edges");
@@ -516,11 +536,13 @@ void DeviceBroadPhase::upload(const BroadPhaseSurface& s) {
   m.owned_vertices = !s.owned_vertex.empty() && s.num_vertices > 0;
   m.owned_edges = !s.edge_gid.empty() && num_edges > 0;
   m.nodes = !s.vertex_node.empty() || s.num_vertices == 0;
+  m.prescribed_rows = std::any_of(s.vertex_node.begin(), s.vertex_node.end(), [](std::int32_t n) { return n <= -2; });
   m.edges.upload(s.edges);
   m.faces.upload(s.faces);
   m.group.upload(s.vertex_group);
   m.self.upload(s.self_contact);
   m.owned_vertex.upload(s.owned_vertex);
+  m.owned_face.upload(s.owned_face);
   m.edge_gid.upload(s.edge_gid);
   m.owned_edge.upload(s.owned_edge);
   m.node.upload(s.vertex_node);
@@ -558,18 +580,22 @@ void DeviceBroadPhase::find_candidates(const double* x0, const double* x1, doubl
 }
 
 void DeviceBroadPhase::find_candidates_on_segment(const double* x, const double* p, double inflation,
-                                                  contact::Candidates* out) {
+                                                  contact::Candidates* out, const PrescribedVertices& prescribed) {
   Impl& m = *impl_;
   if (!m.nodes) throw BroadPhaseError("find_candidates_on_segment: the uploaded surface has no vertex_node");
+  if (m.prescribed_rows && (prescribed.start == nullptr || prescribed.end == nullptr))
+    throw BroadPhaseError("find_candidates_on_segment: the uploaded surface has prescribed vertices (vertex_node "
+                          "<= -2) but no prescribed positions were given");
   if (m.num_vertices == 0) return find_candidates(nullptr, nullptr, inflation, out);
   const std::size_t n = static_cast<std::size_t>(m.num_vertices);
   m.x0.resize(3 * n), m.x1.resize(3 * n), m.moving.resize(1);
   m.moving.set_zero();
-  gather_kernel<<<blocks_for(n, kThreads), kThreads>>>(m.node.data(), m.num_vertices, x, p, m.x0.data(), m.x1.data(),
-                                                       m.moving.data());
+  gather_kernel<<<blocks_for(n, kThreads), kThreads>>>(m.node.data(), m.num_vertices, x, p, prescribed, m.x0.data(),
+                                                       m.x1.data(), m.moving.data());
   DIPC_CUDA_CHECK_LAUNCH();
   int moving = 0;
   m.moving.download(&moving);
+  if (m.prescribed_rows && prescribed.moving) moving = 1;
   find_candidates(m.x0.data(), moving ? m.x1.data() : nullptr, inflation, out);
 }
 

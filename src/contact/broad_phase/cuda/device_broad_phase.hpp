@@ -13,10 +13,16 @@
 // Filters are data, not callbacks, so that kernels can apply them. With the same data,
 // find_candidates gives what contact::find_candidates gives with the CandidateFilter
 //   allow_groups(a, b)     = a != b || (0 <= a < self_contact.size() && self_contact[a])
-//   keep_vertex_face(v, f) = owned_vertex[v] != 0
+//   keep_vertex_face(v, f) = owned_vertex[v] == kFaceDecides ? owned_face[f] != 0 : owned_vertex[v] != 0
 //   keep_edge_edge(a, b)   = owned_edge[edge_gid[a] < edge_gid[b] ? a : b] != 0
 // (each present only when its arrays are given): ContactForm's filter, where a pair belongs to
-// the owner of its vertex, or of its edge with the smaller global id.
+// the owner of its vertex, or of its edge with the smaller global id. With triangle-mesh
+// obstacles (ContactForm appends them in group −1, which never meets itself): a pair of an
+// obstacle vertex (kFaceDecides) belongs to the owner of the body triangle, and an obstacle
+// edge, whose global id is larger than any body edge's, leaves a pair to the body edge's owner.
+//
+// Vertices may also follow a prescribed segment of their own instead of rows of x and p (the
+// obstacles' vertices, whose positions are functions of time): see vertex_node.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -37,14 +43,28 @@ struct BroadPhaseSurface {
   // group may touch itself (ids beyond the list may not).
   std::vector<std::int32_t> vertex_group;
   std::vector<char> self_contact;
-  // Ownership filters: per vertex (empty: every vertex–face pair kept); per edge a global id
-  // and an owned flag (both empty: every edge–edge pair kept).
+  // Ownership filters: per vertex (empty: every vertex–face pair kept; kFaceDecides: the
+  // face's owned_face flag decides), per face (needed only where a vertex is kFaceDecides);
+  // per edge a global id and an owned flag (both empty: every edge–edge pair kept).
   std::vector<char> owned_vertex;
+  std::vector<char> owned_face;
   std::vector<std::int64_t> edge_gid;
   std::vector<char> owned_edge;
-  // Per vertex, its row in the node arrays x and p of find_candidates_on_segment (empty: that
-  // search is not available).
+  // Per vertex, its row in the node arrays x and p of find_candidates_on_segment, or, as
+  // −2 − k, row k of that search's prescribed positions (empty: that search is not available).
   std::vector<std::int32_t> vertex_node;
+};
+
+// owned_vertex's value for a vertex whose vertex–face pairs belong to the face's owner.
+constexpr char kFaceDecides = 2;
+
+// Positions of the vertices that follow a prescribed segment (vertex_node −2 − k: row k),
+// from start to end (device arrays, 3 doubles per row); moving: whether start and end differ
+// anywhere (when neither they nor p move any vertex, the search takes static boxes).
+struct PrescribedVertices {
+  const double* start = nullptr;
+  const double* end = nullptr;
+  bool moving = false;
 };
 
 class DeviceBroadPhase {
@@ -56,8 +76,8 @@ class DeviceBroadPhase {
 
   // Copies the surface to the device; call again whenever the primitives change. Throws
   // contact::BroadPhaseError as contact::find_candidates does for a negative vertex count or a
-  // vertex id out of range (same message), and for per-vertex or per-edge arrays of the wrong
-  // length.
+  // vertex id out of range (same message), for per-vertex, per-edge or per-face arrays of the
+  // wrong length, and for kFaceDecides vertices without owned_face.
   void upload(const BroadPhaseSurface& surface);
 
   // contact::find_candidates on the uploaded surface at device positions x0 and, when not null,
@@ -68,9 +88,13 @@ class DeviceBroadPhase {
   void find_candidates(const double* x0, const double* x1, double inflation, contact::Candidates* out);
 
   // The same on a segment of node arrays x + αp, α ∈ [0, 1] (device arrays, 3 per node, rows
-  // from vertex_node): x0 = x and x1 = x + p gathered per vertex, or static boxes at x0 when p
-  // is zero at every vertex of the surface, as ContactForm forms them on the host.
-  void find_candidates_on_segment(const double* x, const double* p, double inflation, contact::Candidates* out);
+  // from vertex_node): x0 = x and x1 = x + p gathered per vertex (for prescribed vertices
+  // their start and end), or static boxes at x0 when p is zero at every vertex of the surface
+  // and the prescribed vertices do not move, as ContactForm forms them on the host. Throws
+  // contact::BroadPhaseError when the surface has prescribed vertices and `prescribed` lacks
+  // their positions.
+  void find_candidates_on_segment(const double* x, const double* p, double inflation, contact::Candidates* out,
+                                  const PrescribedVertices& prescribed = {});
 
  private:
   struct Impl;

@@ -23,7 +23,8 @@ void DeviceBroadPhase::upload(const BroadPhaseSurface&) { no_cuda("broad phase s
 void DeviceBroadPhase::find_candidates(const double*, const double*, double, contact::Candidates*) {
   no_cuda("broad phase on the device");
 }
-void DeviceBroadPhase::find_candidates_on_segment(const double*, const double*, double, contact::Candidates*) {
+void DeviceBroadPhase::find_candidates_on_segment(const double*, const double*, double, contact::Candidates*,
+                                                  const PrescribedVertices&) {
   no_cuda("broad phase on the device");
 }
 
