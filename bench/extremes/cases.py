@@ -13,6 +13,14 @@ import re
 BASE_E, BASE_NU, RHO = 1e6, 0.4, 1000.0
 
 
+def material(name, E, nu, rho, model='neo_hookean', **extra):
+    """A materials[] entry; "model" is written only when it is not the default (neo_hookean)."""
+    m = {'name': name, 'E': E, 'nu': nu, 'rho': rho, **extra}
+    if model != 'neo_hookean':
+        m['model'] = model
+    return m
+
+
 def box(name, size, resolution, origin, material='m', velocity=None, **extra):
     body = {'name': name, 'box': {'size': size, 'resolution': resolution, 'origin': origin},
             'material': material}
@@ -48,20 +56,20 @@ def scene(bodies, materials, dt, steps, dhat=1e-3, gravity=(0, 0, -9.81), planes
 
 
 def drop(E=BASE_E, nu=BASE_NU, dt=0.01, steps=20, speed=1.0, gap=0.009, dhat=1e-3,
-         rho_upper=RHO, rho_lower=RHO, volumetric='gauss_points'):
+         rho_upper=RHO, rho_lower=RHO, volumetric='gauss_points', model='neo_hookean'):
     """The base scene: upper box falling onto the lower box on the ground plane."""
-    materials = [{'name': 'upper', 'E': E, 'nu': nu, 'rho': rho_upper, 'volumetric': volumetric},
-                 {'name': 'lower', 'E': E, 'nu': nu, 'rho': rho_lower, 'volumetric': volumetric}]
+    materials = [material('upper', E, nu, rho_upper, model, volumetric=volumetric),
+                 material('lower', E, nu, rho_lower, model, volumetric=volumetric)]
     bodies = [box('lower', [0.2, 0.2, 0.06], [5, 5, 2], [-0.1, -0.1, 0.001], 'lower'),
               box('upper', [0.1, 0.1, 0.1], [3, 3, 3], [-0.03, -0.04, 0.061 + gap], 'upper', [0, 0, -speed])]
     return scene(bodies, materials, dt, steps, dhat)
 
 
-def impact(speed):
+def impact(speed, model='neo_hookean'):
     """Box onto box in free space (no gravity, no plane): momentum is conserved exactly, and
     implicit Euler may only lose energy. dt 1e-3: at 200 m/s a step moves the box 2× its size,
     so only CCD stands between it and tunnelling."""
-    materials = [{'name': 'm', 'E': BASE_E, 'nu': BASE_NU, 'rho': RHO}]
+    materials = [material('m', BASE_E, BASE_NU, RHO, model)]
     bodies = [box('target', [0.2, 0.2, 0.06], [5, 5, 2], [-0.1, -0.1, 0.0]),
               box('bullet', [0.1, 0.1, 0.1], [3, 3, 3], [-0.03, -0.04, 0.07], velocity=[0, 0, -speed])]
     return scene(bodies, materials, 1e-3, 12, gravity=(0, 0, 0), planes=())
@@ -122,12 +130,16 @@ def all_cases():
         cases[f'nu_{nu:g}'] = ('Poisson ratio', drop(nu=nu))
     for nu in (0.499, 0.4999):  # the locking-free element (materials[].volumetric)
         cases[f'nu_{nu:g}_md'] = ('Poisson ratio, mean dilatation', drop(nu=nu, volumetric='mean_dilatation'))
+    for nu in (0.3, 0.49, 0.4999):  # the second material (materials[].model)
+        cases[f'nu_{nu:g}_snh'] = ('Poisson ratio, stable neo-Hookean', drop(nu=nu, model='stable_neo_hookean'))
     # The fall (gap) is scaled so that contact happens within the run at every dt.
     cases['dt_1e-5'] = ('time step [s]', drop(dt=1e-5, steps=40, speed=2.0, gap=4e-4))
     cases['dt_1e-3'] = ('time step [s]', drop(dt=1e-3, steps=30))
     cases['dt_1e-1'] = ('time step [s]', drop(dt=0.1, steps=10))
     for speed in (1, 20, 100, 200):
         cases[f'impact_{speed}'] = ('impact speed [m/s]', impact(speed))
+    for speed in (20, 100):  # large compression on impact, stable neo-Hookean
+        cases[f'impact_{speed}_snh'] = ('impact speed [m/s], stable neo-Hookean', impact(speed, 'stable_neo_hookean'))
     for dhat in (1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2):
         cases[f'dhat_{tag(dhat)}'] = ('d̂ / diagonal', drop(dhat=dhat))
     cases['heavy_on_light'] = ('density ratio 1e4', drop(rho_upper=RHO * 1e4))

@@ -64,6 +64,8 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     bm.mu = m.E / (2 * (1 + m.nu));
     bm.rho = m.rho;
     bm.volumetric = m.mean_dilatation ? VolumetricTerm::mean_dilatation : VolumetricTerm::gauss_points;
+    bm.model = m.model == Material::Model::stable_neo_hookean ? MaterialModel::stable_neo_hookean
+                                                             : MaterialModel::neo_hookean;
     p.body_materials.push_back(bm);
     p.body_velocity.push_back(body.initial_velocity);
     p.body_angular_velocity.push_back(body.initial_angular_velocity);

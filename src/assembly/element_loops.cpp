@@ -4,6 +4,7 @@
 #include "assembly/element_loops.hpp"
 
 #include <limits>
+#include <type_traits>
 
 #include "assembly/hex8_mean_dilatation.hpp"
 #include "assembly/hex8_mass.hpp"
@@ -38,6 +39,29 @@ void scatter_hessian(const double H[576], double* coo) {
         for (int l = 0; l < 3; ++l) coo[elastic_coo_offset(a, k, b, l)] = H[24 * (3 * a + k) + 3 * b + l];
 }
 
+// Element e's energy, gradient and PSD Hessian (any may be nullptr) with its own volumetric
+// term and material (hex8_elastic). AnyModel false: the block is all neo-Hookean
+// (block.model null) and the element routine is fixed at compile time.
+template <bool AnyModel>
+bool element_terms(const ElementBlock& block, int e, const double Xe[24], const double xe[24], double* energy,
+                   double* gradient, double* hessian) {
+  if constexpr (AnyModel)
+    return hex8_elastic(block.volumetric_term(e), block.model[e], Xe, xe, block.lambda[e], block.mu[e], energy,
+                        gradient, hessian);
+  else
+    return hex8_elastic<NeoHookean>(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], energy,
+                                    gradient, hessian);
+}
+
+// Runs loop(std::bool_constant<AnyModel>) with AnyModel true when the block has a per-element
+// material (block.model): a loop over an all-neo-Hookean block has no per-element dispatch, so
+// its code is what it was before there were materials (a per-element switch made GCC stop
+// inlining hex8_quadrature_point into some loops).
+template <class Loop>
+bool dispatch_models(const ElementBlock& block, Loop&& loop) {
+  return block.model ? loop(std::true_type{}) : loop(std::false_type{});
+}
+
 // Global dof ids 3*l2g[node] + c of one element, checked against PETSc's 32-bit PetscInt.
 void element_dofs(const ElementBlock& block, int e, const std::int64_t* local_to_global, std::int32_t dofs[24]) {
   const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
@@ -55,82 +79,92 @@ void element_dofs(const ElementBlock& block, int e, const std::int64_t* local_to
 }  // namespace
 
 bool elastic_energy(const ElementBlock& block, const double* x, double* energy) {
-  double total = 0;
-  for (int e = 0; e < block.num_elements; ++e) {
-    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24], ee;
-    gather(block.reference, en, Xe);
-    gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], &ee, nullptr, nullptr)) return false;
-    total += ee;
-  }
-  *energy = total;
-  return true;
+  return dispatch_models(block, [&](auto any_model) {
+    double total = 0;
+    for (int e = 0; e < block.num_elements; ++e) {
+      const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+      double Xe[24], xe[24], ee;
+      gather(block.reference, en, Xe);
+      gather(x, en, xe);
+      if (!element_terms<decltype(any_model)::value>(block, e, Xe, xe, &ee, nullptr, nullptr)) return false;
+      total += ee;
+    }
+    *energy = total;
+    return true;
+  });
 }
 
 bool elastic_gradient(const ElementBlock& block, const double* x, double* g) {
-  for (int e = 0; e < block.num_elements; ++e) {
-    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24], ge[24];
-    gather(block.reference, en, Xe);
-    gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, ge, nullptr)) return false;
-    scatter_add(ge, en, g);
-  }
-  return true;
+  return dispatch_models(block, [&](auto any_model) {
+    for (int e = 0; e < block.num_elements; ++e) {
+      const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+      double Xe[24], xe[24], ge[24];
+      gather(block.reference, en, Xe);
+      gather(x, en, xe);
+      if (!element_terms<decltype(any_model)::value>(block, e, Xe, xe, nullptr, ge, nullptr)) return false;
+      scatter_add(ge, en, g);
+    }
+    return true;
+  });
 }
 
 bool elastic_hessian(const ElementBlock& block, const double* x, double* coo_values) {
-  for (int e = 0; e < block.num_elements; ++e) {
-    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24];
-    gather(block.reference, en, Xe);
-    gather(x, en, xe);
-    double He[576];
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He)) return false;
-    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
-  }
-  return true;
+  return dispatch_models(block, [&](auto any_model) {
+    for (int e = 0; e < block.num_elements; ++e) {
+      const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+      double Xe[24], xe[24];
+      gather(block.reference, en, Xe);
+      gather(x, en, xe);
+      double He[576];
+      if (!element_terms<decltype(any_model)::value>(block, e, Xe, xe, nullptr, nullptr, He)) return false;
+      scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
+    }
+    return true;
+  });
 }
 
 bool elastic_energy_gradient_hessian(const ElementBlock& block, const double* x, double* energy, double* g,
                                      double* coo_values) {
-  double total = 0;
-  for (int e = 0; e < block.num_elements; ++e) {
-    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24], ge[24], ee, He[576];
-    gather(block.reference, en, Xe);
-    gather(x, en, xe);
-    if (!hex8_elastic(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], &ee, ge, He)) return false;
-    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
-    total += ee;
-    scatter_add(ge, en, g);
-  }
-  *energy = total;
-  return true;
+  return dispatch_models(block, [&](auto any_model) {
+    double total = 0;
+    for (int e = 0; e < block.num_elements; ++e) {
+      const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+      double Xe[24], xe[24], ge[24], ee, He[576];
+      gather(block.reference, en, Xe);
+      gather(x, en, xe);
+      if (!element_terms<decltype(any_model)::value>(block, e, Xe, xe, &ee, ge, He)) return false;
+      scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
+      total += ee;
+      scatter_add(ge, en, g);
+    }
+    *energy = total;
+    return true;
+  });
 }
 
 bool elastic_hessian_split(const ElementBlock& block, const double* x, double* coo_values, double* volume_gradients,
                            double* volume_curvatures) {
-  for (int e = 0; e < block.num_elements; ++e) {
-    const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
-    double Xe[24], xe[24], He[576];
-    gather(block.reference, en, Xe);
-    gather(x, en, xe);
-    double* b = volume_gradients + 24 * static_cast<std::int64_t>(e);
-    bool ok;
-    if (block.volumetric_term(e) == VolumetricTerm::mean_dilatation) {
-      ok = detail::hex8_mean_dilatation<true>(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He, b,
-                                              &volume_curvatures[e]);
-    } else {
-      ok = hex8_neo_hookean(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He);
-      for (int k = 0; k < 24; ++k) b[k] = 0;
-      volume_curvatures[e] = 0;
+  return dispatch_models(block, [&](auto any_model) {
+    for (int e = 0; e < block.num_elements; ++e) {
+      const std::int32_t* en = block.nodes + 8 * static_cast<std::int64_t>(e);
+      double Xe[24], xe[24], He[576];
+      gather(block.reference, en, Xe);
+      gather(x, en, xe);
+      double* b = volume_gradients + 24 * static_cast<std::int64_t>(e);
+      bool ok;
+      if (block.volumetric_term(e) == VolumetricTerm::mean_dilatation) {
+        ok = detail::hex8_mean_dilatation<true>(Xe, xe, block.lambda[e], block.mu[e], nullptr, nullptr, He, b,
+                                                &volume_curvatures[e]);
+      } else {
+        ok = element_terms<decltype(any_model)::value>(block, e, Xe, xe, nullptr, nullptr, He);
+        for (int k = 0; k < 24; ++k) b[k] = 0;
+        volume_curvatures[e] = 0;
+      }
+      if (!ok) return false;
+      scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
     }
-    if (!ok) return false;
-    scatter_hessian(He, coo_values + kElasticCooPerElement * static_cast<std::int64_t>(e));
-  }
-  return true;
+    return true;
+  });
 }
 
 void reference_volumes(const ElementBlock& block, double* volumes) {

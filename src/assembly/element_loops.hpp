@@ -1,5 +1,6 @@
 // CPU loops over a block of hex8 elements: elastic energy, gradient, Hessian values in COO
-// order, volume ratios and mass matrices. They call the same point functions as the CUDA
+// order, volume ratios and mass matrices. Each element's material (materials.hpp) and
+// volumetric term select the element routine (hex8_elastic). They call the same point functions as the CUDA
 // kernels (hex8_elasticity.hpp, hex8_mass.hpp) and know nothing of MPI or PETSc: the caller
 // passes local node ids and, for COO patterns, the local-to-global node map.
 #pragma once
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "assembly/hex8_mean_dilatation.hpp"
+#include "assembly/materials.hpp"
 #include "host_device.hpp"
 
 namespace dipc {
@@ -21,8 +23,12 @@ struct ElementBlock {
   const double* lambda = nullptr;       // per element
   const double* mu = nullptr;           // per element
   const VolumetricTerm* volumetric = nullptr;  // per element; nullptr: all at the Gauss points
+  const MaterialModel* model = nullptr;        // per element; nullptr: all neo-Hookean
   DIPC_HD VolumetricTerm volumetric_term(std::int64_t e) const {
     return volumetric ? volumetric[e] : VolumetricTerm::gauss_points;
+  }
+  DIPC_HD MaterialModel material_model(std::int64_t e) const {
+    return model ? model[e] : MaterialModel::neo_hookean;
   }
 };
 

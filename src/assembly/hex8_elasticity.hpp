@@ -1,10 +1,10 @@
-// Element energy, gradient and Hessian of the neo-Hookean hex8 (trilinear, 2x2x2 Gauss) and
-// its volume ratio check. Host/device point functions on plain arrays: node reference
-// coordinates X[3a + i] and current positions x[3a + i] (Gmsh/VTK node order, see
-// mesh/hex_mesh.hpp); gradients have 24 entries (element dof 3a + i), Hessians are 24x24
-// row-major.
+// Element energy, gradient and Hessian of the hyperelastic hex8 (trilinear, 2x2x2 Gauss) for
+// any material type of materials.hpp, and its volume ratio check. Host/device point functions
+// on plain arrays: node reference coordinates X[3a + i] and current positions x[3a + i]
+// (Gmsh/VTK node order, see mesh/hex_mesh.hpp); gradients have 24 entries (element dof
+// 3a + i), Hessians are 24x24 row-major.
 #pragma once
-#include "assembly/neo_hookean.hpp"
+#include "assembly/materials.hpp"
 #include "assembly/small_matrix.hpp"
 #include "host_device.hpp"
 #include "mesh/hex8_reference.hpp"
@@ -77,12 +77,13 @@ DIPC_HD void finish_hessian(const double Hc[576], double hessian[576]) {
               0.5 * (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
 }
 
-// Psi_e = sum_q w_q |det J0_q| psi(F_q) with psi the neo-Hookean energy at each of the 2x2x2
+// Psi_e = sum_q w_q |det J0_q| psi(F_q) with psi the Material's energy at each of the 2x2x2
 // Gauss points. `Project` selects the PSD-projected dP/dF (Newton) or the exact one
-// (derivative tests).
-template <bool Project>
-DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
-                              double* energy, double* gradient, double* hessian) {
+// (derivative tests). det F <= 0 is refused for every material, also for those whose psi is
+// finite there (stable neo-Hookean): dipc keeps elements uninverted.
+template <class Material, bool Project>
+DIPC_HD bool hex8_hyperelastic(const double X[24], const double x[24], double lambda, double mu, double* energy,
+                               double* gradient, double* hessian) {
   double e = 0;
   if (gradient)
     for (int k = 0; k < 24; ++k) gradient[k] = 0;
@@ -93,19 +94,19 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
     double G[24], F[9];
     const double wdet = hex8_quadrature_point(X, x, q, G, F);
     if (!(det3x3(F) > 0)) return false;
-    if (energy) e += wdet * neo_hookean_energy(F, lambda, mu);
+    if (energy) e += wdet * Material::energy(F, lambda, mu);
     if (gradient) {
       double P[9];
-      neo_hookean_stress(F, lambda, mu, P);
+      Material::stress(F, lambda, mu, P);
       for (int k = 0; k < 9; ++k) P[k] *= wdet;
       add_point_gradient(G, P, gradient);
     }
     if (hessian) {
       double C[81];
       if (Project)
-        neo_hookean_stress_derivative_psd(F, lambda, mu, C);
+        Material::stress_derivative_psd(F, lambda, mu, C);
       else
-        neo_hookean_stress_derivative(F, lambda, mu, C);
+        Material::stress_derivative(F, lambda, mu, C);
       add_point_hessian(G, wdet, C, Hc);
     }
   }
@@ -116,19 +117,32 @@ DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lam
 
 }  // namespace detail
 
-// Energy, gradient (24 or nullptr) and PSD-projected Hessian (576 or nullptr) of one
-// element; `energy` may be nullptr too. Returns false, outputs unspecified, when det F <= 0
-// at a quadrature point.
-DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
-                              double* energy, double* gradient, double* hessian) {
-  return detail::hex8_neo_hookean<true>(X, x, lambda, mu, energy, gradient, hessian);
+// Energy, gradient (24 or nullptr) and PSD-projected Hessian (576 or nullptr) of one element
+// of the given material; `energy` may be nullptr too. Returns false, outputs unspecified, when
+// det F <= 0 at a quadrature point.
+template <class Material>
+DIPC_HD bool hex8_element(const double X[24], const double x[24], double lambda, double mu, double* energy,
+                          double* gradient, double* hessian) {
+  return detail::hex8_hyperelastic<Material, true>(X, x, lambda, mu, energy, gradient, hessian);
 }
 
 // Same with the exact (unprojected, possibly indefinite) Hessian: the true second
 // derivative, for finite-difference tests and for solvers that do their own safeguarding.
+template <class Material>
+DIPC_HD bool hex8_element_exact_hessian(const double X[24], const double x[24], double lambda, double mu,
+                                        double* energy, double* gradient, double* hessian) {
+  return detail::hex8_hyperelastic<Material, false>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
+// The neo-Hookean element (the default material).
+DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
+                              double* energy, double* gradient, double* hessian) {
+  return hex8_element<NeoHookean>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
 DIPC_HD bool hex8_neo_hookean_exact_hessian(const double X[24], const double x[24], double lambda, double mu,
                                             double* energy, double* gradient, double* hessian) {
-  return detail::hex8_neo_hookean<false>(X, x, lambda, mu, energy, gradient, hessian);
+  return hex8_element_exact_hessian<NeoHookean>(X, x, lambda, mu, energy, gradient, hessian);
 }
 
 // min det F over the 8 Gauss points and the 8 corners, det F = det(dx/dxi) / det(dX/dxi):

@@ -22,6 +22,7 @@
 // rank-one term when f'' < 0 (Jbar > e): a sum of PSD parts, as the standard element does.
 #pragma once
 #include "assembly/hex8_elasticity.hpp"
+#include "assembly/materials.hpp"
 #include "assembly/neo_hookean.hpp"
 #include "assembly/small_matrix.hpp"
 #include "host_device.hpp"
@@ -34,7 +35,7 @@ namespace dipc {
 // and with psi_i = mu sigma_i - mu / sigma_i + p sigma_j sigma_k the pair modes have
 //   flip  (psi_i - psi_j)/(sigma_i - sigma_j) = mu + mu/(sigma_i sigma_j) - p sigma_k,
 //   twist (psi_i + psi_j)/(sigma_i + sigma_j) = mu - mu/(sigma_i sigma_j) + p sigma_k.
-DIPC_HD void mean_dilatation_eigensystem(const double F[9], double mu, double p, NeoHookeanEigensystem* es) {
+DIPC_HD void mean_dilatation_eigensystem(const double F[9], double mu, double p, IsotropicEigensystem* es) {
   rotation_variant_svd(F, es->U, es->sigma, es->V);
   const double* s = es->sigma;
   for (int i = 0; i < 3; ++i)
@@ -106,7 +107,7 @@ DIPC_HD bool hex8_mean_dilatation(const double X[24], const double x[24], double
       double C[81];
       mean_dilatation_point_tangent(F[q], mu, p, C);
       if (Project) {
-        NeoHookeanEigensystem es;
+        IsotropicEigensystem es;
         mean_dilatation_eigensystem(F[q], mu, p, &es);
         add_psd_correction(es, C);
       }
@@ -153,11 +154,23 @@ DIPC_HD bool hex8_mean_dilatation_exact_hessian(const double X[24], const double
 // Chosen per material (scene key materials[].volumetric).
 enum class VolumetricTerm : unsigned char { gauss_points = 0, mean_dilatation = 1 };
 
-// The element of either kind: energy, gradient and PSD-projected Hessian as above.
+// The element of either kind and any material (materials.hpp): energy, gradient and
+// PSD-projected Hessian as above. The mean-dilatation element is the neo-Hookean one: with
+// `term` mean_dilatation, `model` must be neo_hookean (ElementData and the scene parser refuse
+// other materials with it).
+template <class Material>
 DIPC_HD bool hex8_elastic(VolumetricTerm term, const double X[24], const double x[24], double lambda, double mu,
                           double* energy, double* gradient, double* hessian) {
-  return term == VolumetricTerm::mean_dilatation ? hex8_mean_dilatation(X, x, lambda, mu, energy, gradient, hessian)
-                                                 : hex8_neo_hookean(X, x, lambda, mu, energy, gradient, hessian);
+  if (term == VolumetricTerm::mean_dilatation) return hex8_mean_dilatation(X, x, lambda, mu, energy, gradient, hessian);
+  return hex8_element<Material>(X, x, lambda, mu, energy, gradient, hessian);
+}
+
+// The same with the material chosen at run time.
+DIPC_HD bool hex8_elastic(VolumetricTerm term, MaterialModel model, const double X[24], const double x[24],
+                          double lambda, double mu, double* energy, double* gradient, double* hessian) {
+  return visit_material(model, [&](auto material) {
+    return hex8_elastic<decltype(material)>(term, X, x, lambda, mu, energy, gradient, hessian);
+  });
 }
 
 }  // namespace dipc

@@ -8,6 +8,7 @@
 #pragma once
 #include <cmath>
 
+#include "assembly/isotropic_eigensystem.hpp"
 #include "assembly/small_matrix.hpp"
 #include "assembly/symmetric_eigen.hpp"
 #include "host_device.hpp"
@@ -54,59 +55,14 @@ DIPC_HD void neo_hookean_stress_derivative(const double F[9], double lambda, dou
     }
 }
 
-// Singular value decomposition F = U diag(sigma) V^T with U, V proper rotations, for
-// det F > 0 (then all sigma_i > 0). V comes from the Jacobi eigenvectors of F^T F (sorted
-// by decreasing eigenvalue, last column flipped if needed so det V = +1); U from the
-// Gram-Schmidt QR of F V, whose diagonal gives sigma. Orthogonalising F V instead of
-// dividing by sigma keeps U orthonormal to rounding even when singular values coincide.
-DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3], double V[9]) {
-  double C[9], w[3], E[9];
-  multiply_transpose_a3x3(F, F, C);
-  symmetric_eigen<3>(C, 3, w, E);
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) V[3 * i + k] = E[3 * i + (2 - k)];
-  if (det3x3(V) < 0)
-    for (int i = 0; i < 3; ++i) V[3 * i + 2] = -V[3 * i + 2];
-  double B[9];
-  multiply3x3(F, V, B);
-  double u0[3], u1[3];
-  const double n0 = sqrt(B[0] * B[0] + B[3] * B[3] + B[6] * B[6]);
-  for (int i = 0; i < 3; ++i) u0[i] = B[3 * i] / n0;
-  const double d01 = u0[0] * B[1] + u0[1] * B[4] + u0[2] * B[7];
-  for (int i = 0; i < 3; ++i) u1[i] = B[3 * i + 1] - d01 * u0[i];
-  const double n1 = sqrt(u1[0] * u1[0] + u1[1] * u1[1] + u1[2] * u1[2]);
-  for (int i = 0; i < 3; ++i) u1[i] /= n1;
-  const double u2[3] = {u0[1] * u1[2] - u0[2] * u1[1], u0[2] * u1[0] - u0[0] * u1[2],
-                        u0[0] * u1[1] - u0[1] * u1[0]};
-  for (int i = 0; i < 3; ++i) {
-    U[3 * i + 0] = u0[i];
-    U[3 * i + 1] = u1[i];
-    U[3 * i + 2] = u2[i];
-  }
-  sigma[0] = n0;
-  sigma[1] = u1[0] * B[1] + u1[1] * B[4] + u1[2] * B[7];
-  sigma[2] = u2[0] * B[2] + u2[1] * B[5] + u2[2] * B[8];
-}
-
-// Analytic eigensystem of dP/dF (Smith, de Goes & Kim 2019, "Analytic eigensystems for
-// isotropic distortion energies", ACM Trans. Graph. 38(1), 2019). With F = U S V^T and psi
-// isotropic, every eigenvector of dP/dF is vec(U D V^T) for a 3x3 D:
-//  - scaling: D = diag(z), z an eigenvector of the 3x3 Hessian d2psi/dsigma_i dsigma_j,
-//    here A_ii = mu + (lambda (1 - ln J) + mu) / sigma_i^2, A_ij = lambda / (sigma_i sigma_j);
-//  - for each pair i < j, with c = lambda ln J - mu and psi_i = mu sigma_i + c / sigma_i:
-//    the symmetric ("flip") D = (e_i e_j^T + e_j e_i^T)/sqrt2 with eigenvalue
-//    (psi_i - psi_j)/(sigma_i - sigma_j) = mu - c/(sigma_i sigma_j), and the antisymmetric
-//    ("twist", infinitesimal rotation) D = (e_i e_j^T - e_j e_i^T)/sqrt2 with eigenvalue
-//    (psi_i + psi_j)/(sigma_i + sigma_j) = mu + c/(sigma_i sigma_j). Both closed forms avoid
-//    dividing by sigma_i - sigma_j. (At F = I the twists have eigenvalue 0: rotations.)
-// Pair modes are ordered (0,1), (0,2), (1,2), flip before twist.
-struct NeoHookeanEigensystem {
-  double U[9], sigma[3], V[9];
-  double scaling_hessian[9];   // A above, row-major 3x3
-  double pair_eigenvalues[6];  // flip, twist for each pair
-};
-
-DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu, NeoHookeanEigensystem* es) {
+// The analytic eigensystem of dP/dF (isotropic_eigensystem.hpp) for neo-Hookean: with
+// c = lambda ln J - mu and psi_i = mu sigma_i + c / sigma_i,
+//   A_ii = mu + (lambda (1 - ln J) + mu) / sigma_i^2,   A_ij = lambda / (sigma_i sigma_j),
+//   flip  (psi_i - psi_j)/(sigma_i - sigma_j) = mu - c/(sigma_i sigma_j),
+//   twist (psi_i + psi_j)/(sigma_i + sigma_j) = mu + c/(sigma_i sigma_j).
+// Both closed forms avoid dividing by sigma_i - sigma_j. (At F = I the twists have eigenvalue
+// 0: rotations.)
+DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu, IsotropicEigensystem* es) {
   rotation_variant_svd(F, es->U, es->sigma, es->V);
   const double* s = es->sigma;
   const double log_J = log(s[0] * s[1] * s[2]);
@@ -124,51 +80,6 @@ DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu
     }
 }
 
-namespace detail {
-
-// vec(u_i v_i^T) for i = 0..2 (row-major flattening: entry 3a + b is U_ai V_bi).
-DIPC_HD void scaling_basis(const NeoHookeanEigensystem& es, double D[3][9]) {
-  for (int i = 0; i < 3; ++i)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) D[i][3 * a + b] = es.U[3 * a + i] * es.V[3 * b + i];
-}
-
-// Flip (m even) or twist (m odd) eigenvector of pair mode m, flattened row-major.
-DIPC_HD void pair_mode(const NeoHookeanEigensystem& es, int m, double q[9]) {
-  const int pair = m / 2;
-  const int i = pair == 2 ? 1 : 0, j = pair == 0 ? 1 : 2;
-  const double sign = (m % 2) ? -1.0 : 1.0;
-  const double inv_sqrt2 = 0.70710678118654752440;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b)
-      q[3 * a + b] = inv_sqrt2 * (es.U[3 * a + i] * es.V[3 * b + j] + sign * es.U[3 * a + j] * es.V[3 * b + i]);
-}
-
-// H += sum_ij S_ij D_i D_j^T (upper triangle only) for the symmetric 3x3 S.
-DIPC_HD void add_scaling_block(const double D[3][9], const double S[9], double H[81]) {
-  for (int r = 0; r < 9; ++r) {
-    const double SDr[3] = {S[0] * D[0][r] + S[1] * D[1][r] + S[2] * D[2][r],
-                           S[3] * D[0][r] + S[4] * D[1][r] + S[5] * D[2][r],
-                           S[6] * D[0][r] + S[7] * D[1][r] + S[8] * D[2][r]};
-    for (int t = r; t < 9; ++t) H[9 * r + t] += SDr[0] * D[0][t] + SDr[1] * D[1][t] + SDr[2] * D[2][t];
-  }
-}
-
-// H += w q q^T (upper triangle only).
-DIPC_HD void add_rank_one(double w, const double q[9], double H[81]) {
-  for (int r = 0; r < 9; ++r) {
-    const double wq = w * q[r];
-    for (int t = r; t < 9; ++t) H[9 * r + t] += wq * q[t];
-  }
-}
-
-DIPC_HD void mirror_upper(double H[81]) {
-  for (int r = 0; r < 9; ++r)
-    for (int t = r + 1; t < 9; ++t) H[9 * t + r] = H[9 * r + t];
-}
-
-}  // namespace detail
-
 // dP/dF rebuilt from all nine modes of the eigensystem, sum_k lambda_k q_k q_k^T, with the
 // eigenvalues clamped at 0 when `clamp` is true. The reference form of the projection (and,
 // unclamped, a check of the eigensystem against the exact tangent); the Newton hot path uses
@@ -176,7 +87,7 @@ DIPC_HD void mirror_upper(double H[81]) {
 // sign convention matters.
 DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double lambda, double mu, bool clamp,
                                                        double dPdF[81]) {
-  NeoHookeanEigensystem es;
+  IsotropicEigensystem es;
   neo_hookean_eigensystem(F, lambda, mu, &es);
   double A[9];
   for (int k = 0; k < 9; ++k) A[k] = es.scaling_hessian[k];
@@ -195,44 +106,30 @@ DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double
   detail::mirror_upper(dPdF);
 }
 
-// Adds to an exact tangent dPdF the correction that projects it to positive semi-definite:
-// minus its negative part, -sum_{lambda_k < 0} lambda_k q_k q_k^T, which equals clamping the
-// negative eigenvalues to 0 but only touches the (few) negative modes. The scaling block is
-// corrected by (proj(A) - A) only when A is not positive semi-definite (checked through its
-// leading principal minors / a 3x3 Jacobi solve). Works for any isotropic energy whose
-// eigensystem `es` describes dPdF (neo_hookean_eigensystem, mean_dilatation_eigensystem).
-DIPC_HD void add_psd_correction(const NeoHookeanEigensystem& es, double dPdF[81]) {
-  const double* A = es.scaling_hessian;
-  const double minor2 = A[0] * A[4] - A[1] * A[3];
-  const bool scaling_pd = A[0] > 0 && minor2 > 0 && det3x3(A) > 0;  // Sylvester's criterion
-  bool touched = false;
-  if (!scaling_pd) {
-    double S[9];
-    for (int k = 0; k < 9; ++k) S[k] = A[k];
-    project_psd<3>(S, 3);
-    for (int k = 0; k < 9; ++k) S[k] -= A[k];
-    double D[3][9];
-    detail::scaling_basis(es, D);
-    detail::add_scaling_block(D, S, dPdF);
-    touched = true;
-  }
-  for (int m = 0; m < 6; ++m) {
-    const double ev = es.pair_eigenvalues[m];
-    if (ev >= 0) continue;
-    double q[9];
-    detail::pair_mode(es, m, q);
-    detail::add_rank_one(-ev, q, dPdF);
-    touched = true;
-  }
-  if (touched) detail::mirror_upper(dPdF);
-}
-
 // dP/dF projected to positive semi-definite for the Newton Hessian.
 DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
   neo_hookean_stress_derivative(F, lambda, mu, dPdF);
-  NeoHookeanEigensystem es;
+  IsotropicEigensystem es;
   neo_hookean_eigensystem(F, lambda, mu, &es);
   add_psd_correction(es, dPdF);
 }
+
+// The material type that the hex8 element routines, the CPU loops and the CUDA kernel take
+// as a template parameter (materials.hpp): psi, P and dP/dF (exact and PSD-projected) at a
+// quadrature point from the element's Lame parameters. Values of J <= 0 are outside its domain.
+struct NeoHookean {
+  DIPC_HD static double energy(const double F[9], double lambda, double mu) {
+    return neo_hookean_energy(F, lambda, mu);
+  }
+  DIPC_HD static void stress(const double F[9], double lambda, double mu, double P[9]) {
+    neo_hookean_stress(F, lambda, mu, P);
+  }
+  DIPC_HD static void stress_derivative(const double F[9], double lambda, double mu, double dPdF[81]) {
+    neo_hookean_stress_derivative(F, lambda, mu, dPdF);
+  }
+  DIPC_HD static void stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
+    neo_hookean_stress_derivative_psd(F, lambda, mu, dPdF);
+  }
+};
 
 }  // namespace dipc

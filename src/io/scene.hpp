@@ -18,6 +18,11 @@ struct Material {
   // (default, the standard element) or on each element's mean volume ratio ("mean_dilatation",
   // locking-free for nearly incompressible materials; assembly/hex8_mean_dilatation.hpp).
   bool mean_dilatation = false;
+  // "model": the hyperelastic energy, "neo_hookean" (default) or "stable_neo_hookean" (Smith,
+  // de Goes & Kim 2018; assembly/stable_neo_hookean.hpp). Both take E and nu as the Lame
+  // parameters of their linearisation. The app maps it to assembly's MaterialModel.
+  enum class Model { neo_hookean, stable_neo_hookean };
+  Model model = Model::neo_hookean;
 };
 
 // A box of hexahedra: `size` edge lengths, `resolution` elements per edge, min corner at `origin`.

@@ -4,8 +4,9 @@
 // A scene in PolyFEM's own format is recognised by is_polyfem_scene() and translated by
 // polyfem_scene.cpp instead.
 // Format (in the spirit of PolyFEM's JSON scenes; tests/io/data/ holds complete examples):
-//   materials            [ {name, E, nu, rho,
+//   materials            [ {name, E, nu, rho, model: neo_hookean|stable_neo_hookean,
 //                           volumetric: gauss_points|mean_dilatation} ]  required, >= 1
+//                        (mean_dilatation with the neo_hookean model only)
 //   geometry             [ {name, box: {size, resolution, origin} | mesh,
 //                           translation, scale (mesh only), material, initial_velocity,
 //                           initial_spin: {angular_velocity: [wx,wy,wz], center: [x,y,z]},
@@ -66,7 +67,7 @@ std::vector<Material> parse_materials(const SceneJsonNode& node) {
   std::vector<Material> materials;
   std::map<std::string, std::string> first_path_of_name;
   for (const SceneJsonNode& item : items) {
-    item.expect_object({"name", "E", "nu", "rho", "volumetric"});
+    item.expect_object({"name", "E", "nu", "rho", "model", "volumetric"});
     Material m;
     if (auto name = item.find("name")) {
       m.name = name->string();
@@ -87,6 +88,15 @@ std::vector<Material> parse_materials(const SceneJsonNode& node) {
       if (v != "gauss_points" && v != "mean_dilatation")
         volumetric->fail_value("must be \"gauss_points\" or \"mean_dilatation\"");
       m.mean_dilatation = v == "mean_dilatation";
+    }
+    if (auto model = item.find("model")) {
+      const std::string v = model->string();
+      if (v != "neo_hookean" && v != "stable_neo_hookean")
+        model->fail_value("must be \"neo_hookean\" or \"stable_neo_hookean\"");
+      m.model = v == "stable_neo_hookean" ? Material::Model::stable_neo_hookean : Material::Model::neo_hookean;
+      if (m.model != Material::Model::neo_hookean && m.mean_dilatation)
+        model->fail_value("has no mean-dilatation element (volumetric \"mean_dilatation\" is neo_hookean only; "
+                          "use volumetric \"gauss_points\")");
     }
     materials.push_back(m);
   }

@@ -19,6 +19,8 @@ DeviceElementData::DeviceElementData(const ElementData& elements) : num_elements
       volumetric_.upload(elements.volumetric);
       break;
     }
+  // Likewise the materials (ElementData keeps them only when some element is not neo-Hookean).
+  if (!elements.model.empty()) model_.upload(elements.model);
 }
 
 ElementBlock DeviceElementData::block() const {
@@ -29,11 +31,12 @@ ElementBlock DeviceElementData::block() const {
   b.lambda = lambda_.data();
   b.mu = mu_.data();
   b.volumetric = volumetric_.size() ? volumetric_.data() : nullptr;
+  b.model = model_.size() ? model_.data() : nullptr;
   return b;
 }
 
 std::size_t DeviceElementData::bytes() const {
-  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes() + volumetric_.bytes();
+  return nodes_.bytes() + reference_.bytes() + lambda_.bytes() + mu_.bytes() + volumetric_.bytes() + model_.bytes();
 }
 
 // ---- elastic ------------------------------------------------------------------------------

@@ -25,6 +25,7 @@ class DeviceElementData {
   device::Array<std::int32_t> nodes_{"element connectivity"};
   device::Array<double> reference_{"reference coordinates"}, lambda_{"lambda"}, mu_{"mu"};
   device::Array<VolumetricTerm> volumetric_{"volumetric term"};  // empty: all at the Gauss points
+  device::Array<MaterialModel> model_{"material model"};         // empty: all neo-Hookean
 };
 
 class DeviceElasticForm : public Form {

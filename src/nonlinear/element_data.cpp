@@ -18,10 +18,19 @@ ElementData::ElementData(const DistributedMesh& mesh, const std::vector<BodyMate
       throw std::runtime_error("element " + std::to_string(mesh.element_input_id[e]) +
                                " has body id " + std::to_string(b) + " without a material");
     if (b < static_cast<int>(skip_body.size()) && skip_body[b]) continue;
+    if (materials[b].volumetric == VolumetricTerm::mean_dilatation && materials[b].model != MaterialModel::neo_hookean)
+      throw std::runtime_error("body " + std::to_string(b) + ": the mean-dilatation element is neo-Hookean only, not " +
+                               std::string(material_model_name(materials[b].model)));
     nodes.insert(nodes.end(), mesh.elements[e].begin(), mesh.elements[e].end());
     lambda.push_back(materials[b].lambda), mu.push_back(materials[b].mu), rho.push_back(materials[b].rho);
     volumetric.push_back(materials[b].volumetric);
+    model.push_back(materials[b].model);
   }
+  // All neo-Hookean: no per-element material, so that the element loops and kernels run
+  // their variant without per-element dispatch (block().model null).
+  bool all_neo_hookean = true;
+  for (MaterialModel m : model) all_neo_hookean = all_neo_hookean && m == MaterialModel::neo_hookean;
+  if (all_neo_hookean) model.clear();
 }
 
 void ElementData::gather_reference(int e, double X[24]) const {
@@ -61,6 +70,7 @@ ElementBlock ElementData::block() const {
   b.lambda = lambda.data();
   b.mu = mu.data();
   b.volumetric = volumetric.data();
+  b.model = model.empty() ? nullptr : model.data();
   return b;
 }
 

@@ -18,10 +18,12 @@ struct ElementData {
   std::vector<double> reference;    // 3 per local node
   std::vector<double> lambda, mu, rho;
   std::vector<VolumetricTerm> volumetric;  // per element
+  std::vector<MaterialModel> model;        // per element; empty when all are neo-Hookean
   std::vector<std::int64_t> local_to_global;
 
   // skip_body[b] (optional): leave out the elements of body b (kinematic bodies, whose nodes are
-  // all prescribed, contribute nothing to the elastic energy's minimisation).
+  // all prescribed, contribute nothing to the elastic energy's minimisation). Throws for a body
+  // whose material combines mean dilatation with a model other than neo-Hookean.
   ElementData(const DistributedMesh& mesh, const std::vector<BodyMaterial>& materials,
               const std::vector<char>& skip_body = {});
   ElementBlock block() const;

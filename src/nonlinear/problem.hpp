@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "assembly/hex8_mean_dilatation.hpp"
+#include "assembly/materials.hpp"
 #include "nonlinear/contact_parameters.hpp"
 #include "nonlinear/prescribed_motion.hpp"
 
@@ -14,6 +15,7 @@ namespace dipc {
 struct BodyMaterial {
   double lambda = 0, mu = 0, rho = 0;  // Lamé parameters [Pa] and density [kg/m³]
   VolumetricTerm volumetric = VolumetricTerm::gauss_points;
+  MaterialModel model = MaterialModel::neo_hookean;  // mean dilatation: neo_hookean only
 };
 
 struct DirichletSet {

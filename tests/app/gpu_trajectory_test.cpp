@@ -30,9 +30,10 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   const std::string name = GetParam();
   // Shipped scenes by name; rubber_drop_md (test data) mixes a mean-dilatation body at nu 0.49
-  // with a standard one, the kernel's per-element branching; obstacle_valley_slide (test data)
-  // has a moving triangle-mesh obstacle.
-  const bool test_data = name == "rubber_drop_md" || name == "obstacle_valley_slide";
+  // with a standard one, the kernel's per-element branching; rubber_drop_snh (test data) a
+  // stable neo-Hookean body with a mean-dilatation one (the per-element material variant);
+  // obstacle_valley_slide (test data) has a moving triangle-mesh obstacle.
+  const bool test_data = name == "rubber_drop_md" || name == "rubber_drop_snh" || name == "obstacle_valley_slide";
   const std::string dir = test_data ? "/tests/app/data/" : "/scenes/";
   const Scene scene = name == "default" ? default_scene() : parse_scene_file(dipc::test::source_dir() + dir + name + ".json");
   PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
@@ -76,7 +77,7 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
 
 INSTANTIATE_TEST_SUITE_P(ContactScenes, GpuTrajectory,
                          ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze", "rubber_drop_md",
-                                           "box_on_obj_ramp", "obstacle_valley_slide"),
+                                           "rubber_drop_snh", "box_on_obj_ramp", "obstacle_valley_slide"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

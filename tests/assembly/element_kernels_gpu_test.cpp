@@ -1,5 +1,6 @@
 // CUDA element kernels against the CPU element loops on random valid states of a distorted
-// box mesh: energy, gradient, PSD Hessian COO values, minimum volume ratio, and the inertia
+// box mesh with neo-Hookean, mean-dilatation and stable neo-Hookean elements (alone and mixed
+// in one block): energy, gradient, PSD Hessian COO values, minimum volume ratio, and the inertia
 // and body-force terms, to 1e-12 relative to the largest entry. Skips where no GPU is present;
 // runs on the lent GPU machine.
 #include <gtest/gtest.h>
@@ -22,11 +23,13 @@ struct RandomBlock {
   std::vector<std::int32_t> nodes;
   std::vector<double> reference, x, lambda, mu, rho;
   std::vector<VolumetricTerm> volumetric;  // empty: all standard
+  std::vector<MaterialModel> model;        // empty: all neo-Hookean
   ElementBlock block() const {
     ElementBlock b;
     b.num_elements = static_cast<int>(lambda.size());
     b.nodes = nodes.data(), b.reference = reference.data(), b.lambda = lambda.data(), b.mu = mu.data();
     b.volumetric = volumetric.empty() ? nullptr : volumetric.data();
+    b.model = model.empty() ? nullptr : model.data();
     return b;
   }
 };
@@ -70,15 +73,18 @@ struct DeviceBlock {
   device::Array<std::int32_t> nodes;
   device::Array<double> reference, lambda, mu;
   device::Array<VolumetricTerm> volumetric;
+  device::Array<MaterialModel> model;
   explicit DeviceBlock(const RandomBlock& b) {
     nodes.upload(b.nodes), reference.upload(b.reference), lambda.upload(b.lambda), mu.upload(b.mu);
     volumetric.upload(b.volumetric);
+    model.upload(b.model);
   }
   ElementBlock block(int n) const {
     ElementBlock d;
     d.num_elements = n;
     d.nodes = nodes.data(), d.reference = reference.data(), d.lambda = lambda.data(), d.mu = mu.data();
     d.volumetric = volumetric.size() ? volumetric.data() : nullptr;
+    d.model = model.size() ? model.data() : nullptr;
     return d;
   }
 };
@@ -99,18 +105,30 @@ class ElementKernelsGpu : public ::testing::Test {
   }
 };
 
-// Standard blocks, and blocks where every other element is mean-dilatation with nu up to 0.4999
-// (the kernel's variant with per-element branching).
+// The element kinds and materials of a test block: all standard neo-Hookean (the plain
+// kernel); every other element mean-dilatation with nu up to 0.4999; all stable neo-Hookean
+// (the per-element material variant); and a mix of the three in one block (both variants).
+enum class Mix { neo_hookean, mean_dilatation, stable_neo_hookean, all };
+
+void assign_kinds(Mix mix, RandomBlock* b) {
+  for (std::size_t e = 0; e < b->lambda.size(); ++e) {
+    const bool md = (mix == Mix::mean_dilatation && e % 2) || (mix == Mix::all && e % 3 == 1);
+    const bool snh = mix == Mix::stable_neo_hookean || (mix == Mix::all && e % 3 == 2);
+    if (mix == Mix::mean_dilatation || mix == Mix::all)
+      b->volumetric.push_back(md ? VolumetricTerm::mean_dilatation : VolumetricTerm::gauss_points);
+    if (mix == Mix::stable_neo_hookean || mix == Mix::all)
+      b->model.push_back(snh ? MaterialModel::stable_neo_hookean : MaterialModel::neo_hookean);
+    if (e % 4 == 1) b->lambda[e] = 4999 * b->mu[e];  // nu = 0.4999: lambda = 2 mu nu / (1 - 2 nu)
+  }
+}
+
 TEST_F(ElementKernelsGpu, ElasticValueGradientHessianMatchTheCpu) {
-  for (bool mixed : {false, true})
+  for (Mix mix : {Mix::neo_hookean, Mix::mean_dilatation, Mix::stable_neo_hookean, Mix::all})
   for (unsigned seed : {1u, 2u, 3u}) {
     for (double strain : {0.0, 0.05, 0.3}) {
       RandomBlock b = random_block(9, seed, strain);
-      if (mixed)
-        for (std::size_t e = 0; e < b.lambda.size(); ++e) {
-          b.volumetric.push_back(e % 2 ? VolumetricTerm::mean_dilatation : VolumetricTerm::gauss_points);
-          if (e % 4 == 1) b.lambda[e] = 4999 * b.mu[e];  // nu = 0.4999: lambda = 2 mu nu / (1 - 2 nu)
-        }
+      const int mixed = static_cast<int>(mix);
+      if (mix != Mix::neo_hookean) assign_kinds(mix, &b);
       const ElementBlock hb = b.block();
       ASSERT_GT(min_volume_ratio(hb, b.x.data(), nullptr), 0.0) << "test state must be valid";
       double e_cpu = 0;
@@ -155,20 +173,24 @@ TEST_F(ElementKernelsGpu, ElasticValueGradientHessianMatchTheCpu) {
   }
 }
 
+// Also for stable neo-Hookean, whose energy is finite there: dipc refuses inverted elements.
 TEST_F(ElementKernelsGpu, InvertedElementIsReported) {
-  RandomBlock b = random_block(4, 7, 0.05);
-  // Push one node through its element: the volume ratio turns negative.
-  const std::int32_t n = b.nodes[8 * 21 + 6];
-  for (int i = 0; i < 3; ++i) b.x[3 * n + i] -= 1.5;
-  double e_cpu;
-  ASSERT_FALSE(elastic_energy(b.block(), b.x.data(), &e_cpu));
-  DeviceBlock d(b);
-  device::Array<double> x;
-  x.upload(b.x);
-  device::Reducer reducer;
-  double e;
-  EXPECT_FALSE(device::elastic_evaluate(d.block(b.block().num_elements), x.data(), 1.0, &e, nullptr, nullptr, reducer));
-  EXPECT_LT(device::min_volume_ratio(d.block(b.block().num_elements), x.data(), reducer), 0.0);
+  for (Mix mix : {Mix::neo_hookean, Mix::stable_neo_hookean}) {
+    RandomBlock b = random_block(4, 7, 0.05);
+    if (mix != Mix::neo_hookean) assign_kinds(mix, &b);
+    // Push one node through its element: the volume ratio turns negative.
+    const std::int32_t n = b.nodes[8 * 21 + 6];
+    for (int i = 0; i < 3; ++i) b.x[3 * n + i] -= 1.5;
+    double e_cpu;
+    ASSERT_FALSE(elastic_energy(b.block(), b.x.data(), &e_cpu));
+    DeviceBlock d(b);
+    device::Array<double> x;
+    x.upload(b.x);
+    device::Reducer reducer;
+    double e;
+    EXPECT_FALSE(device::elastic_evaluate(d.block(b.block().num_elements), x.data(), 1.0, &e, nullptr, nullptr, reducer));
+    EXPECT_LT(device::min_volume_ratio(d.block(b.block().num_elements), x.data(), reducer), 0.0);
+  }
 }
 
 TEST_F(ElementKernelsGpu, InertiaAndBodyForceMatchTheCpu) {

@@ -26,6 +26,7 @@ struct Block {
   std::vector<std::int32_t> nodes;
   std::vector<double> reference, x, lambda, mu, rho;
   std::vector<std::int64_t> local_to_global;
+  std::vector<MaterialModel> model;  // empty: all neo-Hookean
   ElementBlock view() const {
     ElementBlock b;
     b.num_elements = static_cast<int>(lambda.size());
@@ -33,6 +34,7 @@ struct Block {
     b.reference = reference.data();
     b.lambda = lambda.data();
     b.mu = mu.data();
+    b.model = model.empty() ? nullptr : model.data();
     return b;
   }
   void element_coordinates(int e, const std::vector<double>& field, double out[24]) const {
@@ -170,6 +172,60 @@ TEST(ElementLoops, FusedLoopEqualsSeparateLoops) {
   EXPECT_EQ(fused_energy, energy);
   EXPECT_EQ(test::max_abs_difference(fused_g.data(), g.data(), static_cast<int>(g.size())), 0.0);
   EXPECT_EQ(test::max_abs_difference(fused_H.data(), H.data(), static_cast<int>(H.size())), 0.0);
+}
+
+// Every other element stable neo-Hookean: each loop evaluates each element with its own
+// material (element energies and COO values against the element routines), and the gradient
+// loop is still the derivative of the energy loop.
+TEST(ElementLoops, MixedMaterialsUseEachElementsOwn) {
+  Block b = make_block(46);
+  for (int e = 0; e < 8; ++e) b.model.push_back(e % 2 ? MaterialModel::stable_neo_hookean : MaterialModel::neo_hookean);
+  const ElementBlock view = b.view();
+  double total = 0, total_nh = 0;
+  std::vector<double> expected_H(8 * kElasticCooPerElement);
+  for (int e = 0; e < 8; ++e) {
+    double Xe[24], xe[24], ee, ee_nh, He[576];
+    b.element_coordinates(e, b.reference, Xe);
+    b.element_coordinates(e, b.x, xe);
+    if (e % 2)
+      ASSERT_TRUE(hex8_element<StableNeoHookean>(Xe, xe, b.lambda[e], b.mu[e], &ee, nullptr, He));
+    else
+      ASSERT_TRUE(hex8_element<NeoHookean>(Xe, xe, b.lambda[e], b.mu[e], &ee, nullptr, He));
+    ASSERT_TRUE(hex8_neo_hookean(Xe, xe, b.lambda[e], b.mu[e], &ee_nh, nullptr, nullptr));
+    total += ee;
+    total_nh += ee_nh;
+    for (int a = 0; a < 8; ++a)
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 8; ++c)
+          for (int l = 0; l < 3; ++l)
+            expected_H[kElasticCooPerElement * e + elastic_coo_offset(a, k, c, l)] = He[24 * (3 * a + k) + 3 * c + l];
+  }
+  double energy = -1;
+  ASSERT_TRUE(elastic_energy(view, b.x.data(), &energy));
+  EXPECT_NEAR(energy, total, 1e-13 * std::abs(total));
+  EXPECT_GT(std::abs(energy - total_nh), 1e-6 * std::abs(total_nh)) << "the materials must differ at this strain";
+  std::vector<double> H(expected_H.size()), H_split(expected_H.size()), b_split(24 * 8), d_split(8);
+  ASSERT_TRUE(elastic_hessian(view, b.x.data(), H.data()));
+  const int n = static_cast<int>(H.size());
+  EXPECT_LT(test::max_abs_difference(H.data(), expected_H.data(), n), 1e-12 * test::max_abs(expected_H.data(), n));
+  ASSERT_TRUE(elastic_hessian_split(view, b.x.data(), H_split.data(), b_split.data(), d_split.data()));
+  EXPECT_EQ(test::max_abs_difference(H_split.data(), H.data(), n), 0.0);
+  EXPECT_EQ(test::max_abs(d_split.data(), 8), 0.0);
+
+  std::vector<double> g(b.x.size(), 0.0), g_fd(b.x.size());
+  ASSERT_TRUE(elastic_gradient(view, b.x.data(), g.data()));
+  const double h = 1e-6;
+  for (std::size_t k = 0; k < b.x.size(); ++k) {
+    std::vector<double> xp = b.x, xm = b.x;
+    xp[k] += h;
+    xm[k] -= h;
+    double ep, em;
+    ASSERT_TRUE(elastic_energy(view, xp.data(), &ep));
+    ASSERT_TRUE(elastic_energy(view, xm.data(), &em));
+    g_fd[k] = (ep - em) / (2 * h);
+  }
+  const int ng = static_cast<int>(g.size());
+  EXPECT_LT(test::max_abs_difference(g.data(), g_fd.data(), ng), 1e-6 * test::max_abs(g.data(), ng));
 }
 
 TEST(ElementLoops, InvertedElementFailsEveryElasticLoop) {

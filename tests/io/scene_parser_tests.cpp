@@ -90,6 +90,16 @@ std::vector<BadScene> bad_scenes() {
       {"EZero", [] { return edited([](json& s) { s["materials"][0]["E"] = 0; }); }, {"scene.json: materials[0].E = 0: must be > 0"}},
       {"RhoNegative", [] { return edited([](json& s) { s["materials"][0]["rho"] = -5; }); },
        {"scene.json: materials[0].rho = -5: must be > 0"}},
+      {"UnknownModel", [] { return edited([](json& s) { s["materials"][0]["model"] = "mooney_rivlin"; }); },
+       {"scene.json: materials[0].model = \"mooney_rivlin\": must be \"neo_hookean\" or \"stable_neo_hookean\""}},
+      {"StableNeoHookeanMeanDilatation",
+       [] {
+         return edited([](json& s) {
+           s["materials"][0]["model"] = "stable_neo_hookean";
+           s["materials"][0]["volumetric"] = "mean_dilatation";
+         });
+       },
+       {"scene.json: materials[0].model = \"stable_neo_hookean\": has no mean-dilatation element"}},
       {"DtZero", [] { return edited([](json& s) { s["time"]["dt"] = 0; }); }, {"scene.json: time.dt = 0: must be > 0"}},
       {"Overflow", [] { return raw("-9.81", "1e999"); },
        {"scene.json: boundary_conditions.gravity[2]: number overflow parsing '1e999'", "must be finite"}},
@@ -334,6 +344,8 @@ TEST(SceneParser, MinimalSceneTakesTheDefaults) {
   EXPECT_EQ(scene.materials[0].E, defaults.E);
   EXPECT_EQ(scene.materials[0].nu, defaults.nu);
   EXPECT_EQ(scene.materials[0].rho, defaults.rho);
+  EXPECT_EQ(scene.materials[0].model, Material::Model::neo_hookean);
+  EXPECT_FALSE(scene.materials[0].mean_dilatation);
   ASSERT_EQ(scene.bodies.size(), 1u);
   EXPECT_EQ(scene.bodies[0].name, "body0");
   ASSERT_TRUE(scene.bodies[0].box.has_value());
@@ -361,6 +373,20 @@ TEST(SceneParser, MinimalSceneTakesTheDefaults) {
   EXPECT_TRUE(scene.bodies[0].self_contact);
   EXPECT_FALSE(scene.bodies[0].kinematic);
   EXPECT_EQ(scene.source, "minimal.json");
+}
+
+TEST(SceneParser, MaterialModelIsReadPerMaterial) {
+  const Scene scene = parse_scene_text(R"({"materials": [{"name": "a", "model": "stable_neo_hookean"},
+                                                         {"name": "b", "model": "neo_hookean",
+                                                          "volumetric": "mean_dilatation"}],
+                                           "geometry": [{"box": {}, "material": "a"}],
+                                           "time": {"dt": 0.1, "steps": 3}})",
+                                       "models.json", "");
+  ASSERT_EQ(scene.materials.size(), 2u);
+  EXPECT_EQ(scene.materials[0].model, Material::Model::stable_neo_hookean);
+  EXPECT_FALSE(scene.materials[0].mean_dilatation);
+  EXPECT_EQ(scene.materials[1].model, Material::Model::neo_hookean);
+  EXPECT_TRUE(scene.materials[1].mean_dilatation);
 }
 
 TEST(SceneParser, FullSceneFileParsesToItsValues) {

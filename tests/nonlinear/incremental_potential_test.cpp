@@ -5,11 +5,14 @@
 // gravity. At rest the neo-Hookean tangent has zero (rotation) modes that any perturbation can
 // make slightly negative, which the PSD projection then clamps; under a 5 % uniform expansion
 // every mode is positive (|λ ln J − μ| < μ σᵢσⱼ), so the projection is the identity there and
-// the comparison is exact up to the difference error.
+// the comparison is exact up to the difference error. The same for stable neo-Hookean
+// elements (materials.hpp), whose tangent is positive definite there too.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include "mesh/box_generator.hpp"
 #include "nonlinear/body_force_form.hpp"
@@ -27,15 +30,17 @@ double hash_value(std::int64_t node, int c, int salt) {
   return std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
 }
 
-class PotentialFiniteDifferences : public ::testing::TestWithParam<bool> {};
+class PotentialFiniteDifferences : public ::testing::TestWithParam<std::tuple<bool, MaterialModel>> {};
 
 TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
-  const bool lumped = GetParam();
+  const bool lumped = std::get<0>(GetParam());
   MPI_Comm comm = PETSC_COMM_WORLD;
   HexMesh whole = generate_box({2, 1, 1}, {4, 2, 2}, {0, 0, 0}, 0, "box");
   DistributedMesh mesh = distribute_mesh(whole, comm);
   const double h = 0.01;
-  ElementData elements(mesh, {{/*lambda*/ 4e5, /*mu*/ 3e5, /*rho*/ 900}});
+  BodyMaterial material{/*lambda*/ 4e5, /*mu*/ 3e5, /*rho*/ 900};
+  material.model = std::get<1>(GetParam());
+  ElementData elements(mesh, {material});
   GhostExchange exchange;
   ASSERT_EQ(exchange.setup(mesh, 3), 0);
 
@@ -111,8 +116,33 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   for (Vec* v : {&x, &xhat, &d}) VecDestroy(v);
 }
 
-INSTANTIATE_TEST_SUITE_P(Inertia, PotentialFiniteDifferences, ::testing::Values(true, false),
-                         [](const auto& info) { return info.param ? "lumped" : "consistent"; });
+INSTANTIATE_TEST_SUITE_P(InertiaAndMaterial, PotentialFiniteDifferences,
+                         ::testing::Combine(::testing::Values(true, false),
+                                            ::testing::Values(MaterialModel::neo_hookean,
+                                                              MaterialModel::stable_neo_hookean)),
+                         [](const auto& info) {
+                           return std::string(std::get<0>(info.param) ? "lumped_" : "consistent_") +
+                                  material_model_name(std::get<1>(info.param));
+                         });
+
+// The mean-dilatation element is neo-Hookean only: a body asking for it with another model is
+// refused where the element data are built (the scene parser refuses it earlier).
+TEST(ElementData, RefusesMeanDilatationWithStableNeoHookean) {
+  HexMesh whole = generate_box({1, 1, 1}, {2, 2, 2}, {0, 0, 0}, 0, "box");
+  DistributedMesh mesh = distribute_mesh(whole, PETSC_COMM_WORLD);
+  BodyMaterial material{4e5, 3e5, 900};
+  material.volumetric = VolumetricTerm::mean_dilatation;
+  material.model = MaterialModel::stable_neo_hookean;
+  if (mesh.num_elements() == 0) GTEST_SKIP() << "no element on this rank";
+  try {
+    ElementData elements(mesh, {material});
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("neo-Hookean only, not stable_neo_hookean"), std::string::npos) << e.what();
+  }
+  material.model = MaterialModel::neo_hookean;
+  EXPECT_NO_THROW(ElementData(mesh, {material}));
+}
 
 }  // namespace
 }  // namespace dipc

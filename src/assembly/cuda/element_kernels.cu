@@ -2,11 +2,14 @@
 //
 // Blocks with mean-dilatation elements (hex8_mean_dilatation.hpp) run a variant of the elastic
 // kernel that first sums each such element's reference and current volumes over its 8 threads.
+// The kernel takes the element material (materials.hpp) as a template parameter: blocks whose
+// elements are all neo-Hookean (ElementBlock::model null) run the NeoHookean instantiation,
+// others a variant that picks each element's material through visit_material.
 //
 // The elastic kernel gives each element 8 threads and runs in two phases, because a 24×24
 // Hessian does not fit one thread's registers:
 //   1. thread t evaluates Gauss point q = t: the shape gradients G_q, F, ψ, P and the
-//      PSD-projected ∂P/∂F (hex8_quadrature_point and the neo_hookean.hpp point functions, as on
+//      PSD-projected ∂P/∂F (hex8_quadrature_point and the material's point functions, as on
 //      the CPU), and leaves w|J0|·(G, P, ∂P/∂F) in shared memory (∂P/∂F as its 45-entry upper
 //      triangle: it is symmetric);
 //   2. thread t then owns node a = t: its 3 gradient entries g_ak = Σ_q Σ_j wP_kj G_aj, and its
@@ -17,6 +20,7 @@
 #include "assembly/hex8_elasticity.hpp"
 #include "assembly/hex8_mean_dilatation.hpp"
 #include "assembly/hex8_mass.hpp"
+#include "assembly/materials.hpp"
 #include "device/cuda_check.cuh"
 
 namespace dipc::device {
@@ -51,10 +55,20 @@ __host__ __device__ constexpr int shared_per_element() {
 #define DIPC_ELASTIC_MIN_BLOCKS 4
 #endif
 
+// ψ of a Material at one quadrature point, with P (Grad) and the PSD-projected ∂P/∂F (Hess).
+template <class Material, bool Grad, bool Hess>
+__device__ double material_point(const double F[9], double lambda, double mu, double P[9], double C[81]) {
+  if (Grad) Material::stress(F, lambda, mu, P);
+  if (Hess) Material::stress_derivative_psd(F, lambda, mu, C);
+  return Material::energy(F, lambda, mu);
+}
+
 // MeanDilatation: the block has mean-dilatation elements (hex8_mean_dilatation.hpp); each
 // element then branches on its own kind, and those of that kind first reduce their reference
 // and current volumes V, v over their 8 threads. Blocks without any keep the plain kernel.
-template <bool Grad, bool Hess, bool MeanDilatation>
+// AnyModel: the block has elements of other materials than neo-Hookean; each element's point
+// functions are then those of its own material (mean-dilatation elements are neo-Hookean).
+template <bool Grad, bool Hess, bool MeanDilatation, bool AnyModel>
 __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
     elastic_kernel(ElementBlock block, const double* __restrict__ x, double scale, double* partials, int* failed,
                    double* __restrict__ g, double* __restrict__ coo) {
@@ -104,30 +118,35 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
     }
   }
   if (active) {
-    const double lambda = mean_dilatation ? 0.0 : block.lambda[e], mu = block.mu[e];
-    energy += wdet * neo_hookean_energy(F, lambda, mu);
+    const double mu = block.mu[e];
     if (Grad || Hess)
       for (int k = 0; k < 24; ++k) s[kG + 24 * t + k] = G[k];
-    double FinvT[9];
-    if (mean_dilatation) inverse_transpose3x3(F, FinvT);
-    if (Grad) {
-      double P[9];
-      neo_hookean_stress(F, lambda, mu, P);
-      if (mean_dilatation)
+    double P[9], C[81];
+    if (mean_dilatation) {
+      // The deviatoric neo-Hookean part (lambda = 0) plus p J F^{-T} and its tangent.
+      double FinvT[9];
+      inverse_transpose3x3(F, FinvT);
+      energy += wdet * material_point<NeoHookean, Grad, false>(F, 0.0, mu, P, C);
+      if (Grad)
         for (int k = 0; k < 9; ++k) P[k] += p * J * FinvT[k];
-      for (int k = 0; k < 9; ++k) s[kP + 9 * t + k] = wdet * P[k];
-    }
-    if (Hess) {
-      double C[81];
-      if (mean_dilatation) {
+      if (Hess) {
         mean_dilatation_point_tangent(F, mu, p, C);
-        NeoHookeanEigensystem es;
+        IsotropicEigensystem es;
         mean_dilatation_eigensystem(F, mu, p, &es);
         add_psd_correction(es, C);
         for (int k = 0; k < 9; ++k) s[kB + 9 * t + k] = wdet * J * FinvT[k];
-      } else {
-        neo_hookean_stress_derivative_psd(F, lambda, mu, C);
       }
+    } else if (AnyModel) {
+      const double lambda = block.lambda[e];
+      energy += wdet * visit_material(block.material_model(e), [&](auto material) {
+                  return material_point<decltype(material), Grad, Hess>(F, lambda, mu, P, C);
+                });
+    } else {
+      energy += wdet * material_point<NeoHookean, Grad, Hess>(F, block.lambda[e], mu, P, C);
+    }
+    if (Grad)
+      for (int k = 0; k < 9; ++k) s[kP + 9 * t + k] = wdet * P[k];
+    if (Hess) {
 #pragma unroll
       for (int r = 0; r < 9; ++r)
 #pragma unroll
@@ -194,32 +213,42 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
   if (threadIdx.x == 0) partials[blockIdx.x] = scale * total;
 }
 
-template <bool Grad, bool Hess, bool MeanDilatation>
+template <bool Grad, bool Hess, bool MeanDilatation, bool AnyModel>
 void launch_elastic(const ElementBlock& block, const double* x, double scale, double* partials, int* failed,
                     double* g, double* coo, unsigned blocks) {
   const std::size_t bytes = sizeof(double) * kElementsPerBlock * shared_per_element<Grad, Hess, MeanDilatation>();
   static bool configured = false;
   if (!configured) {
-    DIPC_CUDA_CHECK(cudaFuncSetAttribute(elastic_kernel<Grad, Hess, MeanDilatation>,
+    DIPC_CUDA_CHECK(cudaFuncSetAttribute(elastic_kernel<Grad, Hess, MeanDilatation, AnyModel>,
                                          cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(bytes)));
     configured = true;
   }
-  elastic_kernel<Grad, Hess, MeanDilatation><<<blocks, kElasticThreads, bytes>>>(block, x, scale, partials, failed,
-                                                                                 g, coo);
+  elastic_kernel<Grad, Hess, MeanDilatation, AnyModel>
+      <<<blocks, kElasticThreads, bytes>>>(block, x, scale, partials, failed, g, coo);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-template <bool MeanDilatation>
+template <bool MeanDilatation, bool AnyModel>
 void launch_elastic_outputs(const ElementBlock& block, const double* x, double scale, double* partials,
                             int* failed, double* g, double* coo, unsigned blocks) {
   if (g && coo)
-    launch_elastic<true, true, MeanDilatation>(block, x, scale, partials, failed, g, coo, blocks);
+    launch_elastic<true, true, MeanDilatation, AnyModel>(block, x, scale, partials, failed, g, coo, blocks);
   else if (g)
-    launch_elastic<true, false, MeanDilatation>(block, x, scale, partials, failed, g, nullptr, blocks);
+    launch_elastic<true, false, MeanDilatation, AnyModel>(block, x, scale, partials, failed, g, nullptr, blocks);
   else if (coo)
-    launch_elastic<false, true, MeanDilatation>(block, x, scale, partials, failed, nullptr, coo, blocks);
+    launch_elastic<false, true, MeanDilatation, AnyModel>(block, x, scale, partials, failed, nullptr, coo, blocks);
   else
-    launch_elastic<false, false, MeanDilatation>(block, x, scale, partials, failed, nullptr, nullptr, blocks);
+    launch_elastic<false, false, MeanDilatation, AnyModel>(block, x, scale, partials, failed, nullptr, nullptr,
+                                                           blocks);
+}
+
+template <bool MeanDilatation>
+void launch_elastic_models(const ElementBlock& block, const double* x, double scale, double* partials,
+                           int* failed, double* g, double* coo, unsigned blocks) {
+  if (block.model)
+    launch_elastic_outputs<MeanDilatation, true>(block, x, scale, partials, failed, g, coo, blocks);
+  else
+    launch_elastic_outputs<MeanDilatation, false>(block, x, scale, partials, failed, g, coo, blocks);
 }
 
 __global__ void min_volume_ratio_kernel(ElementBlock block, const double* __restrict__ x, double* partials) {
@@ -307,11 +336,12 @@ bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale
   double* partials = reducer.partials(blocks);
   reducer.reset_flag();
   int* failed = reducer.flag();
-  // block.volumetric is non-null (on the device) only when some element is mean-dilatation.
+  // block.volumetric is non-null (on the device) only when some element is mean-dilatation,
+  // block.model only when some element is not neo-Hookean (DeviceElementData).
   if (block.volumetric)
-    launch_elastic_outputs<true>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
+    launch_elastic_models<true>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
   else
-    launch_elastic_outputs<false>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
+    launch_elastic_models<false>(block, d_x, scale, partials, failed, d_gradient, d_hessian, blocks);
   if (energy) *energy = reducer.sum_partials(blocks);
   return !reducer.flag_set();
 }

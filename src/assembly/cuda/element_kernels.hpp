@@ -1,9 +1,9 @@
-// CUDA element kernels over an ElementBlock whose pointers are device memory: neo-Hookean
-// energy, gradient and PSD-projected Hessian (COO values in the order of elastic_coo_pattern),
-// volume ratios, and the inertia and body-force terms. They call the same point functions as
-// the CPU loops in element_loops.cpp. Plain C++ interface; every pointer argument named d_*
-// or documented as device memory lives on the current device. Scalars come back to the host
-// through the Reducer, nothing else does.
+// CUDA element kernels over an ElementBlock whose pointers are device memory: hyperelastic
+// energy, gradient and PSD-projected Hessian of each element's material (materials.hpp; COO
+// values in the order of elastic_coo_pattern), volume ratios, and the inertia and body-force
+// terms. They call the same point functions as the CPU loops in element_loops.cpp. Plain C++
+// interface; every pointer argument named d_* or documented as device memory lives on the
+// current device. Scalars come back to the host through the Reducer, nothing else does.
 #pragma once
 #include <cstddef>
 
@@ -12,7 +12,7 @@
 
 namespace dipc::device {
 
-// scale * (energy, gradient, Hessian) of the neo-Hookean elements in one launch; any output
+// scale * (energy, gradient, Hessian) of the elements in one launch; any output
 // may be null. energy (host) is overwritten, d_gradient (3 per local node) added into,
 // d_hessian (576 per element) written. Returns false if an element is inverted at a Gauss
 // point (det F <= 0); the outputs are then partial.
