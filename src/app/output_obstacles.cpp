@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "math/vector3.hpp"
+
 namespace dipc {
 
 namespace {
@@ -10,11 +12,13 @@ namespace {
 using V3 = std::array<double, 3>;
 
 V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  V3 c;
+  cross3(a.data(), b.data(), c.data());
+  return c;
 }
 
 V3 normalised(const V3& a) {
-  const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double n = std::sqrt(squared_norm3(a.data()));
   return {a[0] / n, a[1] / n, a[2] / n};
 }
 

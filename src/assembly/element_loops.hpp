@@ -11,7 +11,7 @@
 
 #include "assembly/hex8_mean_dilatation.hpp"
 #include "assembly/materials.hpp"
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 

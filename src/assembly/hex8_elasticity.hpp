@@ -5,8 +5,8 @@
 // 3a + i), Hessians are 24x24 row-major.
 #pragma once
 #include "assembly/materials.hpp"
-#include "assembly/small_matrix.hpp"
-#include "host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "math/host_device.hpp"
 #include "mesh/hex8_reference.hpp"
 
 namespace dipc {
@@ -104,7 +104,7 @@ DIPC_HD bool hex8_hyperelastic(const double X[24], const double x[24], double la
     if (hessian) {
       double C[81];
       if (Project)
-        Material::stress_derivative_psd(F, lambda, mu, C);
+        stress_derivative_psd<Material>(F, lambda, mu, C);
       else
         Material::stress_derivative(F, lambda, mu, C);
       add_point_hessian(G, wdet, C, Hc);

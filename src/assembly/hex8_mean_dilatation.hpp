@@ -24,8 +24,8 @@
 #include "assembly/hex8_elasticity.hpp"
 #include "assembly/materials.hpp"
 #include "assembly/neo_hookean.hpp"
-#include "assembly/small_matrix.hpp"
-#include "host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 

@@ -12,9 +12,9 @@
 #pragma once
 #include <cmath>
 
-#include "assembly/small_matrix.hpp"
-#include "assembly/symmetric_eigen.hpp"
-#include "host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "math/symmetric_eigen.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 

@@ -5,17 +5,32 @@
 // gradient F (row-major 3x3) and the element's linear-elastic Lame parameters (lambda, mu):
 //   energy(F, lambda, mu) -> psi,   stress(F, lambda, mu, P[9]),
 //   stress_derivative(F, lambda, mu, dPdF[81])       exact, symmetric,
-//   stress_derivative_psd(F, lambda, mu, dPdF[81])   projected to positive semi-definite.
-// The hex8 element routines (hex8_elasticity.hpp), the CPU loops (element_loops.cpp) and the
-// CUDA kernel (cuda/element_kernels.cu) take it as a template parameter; visit_material
-// turns the runtime id into that parameter. Adding a material: its header with the struct, an
+//   eigensystem(F, lambda, mu, IsotropicEigensystem*) the analytic eigensystem of dP/dF
+//                                                     (isotropic_eigensystem.hpp).
+// stress_derivative_psd<Material> below composes the last two into the PSD-projected tangent
+// of the Newton Hessian, the same way for every material. The hex8 element routines
+// (hex8_elasticity.hpp), the CPU loops (element_loops.cpp) and the CUDA kernel
+// (cuda/element_kernels.cu) take the type as a template parameter; visit_material turns the
+// runtime id into that parameter. Adding a material: its header with the struct, an
 // enumerator, a case in visit_material and a name in material_model_name.
 #pragma once
+#include "assembly/isotropic_eigensystem.hpp"
 #include "assembly/neo_hookean.hpp"
 #include "assembly/stable_neo_hookean.hpp"
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
+
+// dP/dF projected to positive semi-definite for the Newton Hessian: the exact tangent plus the
+// correction that clamps the negative eigenvalues of its analytic eigensystem at 0 (Smith,
+// de Goes & Kim 2019; add_psd_correction).
+template <class Material>
+DIPC_HD void stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
+  Material::stress_derivative(F, lambda, mu, dPdF);
+  IsotropicEigensystem es;
+  Material::eigensystem(F, lambda, mu, &es);
+  add_psd_correction(es, dPdF);
+}
 
 // Per-element material id (scene key materials[].model).
 enum class MaterialModel : unsigned char { neo_hookean = 0, stable_neo_hookean = 1 };

@@ -9,9 +9,9 @@
 #include <cmath>
 
 #include "assembly/isotropic_eigensystem.hpp"
-#include "assembly/small_matrix.hpp"
-#include "assembly/symmetric_eigen.hpp"
-#include "host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "math/symmetric_eigen.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 
@@ -83,7 +83,7 @@ DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu
 // dP/dF rebuilt from all nine modes of the eigensystem, sum_k lambda_k q_k q_k^T, with the
 // eigenvalues clamped at 0 when `clamp` is true. The reference form of the projection (and,
 // unclamped, a check of the eigensystem against the exact tangent); the Newton hot path uses
-// neo_hookean_stress_derivative_psd. Outer products are sign-invariant, so no eigenvector
+// stress_derivative_psd<NeoHookean> (materials.hpp). Outer products are sign-invariant, so no eigenvector
 // sign convention matters.
 DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double lambda, double mu, bool clamp,
                                                        double dPdF[81]) {
@@ -106,17 +106,10 @@ DIPC_HD void neo_hookean_stress_derivative_eigensystem(const double F[9], double
   detail::mirror_upper(dPdF);
 }
 
-// dP/dF projected to positive semi-definite for the Newton Hessian.
-DIPC_HD void neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-  neo_hookean_stress_derivative(F, lambda, mu, dPdF);
-  IsotropicEigensystem es;
-  neo_hookean_eigensystem(F, lambda, mu, &es);
-  add_psd_correction(es, dPdF);
-}
-
 // The material type that the hex8 element routines, the CPU loops and the CUDA kernel take
-// as a template parameter (materials.hpp): psi, P and dP/dF (exact and PSD-projected) at a
-// quadrature point from the element's Lame parameters. Values of J <= 0 are outside its domain.
+// as a template parameter (materials.hpp): psi, P, the exact dP/dF and its eigensystem (from
+// which stress_derivative_psd<NeoHookean> projects it) at a quadrature point from the
+// element's Lame parameters. Values of J <= 0 are outside its domain.
 struct NeoHookean {
   DIPC_HD static double energy(const double F[9], double lambda, double mu) {
     return neo_hookean_energy(F, lambda, mu);
@@ -127,8 +120,8 @@ struct NeoHookean {
   DIPC_HD static void stress_derivative(const double F[9], double lambda, double mu, double dPdF[81]) {
     neo_hookean_stress_derivative(F, lambda, mu, dPdF);
   }
-  DIPC_HD static void stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-    neo_hookean_stress_derivative_psd(F, lambda, mu, dPdF);
+  DIPC_HD static void eigensystem(const double F[9], double lambda, double mu, IsotropicEigensystem* es) {
+    neo_hookean_eigensystem(F, lambda, mu, es);
   }
 };
 

@@ -16,8 +16,8 @@
 #include <cmath>
 
 #include "assembly/isotropic_eigensystem.hpp"
-#include "assembly/small_matrix.hpp"
-#include "host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 
@@ -110,14 +110,6 @@ DIPC_HD void stable_neo_hookean_eigensystem(const double F[9], double lambda, do
     }
 }
 
-// dP/dF projected to positive semi-definite for the Newton Hessian.
-DIPC_HD void stable_neo_hookean_stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-  stable_neo_hookean_stress_derivative(F, lambda, mu, dPdF);
-  IsotropicEigensystem es;
-  stable_neo_hookean_eigensystem(F, lambda, mu, &es);
-  add_psd_correction(es, dPdF);
-}
-
 // The material type (materials.hpp). Its point functions are finite for any F of rank >= 2,
 // inverted or not; the hex8 element still refuses det F <= 0 (hex8_elasticity.hpp), because
 // dipc keeps every element uninverted (line-search filter), whatever the material.
@@ -131,8 +123,8 @@ struct StableNeoHookean {
   DIPC_HD static void stress_derivative(const double F[9], double lambda, double mu, double dPdF[81]) {
     stable_neo_hookean_stress_derivative(F, lambda, mu, dPdF);
   }
-  DIPC_HD static void stress_derivative_psd(const double F[9], double lambda, double mu, double dPdF[81]) {
-    stable_neo_hookean_stress_derivative_psd(F, lambda, mu, dPdF);
+  DIPC_HD static void eigensystem(const double F[9], double lambda, double mu, IsotropicEigensystem* es) {
+    stable_neo_hookean_eigensystem(F, lambda, mu, es);
   }
 };
 

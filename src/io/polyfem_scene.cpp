@@ -33,6 +33,7 @@
 
 #include "io/polyfem_expression.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc {
 namespace {
@@ -213,7 +214,7 @@ struct Translator {
   }
 
   static std::array<double, 9> axis_angle(std::array<double, 3> a, double angle) {
-    const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    const double n = std::sqrt(squared_norm3(a.data()));
     for (double& v : a) v /= n;
     // Rodrigues: R = cos θ I + sin θ [a]× + (1 − cos θ) a aᵀ.
     const double c = std::cos(angle), s = std::sin(angle), k = 1 - c;
@@ -258,7 +259,7 @@ struct Translator {
     }
     if (r.size() != 3) node.fail("rotation_mode \"" + mode + "\" takes 3 angles (degrees), got " + std::to_string(r.size()));
     if (mode == "rotation_vector") {
-      const double angle = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+      const double angle = std::sqrt(squared_norm3(r.data()));
       if (angle == 0) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
       return axis_angle({r[0], r[1], r[2]}, angle * degree);
     }
@@ -323,7 +324,7 @@ struct Translator {
           p.point = item.required("point").vec3();
           const SceneJsonNode normal = item.required("normal");
           const std::array<double, 3> n = normal.vec3();
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          const double length = std::sqrt(squared_norm3(n.data()));
           if (!(length > 0)) normal.fail_value("plane normal must be non-zero");
           p.normal = {n[0] / length, n[1] / length, n[2] / length};
         } else {

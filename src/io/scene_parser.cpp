@@ -45,6 +45,7 @@
 #include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc {
 namespace {
@@ -213,7 +214,7 @@ void parse_motion(const SceneJsonNode& node, const std::vector<std::string>& oth
       node.expect_object(allowed, context);
       if (auto axis = node.find("axis")) {
         const std::array<double, 3> a = axis->vec3();
-        const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        const double length = std::sqrt(squared_norm3(a.data()));
         if (!(length > 0)) axis->fail_value("rotation axis must be non-zero");
         motion.axis = {a[0] / length, a[1] / length, a[2] / length};
       }
@@ -477,7 +478,7 @@ std::vector<Plane> parse_planes(const SceneJsonNode& node) {
     plane.point = item.required("point").vec3();
     const SceneJsonNode normal = item.required("normal");
     const std::array<double, 3> n = normal.vec3();
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double length = std::sqrt(squared_norm3(n.data()));
     if (!(length > 0)) normal.fail_value("plane normal must be non-zero");
     plane.normal = {n[0] / length, n[1] / length, n[2] / length};
     planes.push_back(plane);

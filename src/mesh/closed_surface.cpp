@@ -5,6 +5,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "math/vector3.hpp"
 #include "mesh/mesh_error.hpp"
 
 namespace dipc {
@@ -75,8 +76,9 @@ double signed_enclosed_volume(const TriangleSurface& surface) {
   double v = 0;
   for (const Triangle& t : surface.triangles) {
     const Vec3 a = rel(t[0]), b = rel(t[1]), c = rel(t[2]);
-    v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-         a[2] * (b[0] * c[1] - b[1] * c[0]);
+    Vec3 bxc;
+    cross3(b.data(), c.data(), bxc.data());
+    v += dot3(a.data(), bxc.data());
   }
   return v / 6;
 }

@@ -2,7 +2,8 @@
 // derivatives, corner coordinates and the 2x2x2 Gauss rule. Pure host/device functions,
 // shared by mesh validation, the CPU element loops and the CUDA kernels.
 #pragma once
-#include "host_device.hpp"
+#include "math/host_device.hpp"
+#include "math/small_matrix.hpp"
 
 namespace dipc::hex8 {
 
@@ -48,11 +49,6 @@ DIPC_HD void jacobian(const double X[24], const double dN[24], double J[9]) {
       for (int j = 0; j < 3; ++j) J[3 * i + j] += X[3 * a + i] * dN[3 * a + j];
 }
 
-DIPC_HD double det3(const double A[9]) {
-  return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
-         A[2] * (A[3] * A[7] - A[4] * A[6]);
-}
-
 // Smallest det J over the 8 corners and the 8 Gauss points: the element is valid (not
 // inverted, not degenerate) iff this is > 0. Corners catch inversions that the Gauss
 // points miss on strongly distorted elements.
@@ -68,7 +64,7 @@ DIPC_HD double min_jacobian_determinant(const double X[24]) {
     }
     shape_gradient(xi, eta, zeta, dN);
     jacobian(X, dN, J);
-    const double d = det3(J);
+    const double d = det3x3(J);
     m = d < m ? d : m;
   }
   return m;

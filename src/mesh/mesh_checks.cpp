@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "mesh/mesh_error.hpp"
 
@@ -89,7 +90,7 @@ std::string worst_jacobian_point(const double X[24]) {
     }
     hex8::shape_gradient(xi, eta, zeta, dN);
     hex8::jacobian(X, dN, J);
-    const double d = hex8::det3(J);
+    const double d = det3x3(J);
     if (d < smallest) smallest = d, worst = p;
   }
   return worst < 8 ? "corner " + std::to_string(worst) : "Gauss point " + std::to_string(worst - 8);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "math/vector3.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_error.hpp"
 #include "mesh/surface_mesh.hpp"
@@ -37,10 +38,11 @@ double box_diagonal(const Box& b) {
 // Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom and Strackee 1983),
 // positive when the triangle's right-hand normal points away from the origin.
 double solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  auto dot = [](const Vec3& u, const Vec3& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+  auto dot = [](const Vec3& u, const Vec3& v) { return dot3(u.data(), v.data()); };
   const double la = std::sqrt(dot(a, a)), lb = std::sqrt(dot(b, b)), lc = std::sqrt(dot(c, c));
-  const double triple = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                        a[2] * (b[0] * c[1] - b[1] * c[0]);
+  Vec3 bxc;
+  cross3(b.data(), c.data(), bxc.data());
+  const double triple = dot(a, bxc);
   const double denominator = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
   return 2.0 * std::atan2(triple, denominator);
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "math/vector3.hpp"
 #include "mesh/boundary_faces.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "mesh/mesh_error.hpp"
@@ -13,8 +14,12 @@ namespace dipc {
 
 namespace {
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 sub(const Vec3& a, const Vec3& b) {
+  Vec3 c;
+  subtract3(a.data(), b.data(), c.data());
+  return c;
+}
+double dot(const Vec3& a, const Vec3& b) { return dot3(a.data(), b.data()); }
 Vec3 axpy(const Vec3& p, double s, const Vec3& d) {
   return {p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]};
 }

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "math/vector3.hpp"
 #include "mesh/mesh_error.hpp"
 
 namespace dipc {
@@ -118,9 +119,9 @@ TriangleSurface finish(const RawSurface& raw, std::string path, bool binary,
     const Vec3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const Vec3 ac{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     const Vec3 bc{c[0] - b[0], c[1] - b[1], c[2] - b[2]};
-    const Vec3 n{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
-                 ab[0] * ac[1] - ab[1] * ac[0]};
-    auto norm2 = [](const Vec3& v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+    Vec3 n;
+    cross3(ab.data(), ac.data(), n.data());
+    auto norm2 = [](const Vec3& v) { return squared_norm3(v.data()); };
     const double longest2 = std::max({norm2(ab), norm2(ac), norm2(bc)});
     const double twice_area = std::sqrt(norm2(n));
     if (!(twice_area > 1e-12 * longest2)) {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "math/vector3.hpp"
 #include "mesh/closed_surface.hpp"
 #include "mesh/mesh_error.hpp"
 
@@ -81,14 +82,15 @@ double winding_number(const TriangleSurface& surface, const Vec3& p) {
     for (int k = 0; k < 3; ++k) {
       const Vec3& q = surface.vertices[t[k]];
       v[k] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-      len[k] = std::sqrt(v[k][0] * v[k][0] + v[k][1] * v[k][1] + v[k][2] * v[k][2]);
+      len[k] = std::sqrt(squared_norm3(v[k].data()));
     }
-    auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    auto dot = [](const Vec3& a, const Vec3& b) { return dot3(a.data(), b.data()); };
     const Vec3& a = v[0];
     const Vec3& b = v[1];
     const Vec3& c = v[2];
-    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                       a[2] * (b[0] * c[1] - b[1] * c[0]);
+    Vec3 bxc;
+    cross3(b.data(), c.data(), bxc.data());
+    const double det = dot(a, bxc);
     const double den =
         len[0] * len[1] * len[2] + dot(a, b) * len[2] + dot(b, c) * len[0] + dot(c, a) * len[1];
     sum += 2 * std::atan2(det, den);

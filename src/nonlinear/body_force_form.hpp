@@ -3,7 +3,9 @@
 // Linear in x, so its Hessian is empty.
 #pragma once
 #include <array>
+#include <memory>
 
+#include "nonlinear/device_form_parts.hpp"
 #include "nonlinear/form.hpp"
 
 namespace dipc {
@@ -14,9 +16,11 @@ std::vector<double> scaled_body_forces(const std::vector<double>& node_mass, int
 
 class BodyForceForm : public Form {
  public:
+  // space: where value and gradient run (device: through a DeviceBodyForcePart).
   BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
-                const std::array<double, 3>& acceleration, double scale);
+                const std::array<double, 3>& acceleration, double scale, MemorySpace space = MemorySpace::host);
   std::string name() const override { return "body force"; }
+  MemorySpace memory_space() const override { return device_ ? MemorySpace::device : MemorySpace::host; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
@@ -27,6 +31,7 @@ class BodyForceForm : public Form {
   std::vector<double> node_mass_;  // owned nodes
   std::array<double, 3> acceleration_;
   std::vector<double> force_;  // scale · m_i g, owned nodes, 3 per node
+  std::unique_ptr<DeviceBodyForcePart> device_;  // device space only
 };
 
 }  // namespace dipc

@@ -10,9 +10,9 @@
 // vertex's owner, edge–edge pairs by the owner of the edge with the smaller global id. Before
 // the potential is evaluated along a Newton segment x + αp, ranks exchange only the triangles
 // and edges whose swept, d̂-inflated boxes overlap another rank's surface box (the "ghost
-// surface"); their nodes become extra local nodes of the potential, so positions and gradient
-// contributions travel with the ordinary halo exchange, and Hessian entries to rows owned
-// elsewhere go through COO.
+// surface", partition/ghost_surface_exchange.hpp); their nodes become extra local nodes of the
+// potential, so positions and gradient contributions travel with the ordinary halo exchange,
+// and Hessian entries to rows owned elsewhere go through COO.
 //
 // Weights w_k: vertex–triangle and vertex–plane pairs use the vertex's rest area (⅓ of its
 // incident rest triangle areas; an obstacle vertex's in its obstacle), edge–edge pairs the mean
@@ -36,8 +36,8 @@
 // candidates with contact/broad_phase/cuda/device_broad_phase.hpp (the same pairs in the same
 // order as the host's search), brings the candidate lists back to the host once and uploads the
 // pair list built from them. value, gradient, hessian and max_step run the CUDA kernels of
-// cuda/contact_kernels.hpp on device arrays; both spaces call the point functions of
-// contact_pair_terms.hpp. update_extra_nodes and update_pattern receive host arrays in both
+// contact/cuda/contact_kernels.hpp on device arrays; both spaces call the point functions of
+// contact/contact_pair_terms.hpp. update_extra_nodes and update_pattern receive host arrays in both
 // spaces (update_pattern uploads the pattern's pairs when they change), and so do the queries
 // min_distance, active_pairs and count_intersections, which stay on the CPU. Triangle-mesh
 // obstacles are evaluated in both spaces: the device holds their vertices' positions (uploaded
@@ -57,9 +57,10 @@
 #include <vector>
 
 #include "contact/broad_phase/cuda/device_broad_phase.hpp"
+#include "contact/cuda/contact_kernels.hpp"
+#include "contact/pair_kind.hpp"
 #include "nonlinear/contact_obstacles.hpp"
 #include "nonlinear/contact_parameters.hpp"
-#include "nonlinear/cuda/contact_kernels.hpp"
 #include "nonlinear/form.hpp"
 #include "partition/contact_surface.hpp"
 #include "partition/distributed_mesh.hpp"
@@ -67,6 +68,20 @@
 namespace dipc {
 
 struct ContactPairTerms;
+
+// The candidate lists ContactForm keeps, in the order for_each_pair visits them and the per-step
+// contact counts report them (pair_kind_name): vertex–triangle, edge–edge, vertex–plane (bodies
+// and planes), then body vertex–obstacle triangle, body edge–obstacle edge, obstacle vertex–body
+// triangle. Each list's pairs are of one PairKind (candidate_pair_kind).
+enum class CandidateKind : int {
+  vertex_face = 0,
+  edge_edge = 1,
+  vertex_plane = 2,
+  vertex_obstacle_face = 3,
+  edge_obstacle_edge = 4,
+  obstacle_vertex_face = 5
+};
+constexpr int kNumCandidateKinds = 6;
 
 // Per-step contact timings (this rank's; the caller reduces).
 struct ContactStats {
@@ -132,15 +147,18 @@ class ContactForm : public Form {
                                   : x_start + 3 * static_cast<std::size_t>(node);
   }
 
-  // One candidate pair: kind (0 vertex–triangle, 1 edge–edge, 2 vertex–plane), its ext-local
+  // One candidate pair: its kind, its ext-local
   // nodes ([v, t0, t1, t2], [ea0, ea1, eb0, eb1] or [v]; obstacle vertices as obstacle_node
   // ids, which have no unknowns), weight w_k, mollifier threshold.
   struct PairInfo {
-    int kind = 0;
+    PairKind kind = PairKind::vertex_triangle;
     std::array<std::int32_t, 4> nodes{-1, -1, -1, -1};
     int count = 0;
     double weight = 0, eps_x = 0;
     const ContactParameters::Plane* plane = nullptr;
+    // The plane of a vertex–plane pair (nullptr for the other kinds).
+    const double* plane_point() const { return plane ? plane->point.data() : nullptr; }
+    const double* plane_normal() const { return plane ? plane->normal.data() : nullptr; }
   };
   // Pairs active at x (d < d̂), for friction; `first_global` tells pairs apart across exchanges.
   struct ActivePair {
@@ -148,11 +166,10 @@ class ContactForm : public Form {
     std::int64_t first_global;
   };
   std::vector<ActivePair> active_pairs(const double* x) const;
-  // This rank's active pairs at x by kind, in for_each_pair's order: vertex–triangle,
-  // edge–edge, vertex–plane (bodies and planes), then body vertex–obstacle triangle, body
-  // edge–obstacle edge, obstacle vertex–body triangle (output: the per-step contact counts).
-  static constexpr int num_pair_kinds = 6;
-  static const char* pair_kind_name(int kind);
+  // This rank's active pairs at x per CandidateKind, indexed by its value (output: the per-step
+  // contact counts).
+  static constexpr int num_pair_kinds = kNumCandidateKinds;
+  static const char* pair_kind_name(int kind);  // kind: a CandidateKind's value
   std::array<long, num_pair_kinds> active_pair_counts(const double* x) const;
   // Squared distance of a pair whose stacked node positions are X (3 per node of info.nodes).
   static double squared_distance(const PairInfo& info, const double* X);
@@ -199,6 +216,7 @@ class ContactForm : public Form {
   void upload_surface();  // device space: number_surface() and the obstacles to the device broad phase
   void append_obstacles(device::BroadPhaseSurface* s) const;
   void upload_obstacle_positions();  // device space
+  // Calls f(kind, index) for every candidate pair this rank evaluates; false if any call was.
   template <class F>
   bool for_each_pair(F&& f) const;
   // Stacked positions of a pair's nodes at x (obstacles at t1) and, for CCD, at the segment's
@@ -209,7 +227,7 @@ class ContactForm : public Form {
   std::string obstacle_face_label(std::int32_t f) const;
   std::string obstacle_edge_label(std::int32_t e) const;
   long count_obstacle_intersections(const double* x, std::string* first) const;
-  PairInfo describe(int kind, std::size_t i) const;
+  PairInfo describe(CandidateKind kind, std::size_t i) const;
   // Names for messages: "\"body name\"" (or the id), "node <input id>".
   std::string body_label(int body) const;
   std::string node_label(std::int32_t node) const;
@@ -240,7 +258,7 @@ class ContactForm : public Form {
   std::vector<std::array<std::int32_t, 2>> vertex_obstacle_face_, edge_obstacle_edge_, obstacle_vertex_face_;
   // Active pairs at the last update_pattern (their order defines the COO pattern).
   struct PatternEntry {
-    int kind;  // for_each_pair's kinds: 0 vertex–face, 1 edge–edge, 2 vertex–plane, 3..5 obstacle pairs
+    CandidateKind kind;
     std::int32_t index;  // into the list of that kind
   };
   std::vector<PatternEntry> pattern_pairs_;
@@ -264,5 +282,16 @@ class ContactForm : public Form {
   double min_distance_eps2_ = 0;
   ContactStats stats_;
 };
+
+template <class F>
+bool ContactForm::for_each_pair(F&& f) const {
+  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),          edge_edge_.size(),
+                                                 vertex_plane_.size(),         vertex_obstacle_face_.size(),
+                                                 edge_obstacle_edge_.size(),   obstacle_vertex_face_.size()};
+  bool ok = true;
+  for (int kind = 0; kind < kNumCandidateKinds; ++kind)
+    for (std::size_t i = 0; i < count[kind]; ++i) ok = f(static_cast<CandidateKind>(kind), i) && ok;
+  return ok;
+}
 
 }  // namespace dipc

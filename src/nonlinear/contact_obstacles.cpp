@@ -5,6 +5,9 @@
 #include <limits>
 #include <map>
 
+#include "contact/broad_phase/aabb.hpp"
+#include "math/vector3.hpp"
+
 namespace dipc {
 
 ObstacleSurface::ObstacleSurface(const std::vector<ContactParameters::Obstacle>& obstacles) {
@@ -22,9 +25,11 @@ ObstacleSurface::ObstacleSurface(const std::vector<ContactParameters::Obstacle>&
       const auto& a = ob.rest[t[0]];
       const auto& b = ob.rest[t[1]];
       const auto& c = ob.rest[t[2]];
-      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-      const double area = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      double u[3], v[3], n[3];
+      subtract3(b.data(), a.data(), u);
+      subtract3(c.data(), a.data(), v);
+      cross3(u, v, n);
+      const double area = 0.5 * std::sqrt(squared_norm3(n));
       for (int k = 0; k < 3; ++k) vertex_area[vertex_base + t[k]] += area / 3.0;
       faces.push_back({vertex_base + t[0], vertex_base + t[1], vertex_base + t[2]});
       face_obstacle.push_back(static_cast<int>(o));
@@ -58,19 +63,10 @@ void ObstacleSurface::move(const std::vector<ContactParameters::Obstacle>& obsta
   moving_ = start_ != end_;
 }
 
-ObstacleSurface::Near ObstacleSurface::near(const std::array<double, 6>& box) const {
+ObstacleSurface::Near ObstacleSurface::near(const Aabb& box) const {
   Near out;
   auto reaches = [&](const std::int32_t* ids, int count) {
-    for (int c = 0; c < 3; ++c) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (int k = 0; k < count; ++k) {
-        const double a = start(ids[k])[c], b = end(ids[k])[c];
-        lo = std::min(lo, std::min(a, b));
-        hi = std::max(hi, std::max(a, b));
-      }
-      if (lo > box[3 + c] || hi < box[c]) return false;
-    }
-    return true;
+    return aabbs_overlap(contact::primitive_box(start_.data(), end_.data(), ids, count, 0.0), box);
   };
   std::vector<char> used(vertex_obstacle.size(), 0);
   for (std::int32_t v = 0; v < num_vertices(); ++v)

@@ -31,8 +31,9 @@
 #include <string>
 #include <vector>
 
+#include "contact/obstacle_nodes.hpp"
+#include "math/aabb.hpp"
 #include "nonlinear/contact_parameters.hpp"
-#include "nonlinear/obstacle_nodes.hpp"
 
 namespace dipc {
 
@@ -65,7 +66,7 @@ class ObstacleSurface {
   struct Near {
     std::vector<std::int32_t> vertices, edges, faces;
   };
-  Near near(const std::array<double, 6>& box) const;
+  Near near(const Aabb& box) const;
 
  private:
   std::vector<double> start_, end_, step_start_;

@@ -4,7 +4,9 @@
 
 namespace dipc {
 
-ElasticForm::ElasticForm(const ElementData& elements, double scale) : elements_(elements), scale_(scale) {
+ElasticForm::ElasticForm(const ElementData& elements, double scale, MemorySpace space)
+    : elements_(elements), scale_(scale) {
+  if (space == MemorySpace::device) device_ = std::make_unique<DeviceElasticPart>(elements);
   for (int e = 0; e < elements.num_elements(); ++e)
     if (elements.volumetric[e] == VolumetricTerm::mean_dilatation) split_elements_.push_back(e);
 }
@@ -42,6 +44,7 @@ void ElasticForm::split_volumetric() {
 }
 
 bool ElasticForm::value(const double* x, double* energy) {
+  if (device_) return device_->value(x, scale_, energy);
   double psi = 0;
   const bool ok = elastic_energy(elements_.block(), x, &psi);
   *energy = scale_ * psi;
@@ -49,6 +52,7 @@ bool ElasticForm::value(const double* x, double* energy) {
 }
 
 bool ElasticForm::gradient(const double* x, double* g) {
+  if (device_) return device_->gradient(x, scale_, g);
   gradient_work_.assign(elements_.reference.size(), 0.0);
   const bool ok = elastic_gradient(elements_.block(), x, gradient_work_.data());
   for (std::size_t i = 0; i < gradient_work_.size(); ++i) g[i] += scale_ * gradient_work_[i];
@@ -60,6 +64,7 @@ void ElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>
 }
 
 bool ElasticForm::hessian(const double* x, double* values) {
+  if (device_) return device_->hessian(x, scale_, values);
   bool ok;
   if (split_) {
     const std::size_t ne = static_cast<std::size_t>(elements_.num_elements());
@@ -81,6 +86,7 @@ bool ElasticForm::hessian(const double* x, double* values) {
 }
 
 bool ElasticForm::is_valid(const double* x) {
+  if (device_) return device_->is_valid(x);
   return min_volume_ratio(elements_.block(), x, nullptr) > 0.0;
 }
 

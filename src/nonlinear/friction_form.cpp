@@ -30,9 +30,9 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
     const double d = ContactForm::squared_distance(info, X);
     const double lambda = contact::friction_normal_force(contact_.kappa() * info.weight,
                                                          contact::barrier_first_derivative(d, dhat2), d);
-    if (info.kind == 0)
+    if (info.kind == PairKind::vertex_triangle)
       p.pair = contact::point_triangle_lagged_friction(X, mu_, lambda, eps_u_);
-    else if (info.kind == 1)
+    else if (info.kind == PairKind::edge_edge)
       p.pair = contact::edge_edge_lagged_friction(X, mu_, lambda, eps_u_);
     else
       p.plane = contact::point_plane_lagged_friction(info.plane->normal.data(), mu_, lambda, eps_u_);

@@ -5,15 +5,19 @@
 namespace dipc {
 
 LumpedInertiaForm::LumpedInertiaForm(std::vector<double> node_mass, int num_owned_nodes,
-                                     std::int64_t node_offset)
+                                     std::int64_t node_offset, MemorySpace space)
     : mass_(std::move(node_mass)), x_hat_(3 * static_cast<std::size_t>(num_owned_nodes), 0.0),
-      num_owned_(num_owned_nodes), node_offset_(node_offset) {}
+      num_owned_(num_owned_nodes), node_offset_(node_offset) {
+  if (space == MemorySpace::device) device_ = std::make_unique<DeviceLumpedInertiaPart>(mass_, num_owned_nodes);
+}
 
 void LumpedInertiaForm::begin_step(const double* x_hat) {
+  if (device_) return device_->begin_step(x_hat);
   x_hat_.assign(x_hat, x_hat + 3 * static_cast<std::size_t>(num_owned_));
 }
 
 bool LumpedInertiaForm::value(const double* x, double* energy) {
+  if (device_) return device_->value(x, energy);
   double e = 0;
   for (int i = 0; i < num_owned_; ++i)
     for (int c = 0; c < 3; ++c) {
@@ -25,6 +29,7 @@ bool LumpedInertiaForm::value(const double* x, double* energy) {
 }
 
 bool LumpedInertiaForm::gradient(const double* x, double* g) {
+  if (device_) return device_->gradient(x, g);
   for (int i = 0; i < num_owned_; ++i)
     for (int c = 0; c < 3; ++c) g[3 * i + c] += mass_[i] * (x[3 * i + c] - x_hat_[3 * i + c]);
   return true;
@@ -42,13 +47,19 @@ void LumpedInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<Pet
 }
 
 bool LumpedInertiaForm::hessian(const double*, double* values) {
+  if (device_) return device_->hessian(values);
   for (int i = 0; i < num_owned_; ++i)
     for (int c = 0; c < 3; ++c) values[3 * i + c] = mass_[i];
   return true;
 }
 
-ConsistentInertiaForm::ConsistentInertiaForm(const ElementData& elements)
-    : elements_(elements), x_hat_(elements.reference.size(), 0.0) {
+ConsistentInertiaForm::ConsistentInertiaForm(const ElementData& elements, MemorySpace space)
+    : elements_(elements) {
+  if (space == MemorySpace::device) {  // the element masses live on the device only
+    device_ = std::make_unique<DeviceConsistentInertiaPart>(elements);
+    return;
+  }
+  x_hat_.assign(elements.reference.size(), 0.0);
   element_mass_.resize(64 * static_cast<std::size_t>(elements.num_elements()));
   for (int el = 0; el < elements.num_elements(); ++el) {
     double X[24];
@@ -58,10 +69,12 @@ ConsistentInertiaForm::ConsistentInertiaForm(const ElementData& elements)
 }
 
 void ConsistentInertiaForm::begin_step(const double* x_hat) {
+  if (device_) return device_->begin_step(x_hat);
   x_hat_.assign(x_hat, x_hat + elements_.reference.size());
 }
 
 bool ConsistentInertiaForm::value(const double* x, double* energy) {
+  if (device_) return device_->value(x, energy);
   double e = 0;
   const std::int32_t* nodes = elements_.nodes.data();
   for (int el = 0; el < elements_.num_elements(); ++el) {
@@ -78,6 +91,7 @@ bool ConsistentInertiaForm::value(const double* x, double* energy) {
 }
 
 bool ConsistentInertiaForm::gradient(const double* x, double* g) {
+  if (device_) return device_->gradient(x, g);
   const std::int32_t* nodes = elements_.nodes.data();
   for (int el = 0; el < elements_.num_elements(); ++el) {
     const double* M = &element_mass_[64 * static_cast<std::size_t>(el)];
@@ -96,6 +110,7 @@ void ConsistentInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector
 }
 
 bool ConsistentInertiaForm::hessian(const double*, double* values) {
+  if (device_) return device_->hessian(values);
   std::size_t k = 0;
   for (std::size_t m = 0; m < element_mass_.size(); ++m)
     for (int c = 0; c < 3; ++c) values[k++] = element_mass_[m];

@@ -6,14 +6,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "math/vector3.hpp"
+
 namespace dipc {
 
 namespace {
 using V3 = std::array<double, 3>;
 V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  V3 c;
+  cross3(a.data(), b.data(), c.data());
+  return c;
 }
-double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot(const V3& a, const V3& b) { return dot3(a.data(), b.data()); }
 
 // The path's keyframe segment [k, k+1] holding t (the last one when t is beyond it); the
 // parser guarantees at least two keyframes.

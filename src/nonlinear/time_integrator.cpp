@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "assembly/hex8_mass.hpp"
+#include "math/vector3.hpp"
 #include "nonlinear/body_force_form.hpp"
-#include "nonlinear/device_forms.hpp"
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
@@ -78,17 +78,10 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
   const bool on_device = space == MemorySpace::device;
-  if (inertia && problem.lumped_mass) {
-    if (on_device)
-      forms.push_back(std::make_unique<DeviceLumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
-    else
-      forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
-  } else if (inertia) {
-    if (on_device)
-      forms.push_back(std::make_unique<DeviceConsistentInertiaForm>(*elements_));
-    else
-      forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_));
-  }
+  if (inertia && problem.lumped_mass)
+    forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset, space));
+  else if (inertia)
+    forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_, space));
   // Kinematic bodies (every node prescribed) need no elastic energy.
   bool any_kinematic = false;
   for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
@@ -113,16 +106,9 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
                "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
                "Hessian on the GPU");
   }
-  if (on_device)
-    forms.push_back(std::make_unique<DeviceElasticForm>(deformable, h2));
-  else
-    forms.push_back(std::make_unique<ElasticForm>(deformable, h2));
-  if (gravity) {
-    if (on_device)
-      forms.push_back(std::make_unique<DeviceBodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
-    else
-      forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2));
-  }
+  forms.push_back(std::make_unique<ElasticForm>(deformable, h2, space));
+  if (gravity)
+    forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2, space));
   if (problem.contact) {
     auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space);
     // κ bounds from the average nodal mass (IPC supplement).
@@ -171,9 +157,9 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
       const auto& w = problem.body_angular_velocity[node_body[n]];
       const auto& c = problem.body_spin_center[node_body[n]];
       const double r[3] = {Xn[0] - c[0], Xn[1] - c[1], Xn[2] - c[2]};
-      vn[0] += w[1] * r[2] - w[2] * r[1];
-      vn[1] += w[2] * r[0] - w[0] * r[2];
-      vn[2] += w[0] * r[1] - w[1] * r[0];
+      double wxr[3];
+      cross3(w.data(), r, wxr);
+      for (int c = 0; c < 3; ++c) vn[c] += wxr[c];
     }
     if (dirichlet_set_[n] >= 0) vn = problem.dirichlet[dirichlet_set_[n]].motion.velocity_at(Xn, 0.0);
     for (int c = 0; c < 3; ++c) X[3 * n + c] = Xn[c], v[3 * n + c] = problem.is_static ? 0.0 : vn[c];
@@ -566,11 +552,11 @@ PetscErrorCode TimeIntegrator::measure(PhysicalQuantities* q) {
   double local[7] = {0, 0, 0, 0, 0, 0, 0};
   for (std::size_t n = 0; n < node_mass_.size(); ++n) {
     const double m = node_mass_[n], *xn = x + 3 * n, *vn = v + 3 * n;
-    local[0] += 0.5 * m * (vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+    double xv[3];
+    cross3(xn, vn, xv);
+    local[0] += 0.5 * m * squared_norm3(vn);
     for (int c = 0; c < 3; ++c) local[1 + c] += m * vn[c];
-    local[4] += m * (xn[1] * vn[2] - xn[2] * vn[1]);
-    local[5] += m * (xn[2] * vn[0] - xn[0] * vn[2]);
-    local[6] += m * (xn[0] * vn[1] - xn[1] * vn[0]);
+    for (int c = 0; c < 3; ++c) local[4 + c] += m * xv[c];
   }
   PetscCall(VecRestoreArrayRead(x_, &x));
   PetscCall(VecRestoreArrayRead(v_, &v));

@@ -21,6 +21,7 @@
 #include "mesh/boundary_faces.hpp"
 #include "mesh/closed_surface.hpp"
 #include "mesh/gmsh_writer.hpp"
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_error.hpp"
@@ -172,7 +173,7 @@ int run(const Arguments& a) {
         hex8::gauss_point(q, xi, eta, zeta);
         hex8::shape_gradient(xi, eta, zeta, dN);
         hex8::jacobian(X, dN, J);
-        meshed += hex8::kGaussWeight * hex8::det3(J);
+        meshed += hex8::kGaussWeight * det3x3(J);
       }
     }
   } else {

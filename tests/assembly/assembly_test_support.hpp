@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "support/finite_difference.hpp"
 
@@ -41,7 +42,7 @@ inline Mat3 random_rotation(std::mt19937_64& rng) {
   Mat3 R;
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) R[3 * i + k] = c[k][i];
-  if (hex8::det3(R.data()) < 0)
+  if (det3x3(R.data()) < 0)
     for (int i = 0; i < 3; ++i) R[3 * i + 2] = -R[3 * i + 2];
   return R;
 }

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <random>
 
-#include "assembly/symmetric_eigen.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "assembly_test_support.hpp"
 
 namespace dipc {

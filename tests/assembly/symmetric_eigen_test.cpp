@@ -1,5 +1,5 @@
 // Tests of the cyclic Jacobi eigen-solver and project_psd on matrices with known spectra.
-#include "assembly/symmetric_eigen.hpp"
+#include "math/symmetric_eigen.hpp"
 
 #include <gtest/gtest.h>
 

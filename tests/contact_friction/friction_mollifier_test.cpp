@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "assembly/symmetric_eigen.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "contact/friction/friction_mollifier.hpp"
 #include "contact/friction/symmetric_2x2_psd.hpp"
 

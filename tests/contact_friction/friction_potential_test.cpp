@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "assembly/symmetric_eigen.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "contact/friction/friction_potential.hpp"
 #include "friction_test_support.hpp"
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <string>
 
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "mesh/hex_mesh.hpp"
 #include "support/source_tree.hpp"
@@ -29,7 +30,7 @@ inline double element_volume(const HexMesh& mesh, std::size_t e) {
     hex8::gauss_point(q, xi, eta, zeta);
     hex8::shape_gradient(xi, eta, zeta, dN);
     hex8::jacobian(X, dN, J);
-    v += hex8::kGaussWeight * hex8::det3(J);
+    v += hex8::kGaussWeight * det3x3(J);
   }
   return v;
 }

@@ -217,8 +217,8 @@ TEST(ContactFormGpu, ObstaclesMatchHostForm) {
     EXPECT_EQ(a.weight, b.weight);
     EXPECT_EQ(a.eps_x, b.eps_x);
     if (is_obstacle_node(a.nodes[0])) ++kinds[2];
-    else if (a.kind == 0 && is_obstacle_node(a.nodes[1])) ++kinds[0];
-    else if (a.kind == 1 && is_obstacle_node(a.nodes[2])) ++kinds[1];
+    else if (a.kind == PairKind::vertex_triangle && is_obstacle_node(a.nodes[1])) ++kinds[0];
+    else if (a.kind == PairKind::edge_edge && is_obstacle_node(a.nodes[2])) ++kinds[1];
   }
   for (int k = 0; k < 3; ++k) EXPECT_GT(kinds[k], 0) << "no active body–obstacle pair of kind " << k;
   f.expect_same_terms(x);

@@ -1,5 +1,5 @@
-// CUDA contact kernels (nonlinear/cuda/contact_kernels.hpp) against the same point functions
-// (nonlinear/contact_pair_terms.hpp) evaluated on the host, on random pairs of every kind —
+// CUDA contact kernels (contact/cuda/contact_kernels.hpp) against the same point functions
+// (contact/contact_pair_terms.hpp) evaluated on the host, on random pairs of every kind —
 // vertex–triangle, edge–edge (skew and nearly parallel, i.e. mollified), vertex–plane — closer
 // than d̂: energy, gradient and Hessian (raw and PSD-projected) to 1e-12 relative to the
 // pair's largest entry, active flags and the minimum distance exactly, and the CCD time of
@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "device/device_runtime.hpp"
-#include "nonlinear/contact_pair_terms.hpp"
-#include "nonlinear/cuda/contact_kernels.hpp"
-#include "nonlinear/obstacle_nodes.hpp"
+#include "contact/contact_pair_terms.hpp"
+#include "contact/cuda/contact_kernels.hpp"
+#include "contact/obstacle_nodes.hpp"
 
 namespace dipc {
 namespace {
@@ -81,7 +81,7 @@ class RandomPairs {
     const Vec3 normal = unit(n);
     const Vec3 p = add(add(add(t0, e1, u), e2, v), normal, gap);
     const std::int32_t nodes[4] = {node(p), node(t0), node(add(t0, e1)), node(add(t0, e2))};
-    pairs.add(0, nodes, uniform(0.01, 1.0), 0.0, -1);
+    pairs.add(PairKind::vertex_triangle, nodes, uniform(0.01, 1.0), 0.0, -1);
     return normal;
   }
 
@@ -102,7 +102,7 @@ class RandomPairs {
     const Vec3 b0 = add(add(pa, normal, gap), db, -sb * lb);
     const std::int32_t nodes[4] = {node(a0), node(add(a0, da, la)), node(b0), node(add(b0, db, lb))};
     // Mollifier threshold ε_x = 1e-3 |ea|² |eb|² (rest = current, as ContactForm at rest).
-    pairs.add(1, nodes, uniform(0.01, 1.0), 1e-3 * la * la * lb * lb, -1);
+    pairs.add(PairKind::edge_edge, nodes, uniform(0.01, 1.0), 1e-3 * la * la * lb * lb, -1);
     return normal;
   }
 
@@ -114,7 +114,7 @@ class RandomPairs {
     const Vec3 t = vec(2.0);
     const Vec3 p = add(add(o, add(t, n, -dot(t, n))), n, gap);
     const std::int32_t nodes[4] = {node(p), -1, -1, -1};
-    pairs.add(2, nodes, uniform(0.01, 1.0), 0.0, k);
+    pairs.add(PairKind::vertex_plane, nodes, uniform(0.01, 1.0), 0.0, k);
     return n;
   }
 
@@ -130,7 +130,7 @@ class RandomPairs {
 
   // Stacked positions of pair i and its plane (nullptr for other kinds).
   int gather(std::size_t i, double* X) const {
-    const int count = pairs.kind[i] == 2 ? 1 : 4;
+    const int count = pair_node_count(pairs.kind[i]);
     for (int k = 0; k < count; ++k)
       for (int c = 0; c < 3; ++c) X[3 * k + c] = x[3 * pairs.nodes[4 * i + k] + c];
     return count;
@@ -204,10 +204,10 @@ TEST(ContactKernelsGpu, EnergyGradientHessianAndActiveSetMatchHost) {
       energy += t.energy;
       const int m = 3 * count;
       if (is_active) {
-        ++active_count[r.pairs.kind[i]];
+        ++active_count[static_cast<int>(r.pairs.kind[i])];
         for (int k = 0; k < m; ++k) g[3 * r.pairs.nodes[4 * i + k / 3] + k % 3] += t.g[k];
         for (int k = 0; k < m * m; ++k) H[offset + k] = t.H[k];
-        if (r.pairs.kind[i] == 1 &&
+        if (r.pairs.kind[i] == PairKind::edge_edge &&
             contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < r.pairs.eps_x[i])
           ++mollified;
       }
@@ -239,7 +239,7 @@ TEST(ContactKernelsGpu, EnergyGradientHessianAndActiveSetMatchHost) {
     double worst_g = 0, worst_H = 0;
     offset = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const int count = r.pairs.kind[i] == 2 ? 1 : 4;
+      const int count = pair_node_count(r.pairs.kind[i]);
       const int m = 3 * count;
       for (int k = 0; k < count; ++k) {
         const std::size_t at = 3 * static_cast<std::size_t>(r.pairs.nodes[4 * i + k]);
@@ -362,25 +362,25 @@ struct Trajectories {
   std::vector<double> p;          // 3 per node
   std::vector<char> must_report;  // per pair
 
-  Trajectories(int kind, int count, unsigned seed) : r(seed) {
+  Trajectories(PairKind kind, int count, unsigned seed) : r(seed) {
     for (int i = 0; i < count; ++i) {
       const int mode = i % 3;
       const bool collide = mode == 1, touching = mode == 2 && i % 10 == 2, still = mode == 2 && i % 10 == 5;
-      const bool nearly_parallel = kind == 1 && i % 7 == 0;
+      const bool nearly_parallel = kind == PairKind::edge_edge && i % 7 == 0;
       const double gap = touching ? 0.0 : r.log_uniform(1e-4 * kDhat, 10 * kDhat);
       Vec3 towards;  // from the first primitive to the second
-      if (kind == 0)
+      if (kind == PairKind::vertex_triangle)
         towards = r.vertex_triangle(gap, collide);
-      else if (kind == 1)
+      else if (kind == PairKind::edge_edge)
         towards = r.edge_edge(gap, nearly_parallel ? r.log_uniform(1e-6, 0.03) : r.uniform(0.05, 1.5), collide);
       else
         towards = r.vertex_plane(gap);
       const Vec3 common = r.vec(1.0);
       const double through = r.uniform(1.5, 4.0) * gap;
-      const int nodes = kind == 2 ? 1 : 4;
+      const int nodes = pair_node_count(kind);
       for (int k = 0; k < nodes; ++k) {
         Vec3 step{0, 0, 0};
-        const bool moving_primitive = kind == 1 ? k >= 2 : k == 0;
+        const bool moving_primitive = kind == PairKind::edge_edge ? k >= 2 : k == 0;
         if (collide && moving_primitive)
           step = add(step, towards, -through);
         else if (!collide && !still)
@@ -392,9 +392,9 @@ struct Trajectories {
   }
 };
 
-void expect_same_times_of_impact(int kind) {
+void expect_same_times_of_impact(PairKind kind) {
   constexpr int kCount = 12000;
-  Trajectories t(kind, kCount, 100 + kind);
+  Trajectories t(kind, kCount, 100 + static_cast<int>(kind));
   ASSERT_EQ(t.r.pairs.size(), static_cast<std::size_t>(kCount));
   ASSERT_EQ(t.p.size(), t.r.x.size());
   DeviceScene d(t.r);
@@ -435,15 +435,15 @@ void expect_same_times_of_impact(int kind) {
 
 TEST(ContactKernelsGpu, VertexTriangleTimeOfImpactIsBitIdentical) {
   if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
-  expect_same_times_of_impact(0);
+  expect_same_times_of_impact(PairKind::vertex_triangle);
 }
 TEST(ContactKernelsGpu, EdgeEdgeTimeOfImpactIsBitIdentical) {
   if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
-  expect_same_times_of_impact(1);
+  expect_same_times_of_impact(PairKind::edge_edge);
 }
 TEST(ContactKernelsGpu, VertexPlaneTimeOfImpactIsBitIdentical) {
   if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
-  expect_same_times_of_impact(2);
+  expect_same_times_of_impact(PairKind::vertex_plane);
 }
 
 // Pairs with triangle-mesh obstacles: random vertex–triangle and edge–edge pairs (as above)
@@ -529,7 +529,7 @@ TEST(ContactKernelsGpu, ObstaclePairsMatchHostOnTheirBodyNodes) {
     for (std::size_t i = 0; i < n; ++i) {
       double X[12];
       o.gather(i, X);
-      const int kind = o.r.pairs.kind[i];
+      const PairKind kind = o.r.pairs.kind[i];
       min_d2 = std::min(min_d2, contact_pair_squared_distance(kind, X, kNoPlane, kNoPlane));
       bool is_active;
       ContactPairTerms t;
@@ -587,16 +587,16 @@ TEST(ContactKernelsGpu, ObstaclePairsMatchHostOnTheirBodyNodes) {
 // moved into the obstacle arrays), bit for bit as on the host.
 TEST(ContactKernelsGpu, ObstaclePairTimesOfImpactAreBitIdentical) {
   if (!has_gpu()) GTEST_SKIP() << "no CUDA device";
-  for (int kind : {0, 1}) {
-    SCOPED_TRACE("kind " + std::to_string(kind));
+  for (PairKind kind : {PairKind::vertex_triangle, PairKind::edge_edge}) {
+    SCOPED_TRACE("kind " + std::to_string(static_cast<int>(kind)));
     constexpr int kCount = 9000;
-    Trajectories t(kind, kCount, 300 + kind);
+    Trajectories t(kind, kCount, 300 + static_cast<int>(kind));
     ObstaclePairs o(0);
     o.r = t.r;
     // Vertex–triangle: the triangle (2 of 3 pairs) or the vertex (1 of 3) is the obstacle;
     // edge–edge: edge b, the one mode (1) drives into edge a.
     for (int i = 0; i < kCount; ++i)
-      o.make_obstacle(i, kind == 1 ? 0b1100 : (i % 3 == 2 ? 0b0001 : 0b1110), &t.p, 0.0);
+      o.make_obstacle(i, kind == PairKind::edge_edge ? 0b1100 : (i % 3 == 2 ? 0b0001 : 0b1110), &t.p, 0.0);
     for (std::int32_t row : o.former_rows)
       for (int c = 0; c < 3; ++c) t.p[3 * row + c] = std::nan("");  // obstacles do not move along p
     DeviceScene d(o.r);

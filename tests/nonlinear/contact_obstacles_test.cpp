@@ -98,8 +98,8 @@ struct ObstacleFixture {
     potential.with_local(x, [&](const double* xl, std::size_t) {
       for (const auto& p : contact->active_pairs(xl)) {
         if (is_obstacle_node(p.info.nodes[0])) ++local[2];
-        else if (p.info.kind == 0 && is_obstacle_node(p.info.nodes[1])) ++local[0];
-        else if (p.info.kind == 1 && is_obstacle_node(p.info.nodes[2])) ++local[1];
+        else if (p.info.kind == PairKind::vertex_triangle && is_obstacle_node(p.info.nodes[1])) ++local[0];
+        else if (p.info.kind == PairKind::edge_edge && is_obstacle_node(p.info.nodes[2])) ++local[1];
       }
     });
     MPI_Allreduce(local.data(), total.data(), 3, MPI_LONG, MPI_SUM, mesh.comm);

@@ -59,7 +59,7 @@ __host__ __device__ constexpr int shared_per_element() {
 template <class Material, bool Grad, bool Hess>
 __device__ double material_point(const double F[9], double lambda, double mu, double P[9], double C[81]) {
   if (Grad) Material::stress(F, lambda, mu, P);
-  if (Hess) Material::stress_derivative_psd(F, lambda, mu, C);
+  if (Hess) stress_derivative_psd<Material>(F, lambda, mu, C);
   return Material::energy(F, lambda, mu);
 }
 

@@ -1,32 +1,14 @@
-// Axis-aligned bounding boxes for the contact broad phase: the box of a surface primitive
-// (vertex, edge, triangle) at one position or swept between two, inflated by a length, and
-// the overlap test. Point functions (DIPC_HD, plain arrays) so a CUDA broad phase can reuse them.
+// Bounding boxes of surface primitives for the contact broad phase: the box of a vertex, edge or
+// triangle at one position or swept between two, inflated by a length (the box type and the
+// overlap test are math/aabb.hpp's). Point functions (DIPC_HD, plain arrays) so a CUDA broad
+// phase can reuse them.
 #pragma once
 #include <cstdint>
 
-#include "host_device.hpp"
+#include "math/aabb.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
-
-struct Aabb {
-  double lo[3];
-  double hi[3];
-};
-
-// Closed intervals: boxes that only touch overlap, so a pair at exactly the inflation
-// distance is still a candidate (a broad phase may report extra pairs, never miss one).
-DIPC_HD bool aabbs_overlap(const Aabb& a, const Aabb& b) {
-  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] &&
-         a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-         a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
-}
-
-DIPC_HD void aabb_merge(Aabb* into, const Aabb& other) {
-  for (int k = 0; k < 3; ++k) {
-    into->lo[k] = other.lo[k] < into->lo[k] ? other.lo[k] : into->lo[k];
-    into->hi[k] = other.hi[k] > into->hi[k] ? other.hi[k] : into->hi[k];
-  }
-}
 
 // Box of the `count` vertices `ids` at positions x0 and, when x1 is not null, also x1,
 // grown by `inflation` on every side. The box of both end positions contains the whole

@@ -3,7 +3,7 @@
 // points (interior, edge or vertex). The CCD only needs values, not derivatives, so these are
 // written for robustness rather than smoothness (src/contact/geometry/ has the
 // differentiable versions used by the barrier; the narrow phase deliberately does not depend
-// on them; the only shared header is geometry/vector3.hpp).
+// on them; the only shared header is math/vector3.hpp).
 //
 // Robustness rule used throughout: every candidate is either the squared length of a vector
 // between two points that lie on the primitives (an upper bound of the true distance up to
@@ -12,8 +12,8 @@
 // not) can only lower the value near the decision boundary, where the candidates agree —
 // which for CCD means an earlier stop, never a missed contact.
 #pragma once
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact::ccd {
 

@@ -37,8 +37,8 @@
 
 #include "contact/ccd/additive_ccd.hpp"
 #include "contact/ccd/ccd_parameters.hpp"
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

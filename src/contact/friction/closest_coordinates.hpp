@@ -11,8 +11,8 @@
 #pragma once
 #include <cmath>
 
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

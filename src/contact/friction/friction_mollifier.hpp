@@ -11,7 +11,7 @@
 //   f0(y) = -y^3/(3 eps_u^2) + y^2/eps_u + eps_u/3   (y < eps_u),   y   (y >= eps_u).
 // Hence f0(0) = eps_u/3, the minimum; only derivatives of f0 enter the forces.
 #pragma once
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -22,7 +22,7 @@
 #include "contact/friction/lagged_friction.hpp"
 #include "contact/friction/relative_velocity.hpp"
 #include "contact/friction/symmetric_2x2_psd.hpp"
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -10,7 +10,7 @@
 #include "contact/friction/closest_coordinates.hpp"
 #include "contact/friction/relative_velocity.hpp"
 #include "contact/friction/tangent_basis.hpp"
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -10,7 +10,7 @@
 // Gamma^T f on the four points sum to zero (momentum is conserved).
 // Point-plane pairs have Gamma = I3 on the point's 3 dofs (a fixed plane has no velocity).
 #pragma once
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -12,8 +12,8 @@
 #include <cmath>
 
 #include "contact/friction/closest_coordinates.hpp"
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -4,7 +4,7 @@
 // case's derivatives (over 2, 3 or 4 of the vertices) into the 12 stacked dofs of a
 // point-triangle or edge-edge pair. Dense row-major arrays, sizes at most 12.
 #pragma once
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -8,8 +8,8 @@
 // EA0_EB = ea0 closest to the interior of B, EA_EB0 = eb0 closest to the interior of A,
 // EA_EB = both closest points interior (line-line), EAi_EBj = two endpoints.
 #pragma once
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -11,7 +11,7 @@
 #include "contact/geometry/line_line.hpp"
 #include "contact/geometry/point_line.hpp"
 #include "contact/geometry/point_point.hpp"
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

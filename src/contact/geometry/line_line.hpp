@@ -8,8 +8,8 @@
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
 #include "contact/geometry/normal_component.hpp"
-#include "contact/geometry/vector3.hpp"
-#include "host_device.hpp"
+#include "math/vector3.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc::contact {
 

@@ -31,11 +31,11 @@
 #include <string>
 
 #include "contact/broad_phase/aabb.hpp"
+#include "contact/broad_phase/pair_filter.hpp"
 #include "device/cuda_check.cuh"
 
 namespace dipc::device {
 
-using contact::Aabb;
 using contact::BroadPhaseError;
 
 namespace {
@@ -52,19 +52,8 @@ constexpr int kMortonBits = 21;  // per axis
 struct SurfaceData {
   const std::int32_t* edges;
   const std::int32_t* faces;
-  const std::int32_t* group;  // null: no group filter
-  const char* self;
-  int num_self;
-  const char* owned_vertex;      // null: every vertex–face pair kept
-  const char* owned_face;        // read for kFaceDecides vertices
-  const std::int64_t* edge_gid;  // null: every edge–edge pair kept
-  const char* owned_edge;
+  contact::PairFilter filter;  // the filters of pair_filter.hpp, on device arrays
 };
-
-// The group filter of ContactForm (device_broad_phase.hpp).
-__device__ bool allow_groups(const SurfaceData& s, int a, int b) {
-  return a != b || (a >= 0 && a < s.num_self && s.self[a] != 0);
-}
 
 // A BVH over n >= 1 boxes: nodes 0 .. n−2 are inner nodes (0 the root), nodes n−1 .. 2n−2 the
 // leaves in Morton order; a lone leaf is node 0, the root.
@@ -84,7 +73,7 @@ __device__ void for_each_overlap(const TreeView& t, const Aabb& query, Visit&& v
   stack[top++] = 0;
   while (top > 0) {
     const std::int32_t node = stack[--top];
-    if (!contact::aabbs_overlap(t.box[node], query)) continue;
+    if (!aabbs_overlap(t.box[node], query)) continue;
     if (node >= t.n - 1) {
       visit(t.leaf_id[node - (t.n - 1)]);
     } else {
@@ -106,9 +95,9 @@ struct VertexFaceQuery {
   __device__ bool keep(std::int32_t v, std::int32_t f) const {
     const std::int32_t* tri = s.faces + 3 * static_cast<std::int64_t>(f);
     if (tri[0] == v || tri[1] == v || tri[2] == v) return false;
-    if (s.group && !allow_groups(s, s.group[v], s.group[tri[0]])) return false;
-    if (!s.owned_vertex) return true;
-    return s.owned_vertex[v] == kFaceDecides ? s.owned_face[f] != 0 : s.owned_vertex[v] != 0;
+    const contact::PairFilter& pf = s.filter;
+    if (pf.group && !contact::groups_may_touch(pf, pf.group[v], pf.group[tri[0]])) return false;
+    return contact::keeps_vertex_face(pf, v, f);
   }
 };
 
@@ -124,8 +113,9 @@ struct EdgeEdgeQuery {
     const std::int32_t* ea = s.edges + 2 * static_cast<std::int64_t>(a);
     const std::int32_t* eb = s.edges + 2 * static_cast<std::int64_t>(b);
     if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) return false;
-    if (s.group && !allow_groups(s, s.group[ea[0]], s.group[eb[0]])) return false;
-    return !s.edge_gid || s.owned_edge[s.edge_gid[a] < s.edge_gid[b] ? a : b] != 0;
+    const contact::PairFilter& pf = s.filter;
+    if (pf.group && !contact::groups_may_touch(pf, pf.group[ea[0]], pf.group[eb[0]])) return false;
+    return contact::keeps_edge_edge(pf, a, b);
   }
 };
 
@@ -266,7 +256,7 @@ __global__ void refit_kernel(int n, const std::int32_t* left, const std::int32_t
     __threadfence();  // this thread's box writes before its arrival
     if (atomicAdd(&visits[node], 1) == 0) return;
     Aabb box = load_shared_box(&node_box[left[node]]);
-    contact::aabb_merge(&box, load_shared_box(&node_box[right[node]]));
+    aabb_merge(&box, load_shared_box(&node_box[right[node]]));
     node_box[node] = box;
     node = parent[node];
   }
@@ -308,7 +298,7 @@ __global__ void split_keys_kernel(const std::uint64_t* keys, long long count, st
 struct MergeBoxes {
   __host__ __device__ Aabb operator()(const Aabb& a, const Aabb& b) const {
     Aabb r = a;
-    contact::aabb_merge(&r, b);
+    aabb_merge(&r, b);
     return r;
   }
 };
@@ -360,26 +350,22 @@ struct DeviceBroadPhase::Impl {
   Array<unsigned char> temp{"CUB scratch"};
 
   SurfaceData surface() const {
-    return {edges.data(),
-            faces.data(),
-            groups ? group.data() : nullptr,
-            self.data(),
-            num_self,
-            owned_vertices ? owned_vertex.data() : nullptr,
-            owned_face.data(),
-            owned_edges ? edge_gid.data() : nullptr,
-            owned_edge.data()};
+    contact::PairFilter filter;
+    filter.group = groups ? group.data() : nullptr;
+    filter.self = self.data();
+    filter.num_self = num_self;
+    filter.owned_vertex = owned_vertices ? owned_vertex.data() : nullptr;
+    filter.owned_face = owned_face.data();
+    filter.edge_gid = owned_edges ? edge_gid.data() : nullptr;
+    filter.owned_edge = owned_edge.data();
+    return {edges.data(), faces.data(), filter};
   }
 
   // The BVH over boxes[0 .. n), n >= 1.
   TreeView build_tree(const Aabb* primitive_boxes, int n) {
     const std::size_t count = static_cast<std::size_t>(n);
     const unsigned blocks = blocks_for(count, kThreads);
-    Aabb empty;
-    for (int k = 0; k < 3; ++k) {
-      empty.lo[k] = std::numeric_limits<double>::infinity();
-      empty.hi[k] = -std::numeric_limits<double>::infinity();
-    }
+    const Aabb empty = aabb_empty();
     bounds.resize(1);
     std::size_t bytes = 0;
     DIPC_CUDA_CHECK(

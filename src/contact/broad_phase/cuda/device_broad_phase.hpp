@@ -10,16 +10,12 @@
 // device arrays; the candidate lists come back to the host once per search (host code needs
 // them), everything before that runs on the device.
 //
-// Filters are data, not callbacks, so that kernels can apply them. With the same data,
-// find_candidates gives what contact::find_candidates gives with the CandidateFilter
-//   allow_groups(a, b)     = a != b || (0 <= a < self_contact.size() && self_contact[a])
-//   keep_vertex_face(v, f) = owned_vertex[v] == kFaceDecides ? owned_face[f] != 0 : owned_vertex[v] != 0
-//   keep_edge_edge(a, b)   = owned_edge[edge_gid[a] < edge_gid[b] ? a : b] != 0
-// (each present only when its arrays are given): ContactForm's filter, where a pair belongs to
-// the owner of its vertex, or of its edge with the smaller global id. With triangle-mesh
-// obstacles (ContactForm appends them in group −1, which never meets itself): a pair of an
-// obstacle vertex (kFaceDecides) belongs to the owner of the body triangle, and an obstacle
-// edge, whose global id is larger than any body edge's, leaves a pair to the body edge's owner.
+// Filters are data, not callbacks, so that kernels can apply them: the arrays of
+// contact/broad_phase/pair_filter.hpp, whose host/device functions (groups_may_touch,
+// keeps_vertex_face, keeps_edge_edge; each applied only when its arrays are given) the kernels
+// call. With the same data, find_candidates gives what contact::find_candidates gives with a
+// CandidateFilter calling those functions, as ContactForm's host search does. ContactForm
+// appends triangle-mesh obstacles in group −1 (pair_filter.hpp states the ownership rules).
 //
 // Vertices may also follow a prescribed segment of their own instead of rows of x and p (the
 // obstacles' vertices, whose positions are functions of time): see vertex_node.
@@ -29,6 +25,7 @@
 #include <vector>
 
 #include "contact/broad_phase/find_candidates.hpp"
+#include "contact/broad_phase/pair_filter.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc::device {
@@ -55,8 +52,7 @@ struct BroadPhaseSurface {
   std::vector<std::int32_t> vertex_node;
 };
 
-// owned_vertex's value for a vertex whose vertex–face pairs belong to the face's owner.
-constexpr char kFaceDecides = 2;
+using contact::kFaceDecides;  // owned_vertex's value: the face's owner decides (pair_filter.hpp)
 
 // Positions of the vertices that follow a prescribed segment (vertex_node −2 − k: row k),
 // from start to end (device arrays, 3 doubles per row); moving: whether start and end differ

@@ -1,14 +1,14 @@
 // contact_kernels.hpp on the CUDA device: one thread per contact pair, each calling the point
-// functions of nonlinear/contact_pair_terms.hpp.
+// functions of contact/contact_pair_terms.hpp.
 //
-// This file is compiled with --fmad=false (src/nonlinear/CMakeLists.txt): without fused
+// This file is compiled with --fmad=false (src/contact/CMakeLists.txt): without fused
 // multiply-adds every +, −, ×, ÷ and √ rounds as on the CPU, so distances, active sets and
 // times of impact are bit-identical to ContactForm's CPU loops (the CCD uses nothing else);
 // the barrier terms differ only through log/log1p, within an ulp of the CPU's libm.
 #include "device/cuda_check.cuh"
-#include "nonlinear/contact_pair_terms.hpp"
-#include "nonlinear/cuda/contact_kernels.hpp"
-#include "nonlinear/obstacle_nodes.hpp"
+#include "contact/contact_pair_terms.hpp"
+#include "contact/cuda/contact_kernels.hpp"
+#include "contact/obstacle_nodes.hpp"
 
 namespace dipc::device {
 
@@ -56,7 +56,8 @@ __device__ const double* node_position(const double* x, const double* obstacle, 
 // One pair read from the list: kind, node count, ext-local nodes, stacked positions at x
 // (obstacle vertices at their end positions) and plane (nullptr unless a vertex–plane pair).
 struct Pair {
-  int kind, count;
+  PairKind kind;
+  int count;
   std::int32_t node[4];
   double X[12];
   const double* plane_point;
@@ -64,8 +65,8 @@ struct Pair {
 };
 
 __device__ void load_pair(const PairView& v, std::size_t i, const double* x, Pair* pair) {
-  pair->kind = v.kind[i];
-  pair->count = pair->kind == 2 ? 1 : 4;
+  pair->kind = static_cast<PairKind>(v.kind[i]);
+  pair->count = pair_node_count(pair->kind);
   for (int k = 0; k < pair->count; ++k) {
     pair->node[k] = v.nodes[k * v.count + i];
     const double* xk = node_position(x, v.obstacle_end, pair->node[k]);

@@ -3,18 +3,19 @@
 // ContactForm calls them in its CPU loops and the CUDA kernels (cuda/contact_kernels.cu) call
 // the very same functions, so both evaluate one formula with one rounding.
 //
-// A pair is `kind` 0 (vertex–triangle, stacked X = [v, t0, t1, t2]), 1 (edge–edge,
-// X = [ea0, ea1, eb0, eb1]) or 2 (vertex–plane, X = [v]); plane pairs also take the plane's
-// point and unit normal (3 doubles each; the solid side lies behind the normal), the others
-// ignore them. Distances are squared, as the barrier's d and d̂ (docs/design.md §1.3).
+// A pair's kind (pair_kind.hpp) says what its stacked positions X hold; vertex–plane pairs also
+// take the plane's point and unit normal (3 doubles each; the solid side lies behind the
+// normal), the others ignore them. Distances are squared, as the barrier's d and d̂ (docs/design.md §1.3).
 #pragma once
-#include "assembly/symmetric_eigen.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "contact/ccd/time_of_impact.hpp"
 #include "contact/geometry/barrier.hpp"
 #include "contact/geometry/edge_edge_distance.hpp"
 #include "contact/geometry/edge_edge_mollifier.hpp"
 #include "contact/geometry/point_triangle_distance.hpp"
-#include "host_device.hpp"
+#include "contact/pair_kind.hpp"
+#include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc {
 
@@ -29,20 +30,20 @@ struct ContactPairTerms {
 
 // Signed distance of a point from a plane (positive on the open side): s = (x − o)·n.
 DIPC_HD double contact_plane_offset(const double* x, const double* plane_point, const double* plane_normal) {
-  double s = 0;
-  for (int c = 0; c < 3; ++c) s += (x[c] - plane_point[c]) * plane_normal[c];
-  return s;
+  double r[3];
+  subtract3(x, plane_point, r);
+  return dot3(r, plane_normal);
 }
 
 // Squared distance d of the pair at X (the exact IPC distances of contact/geometry, not the
 // CCD's robust ones). For a plane pair d = s² with s the signed offset, so a vertex behind the
 // plane still gets a positive d: callers that must reject it test the offset.
-DIPC_HD double contact_pair_squared_distance(int kind, const double* X, const double* plane_point,
+DIPC_HD double contact_pair_squared_distance(PairKind kind, const double* X, const double* plane_point,
                                              const double* plane_normal) {
-  if (kind == 0)
+  if (kind == PairKind::vertex_triangle)
     return contact::point_triangle_distance(X, X + 3, X + 6, X + 9,
                                             contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9));
-  if (kind == 1)
+  if (kind == PairKind::edge_edge)
     return contact::edge_edge_distance(X, X + 3, X + 6, X + 9,
                                        contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9));
   const double s = contact_plane_offset(X, plane_point, plane_normal);
@@ -58,20 +59,20 @@ DIPC_HD double contact_pair_squared_distance(int kind, const double* X, const do
 // matrix stays positive semi-definite). Returns false when the pair is not admissible
 // (d ≤ 0, or a vertex on or behind its plane); *active is false when d ≥ d̂² (the terms are then
 // left untouched: energy 0, no gradient or Hessian) and when the pair is not admissible.
-DIPC_HD bool contact_pair_terms(int kind, const double* X, const double* plane_point, const double* plane_normal,
+DIPC_HD bool contact_pair_terms(PairKind kind, const double* X, const double* plane_point, const double* plane_normal,
                                 double dhat2, double kappa, double weight, double eps_x, bool want_g, bool want_H,
                                 bool project, bool* active, ContactPairTerms* t) {
   *active = false;
-  const int ndof = kind == 2 ? 3 : 12;
+  const int ndof = 3 * pair_node_count(kind);
   double d = 0, gd[12] = {}, Hd[144] = {};
-  if (kind == 0) {
+  if (kind == PairKind::vertex_triangle) {
     const auto type = contact::point_triangle_distance_type(X, X + 3, X + 6, X + 9);
     d = contact::point_triangle_distance(X, X + 3, X + 6, X + 9, type);
     if (d >= dhat2) return true;
     if (d <= 0) return false;
     if (want_g || want_H) contact::point_triangle_distance_gradient(X, X + 3, X + 6, X + 9, type, gd);
     if (want_H) contact::point_triangle_distance_hessian(X, X + 3, X + 6, X + 9, type, Hd);
-  } else if (kind == 1) {
+  } else if (kind == PairKind::edge_edge) {
     const auto type = contact::edge_edge_distance_type(X, X + 3, X + 6, X + 9);
     d = contact::edge_edge_distance(X, X + 3, X + 6, X + 9, type);
     if (d >= dhat2) return true;
@@ -93,7 +94,7 @@ DIPC_HD bool contact_pair_terms(int kind, const double* X, const double* plane_p
                b2 = contact::barrier_second_derivative(d, dhat2);
   const double s = kappa * weight;
   double m = 1, gm[12] = {}, Hm[144] = {};
-  const bool mollified = kind == 1 && contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
+  const bool mollified = kind == PairKind::edge_edge && contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
   if (mollified) {
     m = contact::edge_edge_mollifier(X, X + 3, X + 6, X + 9, eps_x);
     if (want_g || want_H) contact::edge_edge_mollifier_gradient(X, X + 3, X + 6, X + 9, eps_x, gm);
@@ -116,11 +117,11 @@ DIPC_HD bool contact_pair_terms(int kind, const double* X, const double* plane_p
 // Conservative time of impact of the pair moving linearly from X0 (t = 0) to X1 (t = 1),
 // searched on [0, t_max] with no safety gap (contact/ccd/time_of_impact.hpp states the
 // contract): additive CCD for vertex–triangle and edge–edge pairs, closed form for planes.
-DIPC_HD double contact_pair_time_of_impact(int kind, const double* X0, const double* X1, const double* plane_point,
+DIPC_HD double contact_pair_time_of_impact(PairKind kind, const double* X0, const double* X1, const double* plane_point,
                                            const double* plane_normal, double t_max) {
-  if (kind == 0)
+  if (kind == PairKind::vertex_triangle)
     return contact::point_triangle_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t_max);
-  if (kind == 1)
+  if (kind == PairKind::edge_edge)
     return contact::edge_edge_time_of_impact(X0, X0 + 3, X0 + 6, X0 + 9, X1, X1 + 3, X1 + 6, X1 + 9, 0.0, t_max);
   return contact::point_plane_time_of_impact(X0, X1, plane_point, plane_normal, 0.0, t_max);
 }

@@ -1,7 +1,7 @@
 // The contact barrier and its CCD on the CUDA device: a pair list in device memory (structure
 // of arrays) and the passes over it — energy, gradient, Hessian values in COO order, active
 // flags, minimum distance, minimum time of impact — each calling the point functions of
-// nonlinear/contact_pair_terms.hpp that ContactForm's CPU loops call.
+// contact/contact_pair_terms.hpp that ContactForm's CPU loops call.
 //
 // Plain C++: host code includes this header. The passes live in contact_kernels.cu, or, in
 // builds without CUDA, in contact_kernels_host.cpp, where they throw dipc::device::DeviceError;
@@ -15,24 +15,24 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact/pair_kind.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc::device {
 
 // A contact pair list on the host, in the order the device list keeps: pair i has kind[i]
-// (0 vertex–triangle, 1 edge–edge, 2 vertex–plane, as contact_pair_terms.hpp), ext-local
-// nodes nodes[4i..4i+3] (unused slots −1, obstacle vertices −2 − k), weight w_i, mollifier
-// threshold eps_x[i] (edge–edge) and plane[i] (vertex–plane: index into the planes, −1
-// otherwise).
+// (pair_kind.hpp), ext-local nodes nodes[4i..4i+3] (unused slots −1, obstacle vertices −2 − k),
+// weight w_i, mollifier threshold eps_x[i] (edge–edge) and plane[i] (vertex–plane: index into
+// the planes, −1 otherwise).
 struct ContactPairList {
-  std::vector<std::int32_t> kind;
+  std::vector<PairKind> kind;
   std::vector<std::int32_t> nodes;
   std::vector<double> weight, eps_x;
   std::vector<std::int32_t> plane;
 
   std::size_t size() const { return kind.size(); }
   void clear();
-  void add(int pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x, int pair_plane);
+  void add(PairKind pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x, int pair_plane);
   bool operator==(const ContactPairList& o) const;
   bool operator!=(const ContactPairList& o) const { return !(*this == o); }
 };
@@ -43,7 +43,7 @@ struct ContactPairList {
 // b the number of its body nodes (4 for body pairs, 1 for vertex–plane pairs, 1 to 3 for pairs
 // with an obstacle: the body nodes' block, as ContactForm's COO pattern), one after the other.
 struct DeviceContactPairs {
-  Array<std::int32_t> kind{"contact pair kinds"};
+  Array<std::int32_t> kind{"contact pair kinds"};  // PairKind values
   Array<std::int32_t> nodes{"contact pair nodes"};
   Array<double> weight{"contact pair weights"};
   Array<double> eps_x{"contact pair mollifier thresholds"};

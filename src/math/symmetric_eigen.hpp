@@ -5,7 +5,7 @@
 #pragma once
 #include <cmath>
 
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 

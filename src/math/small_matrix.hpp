@@ -1,12 +1,16 @@
-// Tiny dense 3x3 helpers for the quadrature-point physics. Matrices are row-major plain
-// arrays (A[3*i + j] = A_ij) so the same code runs on the host and inside CUDA kernels.
+// Tiny dense 3x3 helpers: determinant, inverse, products. Matrices are row-major plain arrays
+// (A[3*i + j] = A_ij) so the same code runs on the host and inside CUDA kernels (the element
+// physics, the hex8 reference element, mesh checks). 3-vectors are in vector3.hpp.
 #pragma once
-#include "host_device.hpp"
-#include "mesh/hex8_reference.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 
-DIPC_HD double det3x3(const double A[9]) { return hex8::det3(A); }
+// det A by cofactor expansion along the first row.
+DIPC_HD double det3x3(const double A[9]) {
+  return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+         A[2] * (A[3] * A[7] - A[4] * A[6]);
+}
 
 // Inverse through the adjugate: A^{-1} = adj(A) / det A. Returns det A; the output is
 // unspecified when det A == 0 (callers reject degenerate or inverted states first).

@@ -1,14 +1,14 @@
 // The host side of contact_kernels.hpp shared by CUDA and CPU-only builds: the host pair list
 // and the uploads of pair lists and obstacles (plain Array copies).
-#include "nonlinear/cuda/contact_kernels.hpp"
+#include "contact/cuda/contact_kernels.hpp"
 
-#include "nonlinear/obstacle_nodes.hpp"
+#include "contact/obstacle_nodes.hpp"
 
 namespace dipc::device {
 
 void ContactPairList::clear() { kind.clear(), nodes.clear(), weight.clear(), eps_x.clear(), plane.clear(); }
 
-void ContactPairList::add(int pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x,
+void ContactPairList::add(PairKind pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x,
                           int pair_plane) {
   kind.push_back(pair_kind);
   nodes.insert(nodes.end(), pair_nodes, pair_nodes + 4);
@@ -26,15 +26,17 @@ void DeviceContactPairs::upload(const ContactPairList& pairs) {
   // Slot-major nodes, and the COO offsets of the pairs taken as a Hessian pattern.
   std::vector<std::int32_t> slot_major(4 * count);
   std::vector<std::size_t> offset(count);
+  std::vector<std::int32_t> kinds(count);
   hessian_values = 0;
   for (std::size_t i = 0; i < count; ++i) {
     for (int k = 0; k < 4; ++k) slot_major[k * count + i] = pairs.nodes[4 * i + k];
     offset[i] = hessian_values;
     int slots[4];
-    const std::size_t n = 3 * static_cast<std::size_t>(body_slots(&pairs.nodes[4 * i], pairs.kind[i] == 2 ? 1 : 4, slots));
+    const std::size_t n = 3 * static_cast<std::size_t>(body_slots(&pairs.nodes[4 * i], pair_node_count(pairs.kind[i]), slots));
+    kinds[i] = static_cast<std::int32_t>(pairs.kind[i]);
     hessian_values += n * n;
   }
-  kind.upload(pairs.kind);
+  kind.upload(kinds);
   nodes.upload(slot_major);
   weight.upload(pairs.weight);
   eps_x.upload(pairs.eps_x);

@@ -5,13 +5,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "math/vector3.hpp"
+
 namespace dipc {
 
+// (b − a) · ((c − a) × (d − a)), six times the signed volume of the tetrahedron.
 inline double orient3d(const double* a, const double* b, const double* c, const double* d) {
-  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  double u[3], v[3], w[3], vxw[3];
+  subtract3(b, a, u);
+  subtract3(c, a, v);
+  subtract3(d, a, w);
+  cross3(v, w, vxw);
+  return dot3(u, vxw);
 }
 
 // True when segment e0–e1 properly crosses triangle t0 t1 t2: its end points are strictly on

@@ -1,6 +1,6 @@
 // contact_kernels.hpp for builds without CUDA: every pass over a device pair list throws,
 // naming the option that builds the kernels (ContactForm on the host never calls them).
-#include "nonlinear/cuda/contact_kernels.hpp"
+#include "contact/cuda/contact_kernels.hpp"
 
 namespace dipc::device {
 

@@ -1,12 +1,12 @@
-// Tiny 3-vector and 3x3 helpers for every contact point function (geometry, CCD, friction):
-// plain double arrays (matrices row-major, A[3*i + j] = A_ij) so the same code runs on the host
-// and in CUDA kernels. Kept inside contact/ because contact must not depend on assembly/
-// (docs/design.md §2). The CCD relies on host and device rounding alike: keep these free of
-// fused operations the compiler could form differently (its kernels build with --fmad=false).
+// The one 3-vector of dipc: dot and cross products, differences, the cross-product matrix, on
+// plain double[3] arrays (matrices row-major, A[3*i + j] = A_ij), so the same code runs on the
+// host and in CUDA kernels (contact geometry, CCD, friction; host code with std::array<double, 3>
+// passes .data()). The CCD relies on host and device rounding alike: keep these free of fused
+// operations the compiler could form differently (its kernels build with --fmad=false).
 #pragma once
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
-namespace dipc::contact {
+namespace dipc {
 
 DIPC_HD double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -39,4 +39,4 @@ DIPC_HD void cross_matrix3(const double a[3], double A[9]) {
   A[8] = 0.0;
 }
 
-}  // namespace dipc::contact
+}  // namespace dipc

@@ -8,7 +8,7 @@
 #pragma once
 #include <cstdint>
 
-#include "host_device.hpp"
+#include "math/host_device.hpp"
 
 namespace dipc {
 

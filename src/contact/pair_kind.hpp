@@ -1,0 +1,19 @@
+// The kinds of barrier pair, by what a pair's stacked positions X hold (contact_pair_terms.hpp):
+// vertex–triangle X = [v, t0, t1, t2], edge–edge X = [ea0, ea1, eb0, eb1], vertex–plane X = [v]
+// (the plane's point and normal passed beside X). Body–obstacle pairs are of the first two
+// kinds, with obstacle vertices among the nodes (obstacle_nodes.hpp). The values are stored in
+// device pair lists (cuda/contact_kernels.hpp) as 32-bit integers.
+#pragma once
+#include <cstdint>
+
+#include "math/host_device.hpp"
+
+namespace dipc {
+
+enum class PairKind : std::int32_t { vertex_triangle = 0, edge_edge = 1, vertex_plane = 2 };
+constexpr int kNumPairKinds = 3;
+
+// Number of nodes a pair of this kind stacks in X (3 coordinates each).
+DIPC_HD int pair_node_count(PairKind kind) { return kind == PairKind::vertex_plane ? 1 : 4; }
+
+}  // namespace dipc
