@@ -1,4 +1,4 @@
-// ContactForm's candidate pairs (contact_form.hpp): the broad phase on the host
+// ContactSet's candidate pairs (contact_set.hpp): the broad phase on the host
 // (contact/broad_phase/find_candidates.hpp) and on the device
 // (contact/broad_phase/cuda/device_broad_phase.hpp) with the same filters
 // (contact/broad_phase/pair_filter.hpp), the numbering of the surface they search, the
@@ -10,11 +10,11 @@
 #include "contact/broad_phase/find_candidates.hpp"
 #include "contact/broad_phase/pair_filter.hpp"
 #include "math/aabb.hpp"
-#include "nonlinear/contact_form.hpp"
+#include "nonlinear/contact_set.hpp"
 
 namespace dipc {
 
-device::BroadPhaseSurface ContactForm::number_surface() const {
+device::BroadPhaseSurface ContactSet::number_surface() const {
   device::BroadPhaseSurface s;
   std::unordered_map<std::int32_t, std::int32_t> compact;
   auto add = [&](std::int32_t n, int body, bool is_owned_vertex) {
@@ -41,14 +41,14 @@ device::BroadPhaseSurface ContactForm::number_surface() const {
   return s;
 }
 
-void ContactForm::upload_surface() {
+void ContactSet::upload_surface() {
   const double start = MPI_Wtime();
   device::BroadPhaseSurface s = number_surface();
   device_body_vertices_ = s.num_vertices;
   if (!obstacles_.empty()) append_obstacles(&s);
   device_broad_phase_.upload(s);
   device_surface_nodes_ = std::move(s.vertex_node);
-  stats_.broad_phase_seconds += MPI_Wtime() - start;
+  stats_->broad_phase_seconds += MPI_Wtime() - start;
 }
 
 // Every obstacle primitive joins the device search after the body's, in group −1 (never paired
@@ -60,7 +60,7 @@ void ContactForm::upload_surface() {
 // where the obstacle primitive comes within d̂ of that box (up to the rounding of a box bound
 // at exactly that distance). The obstacle vertices' rows are their obstacle_node ids, whose
 // positions find_candidates_on_device passes.
-void ContactForm::append_obstacles(device::BroadPhaseSurface* s) const {
+void ContactSet::append_obstacles(device::BroadPhaseSurface* s) const {
   const auto base = static_cast<std::int32_t>(s->num_vertices);
   for (std::int32_t v = 0; v < obstacles_.num_vertices(); ++v) {
     s->vertex_node.push_back(obstacle_node(v));
@@ -81,7 +81,7 @@ void ContactForm::append_obstacles(device::BroadPhaseSurface* s) const {
   s->num_vertices += obstacles_.num_vertices();
 }
 
-void ContactForm::move_obstacles(double t0, double t1) {
+void ContactSet::move_obstacles(double t0, double t1) {
   obstacles_.move(parameters_.obstacles, t0, t1);
   // The positions are functions of the two times alone: the device keeps them while those stay.
   if (space_ == MemorySpace::device && !(t0 == uploaded_t0_ && t1 == uploaded_t1_)) {
@@ -92,7 +92,7 @@ void ContactForm::move_obstacles(double t0, double t1) {
 
 // Device space: the obstacle vertices' positions to the device, for the broad phase, the
 // barrier and the CCD.
-void ContactForm::upload_obstacle_positions() {
+void ContactSet::upload_obstacle_positions() {
   if (obstacles_.empty()) return;
   const std::size_t n = 3 * static_cast<std::size_t>(obstacles_.num_vertices());
   const double* start = obstacles_.start(0);
@@ -100,7 +100,14 @@ void ContactForm::upload_obstacle_positions() {
   device_obstacles_.upload_vertices(std::vector<double>(start, start + n), std::vector<double>(end, end + n));
 }
 
-void ContactForm::find_candidates(const double* x, const double* p) {
+void ContactSet::find_candidates(const double* x, const double* p) {
+  if (space_ == MemorySpace::device)
+    find_candidates_on_device(x, p);
+  else
+    find_candidates_on_host(x, p);
+}
+
+void ContactSet::find_candidates_on_host(const double* x, const double* p) {
   const double start = MPI_Wtime();
   device::BroadPhaseSurface s = number_surface();
   const std::vector<std::int32_t>& node_of = s.vertex_node;
@@ -184,13 +191,13 @@ void ContactForm::find_candidates(const double* x, const double* p) {
     else
       edge_edge_.push_back({a, b});
   }
-  stats_.broad_phase_seconds += MPI_Wtime() - start;
+  stats_->broad_phase_seconds += MPI_Wtime() - start;
 }
 
-// The same search as find_candidates on device arrays, over the surface uploaded by the last
+// The same search as find_candidates_on_host on device arrays, over the surface uploaded by the last
 // exchange that changed it (device_broad_phase.hpp gives the host search's lists); only the
 // candidate lists come back.
-void ContactForm::find_candidates_on_device(const double* x, const double* p) {
+void ContactSet::find_candidates_on_device(const double* x, const double* p) {
   const double start = MPI_Wtime();
   contact::Candidates candidates;
   device::PrescribedVertices prescribed;
@@ -200,7 +207,7 @@ void ContactForm::find_candidates_on_device(const double* x, const double* p) {
     prescribed.moving = obstacles_.moving();
   }
   device_broad_phase_.find_candidates_on_segment(x, p, 0.5 * parameters_.dhat, &candidates, prescribed);
-  // Split as find_candidates does: obstacle primitives follow the body's (append_obstacles).
+  // Split as find_candidates_on_host does: obstacle primitives follow the body's (append_obstacles).
   const auto body_vertices = static_cast<std::int32_t>(device_body_vertices_);
   const auto body_edges = static_cast<std::int32_t>(edges_.size());
   const auto body_faces = static_cast<std::int32_t>(faces_.size());
@@ -220,10 +227,10 @@ void ContactForm::find_candidates_on_device(const double* x, const double* p) {
     else
       edge_edge_.push_back({a, b});
   }
-  stats_.broad_phase_seconds += MPI_Wtime() - start;
+  stats_->broad_phase_seconds += MPI_Wtime() - start;
 }
 
-ContactForm::PairInfo ContactForm::describe(CandidateKind kind, std::size_t i) const {
+ContactSet::PairInfo ContactSet::describe(CandidateKind kind, std::size_t i) const {
   PairInfo info;
   switch (kind) {
   case CandidateKind::vertex_face: {
@@ -287,14 +294,14 @@ ContactForm::PairInfo ContactForm::describe(CandidateKind kind, std::size_t i) c
   return info;
 }
 
-void ContactForm::gather(const double* x, const PairInfo& info, double* X) const {
+void ContactSet::gather(const double* x, const PairInfo& info, double* X) const {
   for (int k = 0; k < info.count; ++k) {
     const double* xk = position(x, info.nodes[k]);
     for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
   }
 }
 
-void ContactForm::gather_segment(const double* x, const double* p, const PairInfo& info, double* X0,
+void ContactSet::gather_segment(const double* x, const double* p, const PairInfo& info, double* X0,
                                  double* X1) const {
   for (int k = 0; k < info.count; ++k) {
     const std::int32_t n = info.nodes[k];

@@ -1,7 +1,6 @@
-// ContactForm's queries beyond the Form interface (contact_form.hpp): distances, active pairs
-// and their counts per kind (friction, step reports), the closest pair and the
-// edge–triangle crossings with the names of what they involve (the initial-state check and
-// -dipc_check_invariants).
+// ContactSet's diagnostics (contact_set.hpp): the closest pair and the edge–triangle crossings
+// with the names of what they involve (the initial-state check, -dipc_check_invariants and
+// error messages).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,77 +9,29 @@
 #include "contact/contact_pair_terms.hpp"
 #include "contact/segment_triangle.hpp"
 #include "math/aabb.hpp"
-#include "nonlinear/contact_form.hpp"
+#include "nonlinear/contact_set.hpp"
 
 namespace dipc {
 
-double ContactForm::squared_distance(const PairInfo& info, const double* X) {
-  return contact_pair_squared_distance(info.kind, X, info.plane_point(), info.plane_normal());
-}
-
-double ContactForm::min_distance(const double* x) const {
-  double d2 = std::numeric_limits<double>::infinity();
-  for_each_pair([&](CandidateKind kind, std::size_t i) {
-    const PairInfo info = describe(kind, i);
-    double X[12];
-    gather(x, info, X);
-    d2 = std::min(d2, squared_distance(info, X));
-    return true;
-  });
-  return std::sqrt(d2);
-}
-
-std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) const {
-  std::vector<ActivePair> out;
-  for_each_pair([&](CandidateKind kind, std::size_t i) {
-    const PairInfo info = describe(kind, i);
-    bool active;
-    ContactPairTerms t;
-    terms(info, x, false, false, &active, &t);
-    if (active) out.push_back({info, global_node(info.nodes[0])});
-    return true;
-  });
-  return out;
-}
-
-const char* ContactForm::pair_kind_name(int kind) {
-  static const char* const names[num_pair_kinds] = {"point_triangle",          "edge_edge",
-                                                    "point_plane",             "point_obstacle_triangle",
-                                                    "edge_obstacle_edge",      "obstacle_point_triangle"};
-  return kind >= 0 && kind < num_pair_kinds ? names[kind] : "unknown";
-}
-
-std::array<long, ContactForm::num_pair_kinds> ContactForm::active_pair_counts(const double* x) const {
-  std::array<long, num_pair_kinds> counts{};
-  for_each_pair([&](CandidateKind kind, std::size_t i) {
-    bool active;
-    ContactPairTerms t;
-    terms(describe(kind, i), x, false, false, &active, &t);
-    if (active) ++counts[static_cast<int>(kind)];
-    return true;
-  });
-  return counts;
-}
-
-std::string ContactForm::body_label(int b) const {
+std::string ContactSet::body_label(int b) const {
   return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
                                                                         : std::to_string(b);
 }
 
-std::string ContactForm::node_label(std::int32_t n) const {
+std::string ContactSet::node_label(std::int32_t n) const {
   return n < mesh_.num_local_nodes() ? "node " + std::to_string(mesh_.node_input_id[n])
                                      : "node (global " + std::to_string(global_node(n)) + ")";
 }
 
 // Obstacle primitives by their index in their obstacle (triangles in the file's order, after
 // polygons are split into triangles; vertices after equal ones are merged).
-std::string ContactForm::obstacle_vertex_label(std::int32_t v) const {
+std::string ContactSet::obstacle_vertex_label(std::int32_t v) const {
   const int o = obstacles_.vertex_obstacle[v];
   return "vertex " + std::to_string(v - obstacles_.first_vertex[o]) + " of obstacle \"" +
          parameters_.obstacles[o].name + "\"";
 }
 
-std::string ContactForm::obstacle_face_label(std::int32_t f) const {
+std::string ContactSet::obstacle_face_label(std::int32_t f) const {
   const int o = obstacles_.face_obstacle[f];
   const auto& ob = parameters_.obstacles[o];
   const std::size_t t = static_cast<std::size_t>(f - obstacles_.first_face[o]);
@@ -90,14 +41,14 @@ std::string ContactForm::obstacle_face_label(std::int32_t f) const {
   return "triangle " + std::to_string(t) + " of obstacle \"" + ob.name + "\" (" + where + ")";
 }
 
-std::string ContactForm::obstacle_edge_label(std::int32_t e) const {
+std::string ContactSet::obstacle_edge_label(std::int32_t e) const {
   const int o = obstacles_.edge_obstacle[e];
   const std::int32_t base = obstacles_.first_vertex[o];
   return "edge (vertex " + std::to_string(obstacles_.edges[e][0] - base) + ", vertex " +
          std::to_string(obstacles_.edges[e][1] - base) + ") of obstacle \"" + parameters_.obstacles[o].name + "\"";
 }
 
-std::string ContactForm::closest_pair(const double* x) const {
+std::string ContactSet::closest_pair(const double* x) const {
   struct {
     double distance;
     int rank;
@@ -108,7 +59,7 @@ std::string ContactForm::closest_pair(const double* x) const {
     const PairInfo info = describe(kind, i);
     double X[12];
     gather(x, info, X);
-    const double d = std::sqrt(squared_distance(info, X));
+    const double d = std::sqrt(contact_pair_squared_distance(info.kind, X, info.plane_point(), info.plane_normal()));
     if (d < mine.distance) mine.distance = d, closest_kind = kind, closest_index = i;
     return true;
   });
@@ -169,7 +120,7 @@ std::string ContactForm::closest_pair(const double* x) const {
   return text;
 }
 
-long ContactForm::count_intersections(const double* x, std::string* first) const {
+long ContactSet::count_intersections(const double* x, std::string* first) const {
   // Triangles sorted by the lower x of their boxes, so each edge only looks at the triangles
   // whose x-range can overlap its own (sweep and prune).
   std::vector<std::pair<double, std::size_t>> by_x;
@@ -218,7 +169,7 @@ long ContactForm::count_intersections(const double* x, std::string* first) const
 
 // Owned body edges against obstacle triangles, and obstacle edges against owned body triangles
 // (each crossing counted by the owner of its body primitive), by sweep and prune on x.
-long ContactForm::count_obstacle_intersections(const double* x, std::string* first) const {
+long ContactSet::count_obstacle_intersections(const double* x, std::string* first) const {
   if (obstacles_.empty()) return 0;
   auto box_of = [&](const std::int32_t* nodes, int count) {
     Aabb b = aabb_empty();

@@ -17,10 +17,10 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
     p.count = info.count;
     double X[12];
     for (int k = 0; k < info.count; ++k) {
-      p.global[k] = contact_.global_node(info.nodes[k]);
+      p.global[k] = contact_.set().global_node(info.nodes[k]);
       if (!is_obstacle_node(p.global[k])) pinned.push_back(p.global[k]);
-      const double* lagged = contact_.position(x_lag, info.nodes[k]);
-      const double* started = contact_.step_start_position(x_start, info.nodes[k]);
+      const double* lagged = contact_.set().position(x_lag, info.nodes[k]);
+      const double* started = contact_.set().step_start_position(x_start, info.nodes[k]);
       for (int c = 0; c < 3; ++c) {
         X[3 * k + c] = lagged[c];
         p.x_start[3 * k + c] = started[c];
@@ -38,15 +38,15 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
       p.plane = contact::point_plane_lagged_friction(info.plane->normal.data(), mu_, lambda, eps_u_);
     pairs_.push_back(p);
   }
-  contact_.pin_nodes(std::move(pinned));
+  contact_.set().pin_nodes(std::move(pinned));
   ++pattern_version_;
 }
 
 bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_t* local) const {
   for (int k = 0; k < p.count; ++k) {
-    local[k] = contact_.local_node(p.global[k]);
+    local[k] = contact_.set().local_node(p.global[k]);
     if (local[k] == -1) return false;
-    const double* xk = contact_.position(x, local[k]);
+    const double* xk = contact_.set().position(x, local[k]);
     for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
   }
   return true;

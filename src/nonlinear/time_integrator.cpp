@@ -189,7 +189,7 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
   double d_min = 0;
   std::string first;
   PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) {
-    crossings = contact_->count_intersections(xl, &first);
+    crossings = contact_->set().count_intersections(xl, &first);
     d_min = contact_->min_distance(xl);
   }));
   long total = 0;
@@ -211,7 +211,7 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
     *problem = std::to_string(total) + " edge-triangle crossing(s), e.g. " + first;
   } else {
     std::string pair;
-    PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) { pair = contact_->closest_pair(xl); }));
+    PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) { pair = contact_->set().closest_pair(xl); }));
     *problem = "two surfaces touch: " + pair;
   }
   PetscFunctionReturn(0);
@@ -282,7 +282,7 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   PetscCall(VecCopy(x_, x_n_));
   // Obstacles stand where they were at the step's start until reach_prescribed_positions moves
   // them (also after a failed attempt, which leaves them at its end).
-  if (contact_) contact_->start_obstacle_step(time_);
+  if (contact_) contact_->set().start_obstacle_step(time_);
   if (!problem_.is_static) {
     PetscCall(VecWAXPY(x_hat_, h, v_, x_n_));  // x̂ = x_n + h v_n
     PetscCall(potential_.begin_step(x_hat_));
@@ -387,7 +387,7 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
   for (int halvings = 0;;) {
     const double t_from = t0 + reached * (t - t0), t_to = t0 + trial * (t - t0);
     PetscCall(apply_dirichlet(x_, t_to));
-    if (contact_) contact_->move_obstacles(t_from, t_to);
+    if (contact_) contact_->set().move_obstacles(t_from, t_to);
     // The jump of the Dirichlet nodes must not invert an element nor pass through a contact
     // (CCD along accepted -> x; this also prepares the contact candidates around x).
     PetscCall(VecWAXPY(jump, -1.0, accepted, x_));
@@ -397,7 +397,7 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
     if (alpha >= 1.0) PetscCall(potential_.is_valid(x_, &valid));
     // From here on the obstacles stand still: at the trial time if it is taken, else where
     // they were.
-    if (contact_) contact_->move_obstacles(valid ? t_to : t_from, valid ? t_to : t_from);
+    if (contact_) contact_->set().move_obstacles(valid ? t_to : t_from, valid ? t_to : t_from);
     if (valid && trial == 1.0) break;
     if (valid) {
       NewtonReport partial;

@@ -48,7 +48,7 @@ struct TwoForms {
   }
 
   void move_obstacles(double t0, double t1) {
-    for (ContactForm* f : {host.get(), gpu.get()}) f->move_obstacles(t0, t1);
+    for (ContactForm* f : {host.get(), gpu.get()}) f->set().move_obstacles(t0, t1);
   }
 
   // The hooks of both forms on the segment x + αp, α ∈ [0, 1], each prepare_segment in its

@@ -150,13 +150,13 @@ TEST(ContactObstacles, FrictionAgainstASlidingObstacleMatchesDifferences) {
   f.potential.create_global_vec(&x);
   for (Vec* v : {&x_start, &d, &g, &w, &twice}) VecDuplicate(x, v);
   f.fill(x_start, 3e-3, 1, true);
-  f.contact->start_obstacle_step(0.0);
+  f.contact->set().start_obstacle_step(0.0);
   ASSERT_EQ(f.potential.prepare_point(x_start), 0);
   f.potential.with_local(x_start, [&](const double* xl, std::size_t) { f.friction->update_lag(xl, xl); });
   long pairs = static_cast<long>(f.friction->num_pairs()), total = 0;
   MPI_Allreduce(&pairs, &total, 1, MPI_LONG, MPI_SUM, f.mesh.comm);
   EXPECT_GT(total, 0) << "no friction pair";
-  f.contact->move_obstacles(0.01, 0.01);
+  f.contact->set().move_obstacles(0.01, 0.01);
 
   // The body has not moved: only the obstacle's sliding makes a friction force, along +x, +y.
   ASSERT_EQ(f.potential.prepare_point(x_start), 0);
@@ -270,13 +270,13 @@ void expect_ccd_conforms(const PrescribedMotion& motion, double t0, double t1, d
     for (int n = 0; n < f.mesh.num_owned_nodes; ++n) a[3 * n + 2] -= drop;
     VecRestoreArray(p, &a);
     auto crossings_at = [&](double alpha, double* d_min) {
-      f.contact->move_obstacles(t0 + alpha * (t1 - t0), t0 + alpha * (t1 - t0));
+      f.contact->set().move_obstacles(t0 + alpha * (t1 - t0), t0 + alpha * (t1 - t0));
       VecWAXPY(w, alpha, p, x);
       EXPECT_EQ(f.potential.prepare_point(w), 0);
       long local = 0, total = 0;
       double d = 0;
       f.potential.with_local(w, [&](const double* xl, std::size_t) {
-        local = f.contact->count_intersections(xl, nullptr);
+        local = f.contact->set().count_intersections(xl, nullptr);
         d = f.contact->min_distance(xl);
       });
       MPI_Allreduce(&local, &total, 1, MPI_LONG, MPI_SUM, f.mesh.comm);
@@ -285,7 +285,7 @@ void expect_ccd_conforms(const PrescribedMotion& motion, double t0, double t1, d
     };
     double d_end = 0;
     EXPECT_GT(crossings_at(1.0, &d_end), 0) << "salt " << salt << ": the full step does not cross";
-    f.contact->move_obstacles(t0, t1);
+    f.contact->set().move_obstacles(t0, t1);
     PetscReal alpha;
     ASSERT_EQ(f.potential.max_step(x, p, &alpha), 0);
     EXPECT_GT(alpha, 0.0);
