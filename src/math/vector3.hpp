@@ -4,6 +4,8 @@
 // passes .data()). The CCD relies on host and device rounding alike: keep these free of fused
 // operations the compiler could form differently (its kernels build with --fmad=false).
 #pragma once
+#include <cmath>
+
 #include "math/host_device.hpp"
 
 namespace dipc {
@@ -37,6 +39,18 @@ DIPC_HD void cross_matrix3(const double a[3], double A[9]) {
   A[6] = -a[1];
   A[7] = a[0];
   A[8] = 0.0;
+}
+
+// Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom & Strackee 1983, "The
+// solid angle of a plane triangle"), positive when the triangle's right-hand normal points away
+// from the origin; the winding numbers of closed surfaces sum it.
+DIPC_HD double solid_angle3(const double a[3], const double b[3], const double c[3]) {
+  const double la = sqrt(dot3(a, a)), lb = sqrt(dot3(b, b)), lc = sqrt(dot3(c, c));
+  double bxc[3];
+  cross3(b, c, bxc);
+  const double triple = dot3(a, bxc);
+  const double denominator = la * lb * lc + dot3(a, b) * lc + dot3(b, c) * la + dot3(c, a) * lb;
+  return 2.0 * atan2(triple, denominator);
 }
 
 }  // namespace dipc

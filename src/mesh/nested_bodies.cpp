@@ -35,18 +35,6 @@ double box_diagonal(const Box& b) {
                    (b.hi[2] - b.lo[2]) * (b.hi[2] - b.lo[2]));
 }
 
-// Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom and Strackee 1983),
-// positive when the triangle's right-hand normal points away from the origin.
-double solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
-  auto dot = [](const Vec3& u, const Vec3& v) { return dot3(u.data(), v.data()); };
-  const double la = std::sqrt(dot(a, a)), lb = std::sqrt(dot(b, b)), lc = std::sqrt(dot(c, c));
-  Vec3 bxc;
-  cross3(b.data(), c.data(), bxc.data());
-  const double triple = dot(a, bxc);
-  const double denominator = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-  return 2.0 * std::atan2(triple, denominator);
-}
-
 }  // namespace
 
 double winding_number(const HexMesh& mesh, const std::vector<std::array<std::int64_t, 3>>& triangles,
@@ -57,7 +45,7 @@ double winding_number(const HexMesh& mesh, const std::vector<std::array<std::int
     Vec3 r[3];
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) r[k][c] = mesh.nodes[static_cast<std::size_t>(t[k])][c] - point[c];
-    sum += solid_angle(r[0], r[1], r[2]);
+    sum += solid_angle3(r[0].data(), r[1].data(), r[2].data());
   }
   return sum / (4 * kPi);
 }

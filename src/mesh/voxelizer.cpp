@@ -78,22 +78,8 @@ double winding_number(const TriangleSurface& surface, const Vec3& p) {
   double sum = 0;
   for (const Triangle& t : surface.triangles) {
     Vec3 v[3];
-    double len[3];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& q = surface.vertices[t[k]];
-      v[k] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-      len[k] = std::sqrt(squared_norm3(v[k].data()));
-    }
-    auto dot = [](const Vec3& a, const Vec3& b) { return dot3(a.data(), b.data()); };
-    const Vec3& a = v[0];
-    const Vec3& b = v[1];
-    const Vec3& c = v[2];
-    Vec3 bxc;
-    cross3(b.data(), c.data(), bxc.data());
-    const double det = dot(a, bxc);
-    const double den =
-        len[0] * len[1] * len[2] + dot(a, b) * len[2] + dot(b, c) * len[0] + dot(c, a) * len[1];
-    sum += 2 * std::atan2(det, den);
+    for (int k = 0; k < 3; ++k) subtract3(surface.vertices[t[k]].data(), p.data(), v[k].data());
+    sum += solid_angle3(v[0].data(), v[1].data(), v[2].data());
   }
   return sum / (4 * kPi);
 }
