@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "math/aabb.hpp"
 #include "math/vector3.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_error.hpp"
@@ -18,21 +19,17 @@ namespace {
 // its surface that all do.
 constexpr int kVerticesTried = 8;
 
-struct Box {
-  Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          std::numeric_limits<double>::infinity()};
-  Vec3 hi{-lo[0], -lo[1], -lo[2]};
-};
-
-bool box_within(const Box& a, const Box& b, double tolerance) {
+// Whether a lies inside b grown by `tolerance` on every side.
+bool box_within(const Aabb& a, const Aabb& b, double tolerance) {
   for (int c = 0; c < 3; ++c)
     if (a.lo[c] < b.lo[c] - tolerance || a.hi[c] > b.hi[c] + tolerance) return false;
   return true;
 }
 
-double box_diagonal(const Box& b) {
-  return std::sqrt((b.hi[0] - b.lo[0]) * (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) * (b.hi[1] - b.lo[1]) +
-                   (b.hi[2] - b.lo[2]) * (b.hi[2] - b.lo[2]));
+double box_diagonal(const Aabb& b) {
+  double d[3];
+  subtract3(b.hi, b.lo, d);
+  return std::sqrt(squared_norm3(d));
 }
 
 }  // namespace
@@ -59,12 +56,12 @@ NestedBodies find_nested_bodies(const HexMesh& mesh) {
   for (std::size_t t = 0; t < surface.triangles.size(); ++t)
     triangles[surface.triangle_body[t]].push_back(surface.triangles[t]);
   std::vector<std::vector<std::int64_t>> vertices(num_bodies);
-  std::vector<Box> box(num_bodies);
+  std::vector<Aabb> box(num_bodies, aabb_empty());
   for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
     const int b = surface.vertex_body[v];
     vertices[b].push_back(surface.vertices[v]);
     const Vec3& X = mesh.nodes[static_cast<std::size_t>(surface.vertices[v])];
-    for (int c = 0; c < 3; ++c) box[b].lo[c] = std::min(box[b].lo[c], X[c]), box[b].hi[c] = std::max(box[b].hi[c], X[c]);
+    aabb_add_point(&box[b], X.data());
   }
   for (int inner = 0; inner < num_bodies; ++inner)
     for (int outer = 0; outer < num_bodies; ++outer) {
