@@ -11,23 +11,33 @@
 namespace dipc {
 
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
-                                     SchurApproximation* schur) {
+                                     MixedSolveOptions* options) {
   PetscFunctionBeginUser;
   PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
   PetscBool set = PETSC_FALSE;
-  const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
-  PetscEnum schur_choice = static_cast<PetscEnum>(SchurApproximation::mass);
+  const MixedSolveOptions defaults;
+  const char* const schur_names[] = {"mass", "selfp", "nodal", "SchurApproximation", "", nullptr};
+  const char* const fact_names[] = {"diag", "upper", "SchurFactorization", "", nullptr};
+  PetscEnum schur_choice = static_cast<PetscEnum>(defaults.schur);
+  PetscEnum fact_choice = static_cast<PetscEnum>(defaults.factorization);
   PetscOptionsBegin(comm, nullptr, "dipc mixed u-p linear solve (mean-dilatation elements)", "SNES");
   PetscCall(PetscOptionsBool("-dipc_mixed_solve",
-                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES); "
+                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system; "
                              "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
                              "MixedLinearSolve", flag, &flag, &set));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
-                             "Preconditioner of the mixed solve's pressure block: mass (I + D W) or selfp "
-                             "(AMG on I + Bs diag(A)^-1 Bs^T)",
+                             "Preconditioner of the mixed solve's pressure block: mass (I + D W), selfp "
+                             "(AMG on I + Bs diag(A)^-1 Bs^T) or nodal (the same with A's 3x3 diagonal blocks)",
                              "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
+  PetscCall(PetscOptionsEnum("-dipc_mixed_schur_fact",
+                             "Block preconditioner of the mixed solve: diag (block diagonal, MINRES) or upper "
+                             "(block upper triangular, FGMRES)",
+                             "MixedLinearSolve", fact_names, fact_choice, &fact_choice, nullptr));
   PetscOptionsEnd();
-  if (schur) *schur = static_cast<SchurApproximation>(schur_choice);
+  if (options) {
+    options->schur = static_cast<SchurApproximation>(schur_choice);
+    options->factorization = static_cast<SchurFactorization>(fact_choice);
+  }
   // Bad input (exit status 1, PETSC_ERR_USER_INPUT); has_split_elements is the same on every rank.
   PetscCheck(!(set && flag && !has_split_elements), comm, PETSC_ERR_USER_INPUT,
              "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
@@ -42,36 +52,47 @@ MixedLinearSolve::~MixedLinearSolve() {
   PCDestroy(&pc_s_);
   MatDestroy(&schur_);
   MatDestroy(&scaled_bs_);
+  MatDestroy(&block_inverse_);
   VecDestroy(&a_diagonal_);
   MatDestroy(&K_);
   MatDestroy(&BsT_);
   MatDestroy(&Bs_);
   MatDestroy(&minus_identity_);
-  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_}) VecDestroy(v);
+  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_}) VecDestroy(v);
 }
 
 PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts,
                                        const std::vector<char>* prescribed, PetscReal rtol, PetscReal atol,
-                                       PetscInt max_it, SchurApproximation schur) {
+                                       PetscInt max_it, MixedSolveOptions options) {
   PetscFunctionBeginUser;
   comm_ = comm;
   parts_ = std::move(parts);
   prescribed_ = prescribed;
   rtol_ = rtol, atol_ = atol, max_it_ = max_it;
-  selfp_ = schur == SchurApproximation::selfp;
+  options_ = options;
   num_rows_ = 0;
   for (const VolumetricPart* p : parts_) num_rows_ += p->rows;
   PetscCall(PCCreate(comm_, &pc_a_));
   PetscCall(PCSetFromOptions(pc_a_));
   PetscCall(KSPCreate(comm_, &ksp_));
-  PetscCall(KSPSetType(ksp_, KSPMINRES));
+  const bool upper = options_.factorization == SchurFactorization::upper;
+  if (upper) {
+    // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
+    // linear operator. A restart of 100 keeps the small scenes' solves (tens of iterations)
+    // unrestarted at 101 vectors of the (u, s) size.
+    PetscCall(KSPSetType(ksp_, KSPFGMRES));
+    PetscCall(KSPGMRESSetRestart(ksp_, 100));
+  } else {
+    PetscCall(KSPSetType(ksp_, KSPMINRES));
+  }
   PetscCall(KSPSetTolerances(ksp_, rtol_, atol_, PETSC_DEFAULT, max_it_));
   PC pc;
   PetscCall(KSPGetPC(ksp_, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, this));
   PetscCall(PCShellSetApply(pc, apply_preconditioner));
-  PetscCall(PCShellSetName(pc, "dipc mixed u-p: diag(A-block PC, I + D W)"));
+  PetscCall(PCShellSetName(pc, upper ? "dipc mixed u-p: [[A-block PC, Bs^T], [0, -S-block PC]]"
+                                     : "dipc mixed u-p: diag(A-block PC, S-block PC)"));
   PetscFunctionReturn(0);
 }
 
@@ -109,6 +130,7 @@ PetscErrorCode MixedLinearSolve::create_block_matrices(Mat A) {
   PetscCall(VecDuplicate(rhs_u_, &sol_u_));
   PetscCall(VecDuplicate(rhs_s_, &sol_s_));
   PetscCall(VecDuplicate(rhs_s_, &work_s_));
+  PetscCall(VecDuplicate(rhs_u_, &work_u_));
   PetscCall(VecDuplicate(rhs_s_, &diagonal_));
   Vec rhs_parts[2] = {rhs_u_, rhs_s_}, sol_parts[2] = {sol_u_, sol_s_};
   PetscCall(VecCreateNest(comm_, 2, nullptr, rhs_parts, &rhs_));
@@ -155,26 +177,75 @@ PetscErrorCode MixedLinearSolve::setup_preconditioner() {
     pc_a_needs_reset_ = false;
   }
   PetscCall(PCSetUp(pc_a_));
-  if (selfp_) {  // I + C Cᵀ with C = Bs diag(A)^{-1/2}, rebuilt with every A (its pattern is B's)
+  if (options_.schur != SchurApproximation::mass) PetscCall(setup_schur_matrix());
+  PetscFunctionReturn(0);
+}
+
+// Ŝ = I + Bs C Bsᵀ with C = diag(A)⁻¹ (selfp) or A's inverted 3x3 nodal blocks (nodal), rebuilt
+// with every A (its pattern is that of B Bᵀ), and a BoomerAMG V-cycle on it. The nodal blocks
+// couple a node's three displacement components, which the scalar diagonal treats apart; the
+// s rows of an element see their 24 dofs through them.
+PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
+  PetscFunctionBeginUser;
+  PetscCall(MatDestroy(&scaled_bs_));
+  PetscCall(MatDestroy(&schur_));
+  if (options_.schur == SchurApproximation::selfp) {  // I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ
     if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
     PetscCall(MatGetDiagonal(A_, a_diagonal_));
     PetscCall(VecReciprocal(a_diagonal_));
     PetscCall(VecSqrtAbs(a_diagonal_));
-    PetscCall(MatDestroy(&scaled_bs_));
     PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
     PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
-    PetscCall(MatDestroy(&schur_));
     PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
-    PetscCall(MatShift(schur_, 1.0));
-    if (!pc_s_) {
-      PetscCall(PCCreate(comm_, &pc_s_));
-      PetscCall(PCSetType(pc_s_, PCHYPRE));
-    } else {
-      PetscCall(PCReset(pc_s_));
+  } else {  // nodal: I + (Bs C) Bsᵀ
+    PetscInt m, first;
+    PetscCall(MatGetLocalSize(A_, &m, nullptr));
+    PetscCall(MatGetOwnershipRange(A_, &first, nullptr));
+    if (!block_inverse_) {
+      PetscCall(MatCreate(comm_, &block_inverse_));
+      PetscCall(MatSetSizes(block_inverse_, m, m, PETSC_DETERMINE, PETSC_DETERMINE));
+      PetscCall(MatSetType(block_inverse_, MATAIJ));
+      for (PetscInt node = 0; node < m / 3; ++node)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            block_rows_.push_back(first + 3 * node + i);
+            block_cols_.push_back(first + 3 * node + j);
+          }
+      PetscCall(MatSetPreallocationCOO(block_inverse_, static_cast<PetscCount>(block_rows_.size()), block_rows_.data(),
+                                       block_cols_.data()));
     }
-    PetscCall(PCSetOperators(pc_s_, schur_, schur_));
-    PetscCall(PCSetUp(pc_s_));
+    // A's local rows are whole nodes; each node's 3x3 diagonal block, inverted by its adjugate
+    // (symmetric positive definite as a principal block of A). Taken with MatGetValues rather
+    // than MatInvertBlockDiagonal, whose blocks follow the local part's block size, which PETSc
+    // leaves at 1 for a parallel AIJ matrix.
+    std::vector<PetscScalar> values(block_rows_.size());
+    for (PetscInt node = 0; node < m / 3; ++node) {
+      const PetscInt idx[3] = {first + 3 * node, first + 3 * node + 1, first + 3 * node + 2};
+      PetscScalar a[9];
+      PetscCall(MatGetValues(A_, 3, idx, 3, idx, a));
+      PetscScalar* inv = &values[9 * node];
+      inv[0] = a[4] * a[8] - a[5] * a[7], inv[1] = a[2] * a[7] - a[1] * a[8], inv[2] = a[1] * a[5] - a[2] * a[4];
+      inv[3] = a[5] * a[6] - a[3] * a[8], inv[4] = a[0] * a[8] - a[2] * a[6], inv[5] = a[2] * a[3] - a[0] * a[5];
+      inv[6] = a[3] * a[7] - a[4] * a[6], inv[7] = a[1] * a[6] - a[0] * a[7], inv[8] = a[0] * a[4] - a[1] * a[3];
+      const PetscScalar det = a[0] * inv[0] + a[1] * inv[3] + a[2] * inv[6];
+      PetscCheck(det > 0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED,
+                 "mixed solve: a 3x3 diagonal block of the Hessian is not positive definite (det %g)",
+                 static_cast<double>(det));
+      for (int k = 0; k < 9; ++k) inv[k] /= det;
+    }
+    PetscCall(MatSetValuesCOO(block_inverse_, values.data(), INSERT_VALUES));
+    PetscCall(MatMatMult(Bs_, block_inverse_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &scaled_bs_));
+    PetscCall(MatMatTransposeMult(scaled_bs_, Bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
   }
+  PetscCall(MatShift(schur_, 1.0));
+  if (!pc_s_) {
+    PetscCall(PCCreate(comm_, &pc_s_));
+    PetscCall(PCSetType(pc_s_, PCHYPRE));
+  } else {
+    PetscCall(PCReset(pc_s_));
+  }
+  PetscCall(PCSetOperators(pc_s_, schur_, schur_));
+  PetscCall(PCSetUp(pc_s_));
   PetscFunctionReturn(0);
 }
 
@@ -187,11 +258,20 @@ PetscErrorCode MixedLinearSolve::apply_preconditioner(PC pc, Vec x, Vec y) {
   PetscCall(VecNestGetSubVec(x, 1, &xs));
   PetscCall(VecNestGetSubVec(y, 0, &yu));
   PetscCall(VecNestGetSubVec(y, 1, &ys));
-  PetscCall(PCApply(self->pc_a_, xu, yu));
-  if (self->selfp_)
-    PetscCall(PCApply(self->pc_s_, xs, ys));
-  else
+  // s block: ys = Ŝ⁻¹ xs (diag) or -Ŝ⁻¹ xs (upper)
+  if (self->options_.schur == SchurApproximation::mass)
     PetscCall(VecPointwiseDivide(ys, xs, self->diagonal_));
+  else
+    PetscCall(PCApply(self->pc_s_, xs, ys));
+  if (self->options_.factorization == SchurFactorization::upper) {
+    // [[Â, Bsᵀ], [0, -Ŝ]] [yu; ys] = [xu; xs]: ys = -Ŝ⁻¹ xs, yu = Â⁻¹ (xu - Bsᵀ ys)
+    PetscCall(VecScale(ys, -1.0));
+    PetscCall(MatMultTranspose(self->Bs_, ys, self->work_u_));
+    PetscCall(VecAYPX(self->work_u_, -1.0, xu));
+    PetscCall(PCApply(self->pc_a_, self->work_u_, yu));
+  } else {
+    PetscCall(PCApply(self->pc_a_, xu, yu));
+  }
   PetscCall(PetscObjectStateIncrease(reinterpret_cast<PetscObject>(y)));
   PCFailedReason failed;
   PetscCall(PCGetFailedReason(self->pc_a_, &failed));

@@ -36,10 +36,26 @@
 
 namespace dipc {
 
-// How the s block is preconditioned: `mass`, the diagonal I + D W above; or `selfp`, one
-// BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp" Schur approximation in the
-// rescaled variable), which sees the element-to-element coupling that the diagonal misses.
-enum class SchurApproximation { mass, selfp };
+// How the s block is preconditioned (Ŝ ≈ S = I + Bs A⁻¹ Bsᵀ, the Schur complement up to sign):
+//  - mass: the diagonal I + D W above;
+//  - selfp: one BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp" Schur
+//    approximation in the rescaled variable), which sees the element-to-element coupling that
+//    the diagonal misses;
+//  - nodal: the same with A's 3x3 nodal diagonal blocks inverted instead of its scalar diagonal.
+enum class SchurApproximation { mass, selfp, nodal };
+
+// How the two blocks are combined (PCFIELDSPLIT's -pc_fieldsplit_schur_fact_type):
+//  - diag: P = diag(AMG(A), Ŝ), symmetric positive definite, with MINRES;
+//  - upper: P = [[AMG(A), Bsᵀ], [0, -Ŝ]], block upper triangular, with FGMRES preconditioned on
+//    the right. With exact blocks K P⁻¹ has the single eigenvalue 1 and a minimal polynomial of
+//    degree 2 (Elman, Silvester & Wathen, 2nd ed., sec. 9.2), against three eigenvalues for the
+//    block diagonal; its residual is the unpreconditioned one.
+enum class SchurFactorization { diag, upper };
+
+struct MixedSolveOptions {
+  SchurApproximation schur = SchurApproximation::mass;
+  SchurFactorization factorization = SchurFactorization::diag;
+};
 
 // The mixed solve is the default from this lambda / mu on (the largest over the mean-dilatation
 // elements). Below it CG + AMG on the full Hessian took fewer Krylov iterations than MINRES on
@@ -50,10 +66,10 @@ constexpr double kMixedSolveStiffnessRatio = 1000;
 // mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
 // among them (0 where the mixed solve cannot run by default: device forms or matrix). Default:
 // on from kMixedSolveStiffnessRatio on.
-// -dipc_mixed_schur mass|selfp: the s block's preconditioner (default mass). Asking for the
-// mixed solve without such elements is bad input (PETSC_ERR_USER_INPUT).
+// -dipc_mixed_schur mass|selfp|nodal and -dipc_mixed_schur_fact diag|upper: `options`. Asking for
+// the mixed solve without such elements is bad input (PETSC_ERR_USER_INPUT).
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
-                                     SchurApproximation* schur = nullptr);
+                                     MixedSolveOptions* options = nullptr);
 
 class MixedLinearSolve {
  public:
@@ -63,17 +79,17 @@ class MixedLinearSolve {
   MixedLinearSolve& operator=(const MixedLinearSolve&) = delete;
 
   // parts: the volumetric parts of the forms that split them (kept, read at every update);
-  // prescribed: 3 flags per mesh-local node, the Dirichlet dofs; rtol/atol/max_it: MINRES's
-  // tolerances. The preconditioner of the A block is a PC read from the unprefixed options
+  // prescribed: 3 flags per mesh-local node, the Dirichlet dofs; rtol/atol/max_it: the Krylov
+  // solver's tolerances. The preconditioner of the A block is a PC read from the unprefixed options
   // (-pc_type, -pc_hypre_*: what the primal CG would use).
   PetscErrorCode setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts, const std::vector<char>* prescribed,
-                       PetscReal rtol, PetscReal atol, PetscInt max_it, SchurApproximation schur);
+                       PetscReal rtol, PetscReal atol, PetscInt max_it, MixedSolveOptions options);
   // After the forms' hessian(): A is the assembled Hessian without the volumetric terms, at
   // the state where the parts were computed. Fills Bs and the preconditioner's diagonal.
   PetscErrorCode update(Mat A);
   // Sets the A-block preconditioner up for the current A (a new AMG hierarchy).
   PetscErrorCode setup_preconditioner();
-  // du = (A + Bsᵀ Bs)⁻¹ r to MINRES's tolerance; its iterations and reason.
+  // du = (A + Bsᵀ Bs)⁻¹ r to the Krylov solver's tolerance; its iterations and reason.
   PetscErrorCode solve(Vec r, Vec du, PetscInt* iterations, KSPConvergedReason* reason);
   // y = (A + Bsᵀ Bs) u, the Newton matrix H the mixed system stands for.
   PetscErrorCode multiply(Vec u, Vec y);
@@ -81,6 +97,7 @@ class MixedLinearSolve {
 
  private:
   PetscErrorCode create_block_matrices(Mat A);
+  PetscErrorCode setup_schur_matrix();  // selfp, nodal
   static PetscErrorCode apply_preconditioner(PC pc, Vec x, Vec y);
 
   MPI_Comm comm_ = MPI_COMM_NULL;
@@ -90,13 +107,15 @@ class MixedLinearSolve {
   std::vector<PetscScalar> bs_values_, diagonal_values_;
   Mat A_ = nullptr;        // not owned: the potential's matrix
   Mat Bs_ = nullptr, BsT_ = nullptr, minus_identity_ = nullptr, K_ = nullptr;
-  Vec diagonal_ = nullptr;                  // I + D W, the s block of the preconditioner (mass)
-  bool selfp_ = false;                      // the s block is I + Bs diag(A)^-1 Bsᵀ instead, by AMG
-  Mat scaled_bs_ = nullptr, schur_ = nullptr;
+  Vec diagonal_ = nullptr;  // I + D W, the s block of the preconditioner (mass)
+  MixedSolveOptions options_;
+  Mat scaled_bs_ = nullptr, schur_ = nullptr;  // selfp, nodal: Bs times A's inverted diagonal (blocks), Ŝ
+  Mat block_inverse_ = nullptr;                // nodal: A's inverted 3x3 diagonal blocks
+  std::vector<PetscInt> block_rows_, block_cols_;
   Vec a_diagonal_ = nullptr;
   PC pc_s_ = nullptr;
   Vec rhs_ = nullptr, solution_ = nullptr;  // nests (u, s)
-  Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr;
+  Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr, work_u_ = nullptr;
   KSP ksp_ = nullptr;
   PC pc_a_ = nullptr;
   bool pc_a_needs_reset_ = false;

@@ -242,9 +242,9 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   PetscInt max_it;
   PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &max_it));
   bool use;
-  SchurApproximation schur;
-  PetscCall(mixed_solve_requested(comm, true, kMixedSolveStiffnessRatio, &use, &schur));
-  PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, schur));
+  MixedSolveOptions options;
+  PetscCall(mixed_solve_requested(comm, true, kMixedSolveStiffnessRatio, &use, &options));
+  PetscCall(mixed_->setup(comm, std::move(parts), &ls_.potential->prescribed_dofs(), rtol, atol, max_it, options));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
