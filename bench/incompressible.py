@@ -53,6 +53,8 @@ PCS = {
     "mixed_nodal": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "nodal"],
     "mixed_upper": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "mass"],
     "mixed_upper_selfp": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "selfp"],
+    "mixed_lsc": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "lsc"],
+    "mixed_upper_lsc": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "lsc"],
     "mixed_upper_nodal": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "nodal"],
     "primal": ["-dipc_mixed_solve", "0"],
 }

@@ -16,7 +16,7 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
   PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
   PetscBool set = PETSC_FALSE;
   const MixedSolveOptions defaults;
-  const char* const schur_names[] = {"mass", "selfp", "nodal", "SchurApproximation", "", nullptr};
+  const char* const schur_names[] = {"mass", "selfp", "nodal", "lsc", "SchurApproximation", "", nullptr};
   const char* const fact_names[] = {"diag", "upper", "SchurFactorization", "", nullptr};
   PetscEnum schur_choice = static_cast<PetscEnum>(defaults.schur);
   PetscEnum fact_choice = static_cast<PetscEnum>(defaults.factorization);
@@ -49,16 +49,18 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
 MixedLinearSolve::~MixedLinearSolve() {
   KSPDestroy(&ksp_);
   PCDestroy(&pc_a_);
-  PCDestroy(&pc_s_);
+  KSPDestroy(&ksp_s_);
   MatDestroy(&schur_);
   MatDestroy(&scaled_bs_);
+  MatDestroy(&lsc_bs_);
   MatDestroy(&block_inverse_);
   VecDestroy(&a_diagonal_);
   MatDestroy(&K_);
   MatDestroy(&BsT_);
   MatDestroy(&Bs_);
   MatDestroy(&minus_identity_);
-  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_}) VecDestroy(v);
+  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_, &lsc_u_[0], &lsc_u_[1], &lsc_s_})
+    VecDestroy(v);
 }
 
 PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts,
@@ -75,6 +77,23 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   PetscCall(PCCreate(comm_, &pc_a_));
   PetscCall(PCSetFromOptions(pc_a_));
   PetscCall(KSPCreate(comm_, &ksp_));
+  if (options_.schur != SchurApproximation::mass) {
+    // One BoomerAMG V-cycle by default; the -dipc_mixed_s_ prefix reaches this KSP and its PC
+    // (e.g. -dipc_mixed_s_ksp_type cg -dipc_mixed_s_ksp_rtol 1e-2 for an inner solve, which
+    // only FGMRES, the upper factorization, tolerates: MINRES needs a fixed linear operator).
+    PetscCall(KSPCreate(comm_, &ksp_s_));
+    PetscCall(KSPSetOptionsPrefix(ksp_s_, "dipc_mixed_s_"));
+    PetscCall(KSPSetType(ksp_s_, KSPPREONLY));
+    PC pc;
+    PetscCall(KSPGetPC(ksp_s_, &pc));
+    PetscCall(PCSetType(pc, PCHYPRE));
+    PetscCall(KSPSetFromOptions(ksp_s_));
+    PetscBool fixed;
+    PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp_s_), &fixed, KSPPREONLY, KSPRICHARDSON, ""));
+    PetscCheck(fixed || options_.factorization == SchurFactorization::upper, comm_, PETSC_ERR_USER_INPUT,
+               "-dipc_mixed_s_ksp_type: a Krylov solve of the s block needs -dipc_mixed_schur_fact upper (FGMRES); "
+               "MINRES (diag) needs a fixed linear preconditioner: preonly or richardson");
+  }
   const bool upper = options_.factorization == SchurFactorization::upper;
   if (upper) {
     // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
@@ -189,7 +208,8 @@ PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&scaled_bs_));
   PetscCall(MatDestroy(&schur_));
-  if (options_.schur == SchurApproximation::selfp) {  // I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ
+  PetscCall(MatDestroy(&lsc_bs_));
+  if (options_.schur != SchurApproximation::nodal) {  // I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ
     if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
     PetscCall(MatGetDiagonal(A_, a_diagonal_));
     PetscCall(VecReciprocal(a_diagonal_));
@@ -197,6 +217,15 @@ PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
     PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
     PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
     PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
+    if (options_.schur == SchurApproximation::lsc) {  // Bs diag(A)^-1
+      PetscCall(MatDuplicate(scaled_bs_, MAT_COPY_VALUES, &lsc_bs_));
+      PetscCall(MatDiagonalScale(lsc_bs_, nullptr, a_diagonal_));
+      if (!lsc_u_[0]) {
+        PetscCall(VecDuplicate(rhs_u_, &lsc_u_[0]));
+        PetscCall(VecDuplicate(rhs_u_, &lsc_u_[1]));
+        PetscCall(VecDuplicate(rhs_s_, &lsc_s_));
+      }
+    }
   } else {  // nodal: I + (Bs C) Bsᵀ
     PetscInt m, first;
     PetscCall(MatGetLocalSize(A_, &m, nullptr));
@@ -238,14 +267,8 @@ PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
     PetscCall(MatMatTransposeMult(scaled_bs_, Bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
   }
   PetscCall(MatShift(schur_, 1.0));
-  if (!pc_s_) {
-    PetscCall(PCCreate(comm_, &pc_s_));
-    PetscCall(PCSetType(pc_s_, PCHYPRE));
-  } else {
-    PetscCall(PCReset(pc_s_));
-  }
-  PetscCall(PCSetOperators(pc_s_, schur_, schur_));
-  PetscCall(PCSetUp(pc_s_));
+  PetscCall(KSPSetOperators(ksp_s_, schur_, schur_));  // a new matrix: a new AMG hierarchy
+  PetscCall(KSPSetUp(ksp_s_));
   PetscFunctionReturn(0);
 }
 
@@ -259,10 +282,18 @@ PetscErrorCode MixedLinearSolve::apply_preconditioner(PC pc, Vec x, Vec y) {
   PetscCall(VecNestGetSubVec(y, 0, &yu));
   PetscCall(VecNestGetSubVec(y, 1, &ys));
   // s block: ys = Ŝ⁻¹ xs (diag) or -Ŝ⁻¹ xs (upper)
-  if (self->options_.schur == SchurApproximation::mass)
+  if (self->options_.schur == SchurApproximation::mass) {
     PetscCall(VecPointwiseDivide(ys, xs, self->diagonal_));
-  else
-    PetscCall(PCApply(self->pc_s_, xs, ys));
+  } else if (self->options_.schur == SchurApproximation::lsc) {
+    // ys = X⁻¹ (I + Y) X⁻¹ xs, X = I + Bs C Bsᵀ (by its AMG), Y = (Bs C) A (Bs C)ᵀ, C = diag(A)⁻¹
+    PetscCall(KSPSolve(self->ksp_s_, xs, self->lsc_s_));
+    PetscCall(MatMultTranspose(self->lsc_bs_, self->lsc_s_, self->lsc_u_[0]));
+    PetscCall(MatMult(self->A_, self->lsc_u_[0], self->lsc_u_[1]));
+    PetscCall(MatMultAdd(self->lsc_bs_, self->lsc_u_[1], self->lsc_s_, self->lsc_s_));
+    PetscCall(KSPSolve(self->ksp_s_, self->lsc_s_, ys));
+  } else {
+    PetscCall(KSPSolve(self->ksp_s_, xs, ys));
+  }
   if (self->options_.factorization == SchurFactorization::upper) {
     // [[Â, Bsᵀ], [0, -Ŝ]] [yu; ys] = [xu; xs]: ys = -Ŝ⁻¹ xs, yu = Â⁻¹ (xu - Bsᵀ ys)
     PetscCall(VecScale(ys, -1.0));

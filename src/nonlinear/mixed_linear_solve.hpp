@@ -42,7 +42,13 @@ namespace dipc {
 //    approximation in the rescaled variable), which sees the element-to-element coupling that
 //    the diagonal misses;
 //  - nodal: the same with A's 3x3 nodal diagonal blocks inverted instead of its scalar diagonal.
-enum class SchurApproximation { mass, selfp, nodal };
+//  - lsc: Ŝ⁻¹ = X⁻¹ (I + Y) X⁻¹ with X = I + Bs C Bsᵀ (selfp's matrix, its AMG applied twice),
+//    Y = (Bs C) A (Bs C)ᵀ and C = diag(A)⁻¹: the scaled least-squares commutator ("BFBt")
+//    Bs A⁻¹ Bsᵀ ≈ (Bs C Bsᵀ)(Bs C A C Bsᵀ)⁻¹(Bs C Bsᵀ) (Elman, Howle, Shadid, Shuttleworth &
+//    Tuminaro, SISC 2006; ESW 2nd ed. sec. 9.2) with the I of the s block kept: exact in both
+//    limits, S ≈ I (d_e small) and S ≈ Bs A⁻¹ Bsᵀ (d_e large), where selfp's Bs C Bsᵀ is smaller
+//    than Bs A⁻¹ Bsᵀ on smooth pressures by about (h k)², k the wave number.
+enum class SchurApproximation { mass, selfp, nodal, lsc };
 
 // How the two blocks are combined (PCFIELDSPLIT's -pc_fieldsplit_schur_fact_type):
 //  - diag: P = diag(AMG(A), Ŝ), symmetric positive definite, with MINRES;
@@ -111,9 +117,11 @@ class MixedLinearSolve {
   MixedSolveOptions options_;
   Mat scaled_bs_ = nullptr, schur_ = nullptr;  // selfp, nodal: Bs times A's inverted diagonal (blocks), Ŝ
   Mat block_inverse_ = nullptr;                // nodal: A's inverted 3x3 diagonal blocks
+  Mat lsc_bs_ = nullptr;                       // lsc: Bs diag(A)⁻¹
+  Vec lsc_u_[2] = {nullptr, nullptr}, lsc_s_ = nullptr;
   std::vector<PetscInt> block_rows_, block_cols_;
   Vec a_diagonal_ = nullptr;
-  PC pc_s_ = nullptr;
+  KSP ksp_s_ = nullptr;  // selfp, nodal: Ŝ's solver, options prefix dipc_mixed_s_
   Vec rhs_ = nullptr, solution_ = nullptr;  // nests (u, s)
   Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr, work_u_ = nullptr;
   KSP ksp_ = nullptr;
