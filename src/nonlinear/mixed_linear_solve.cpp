@@ -16,7 +16,7 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
   PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
   PetscBool set = PETSC_FALSE;
   const MixedSolveOptions defaults;
-  const char* const schur_names[] = {"mass", "selfp", "nodal", "lsc", "SchurApproximation", "", nullptr};
+  const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
   const char* const fact_names[] = {"diag", "upper", "SchurFactorization", "", nullptr};
   PetscEnum schur_choice = static_cast<PetscEnum>(defaults.schur);
   PetscEnum fact_choice = static_cast<PetscEnum>(defaults.factorization);
@@ -26,8 +26,8 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
                              "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
                              "MixedLinearSolve", flag, &flag, &set));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
-                             "Preconditioner of the mixed solve's pressure block: mass (I + D W), selfp "
-                             "(AMG on I + Bs diag(A)^-1 Bs^T) or nodal (the same with A's 3x3 diagonal blocks)",
+                             "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 "
+                             "Bs^T) or mass (I + D W)",
                              "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur_fact",
                              "Block preconditioner of the mixed solve: diag (block diagonal, MINRES) or upper "
@@ -52,15 +52,12 @@ MixedLinearSolve::~MixedLinearSolve() {
   KSPDestroy(&ksp_s_);
   MatDestroy(&schur_);
   MatDestroy(&scaled_bs_);
-  MatDestroy(&lsc_bs_);
-  MatDestroy(&block_inverse_);
   VecDestroy(&a_diagonal_);
   MatDestroy(&K_);
   MatDestroy(&BsT_);
   MatDestroy(&Bs_);
   MatDestroy(&minus_identity_);
-  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_, &lsc_u_[0], &lsc_u_[1], &lsc_s_})
-    VecDestroy(v);
+  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_}) VecDestroy(v);
 }
 
 PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts,
@@ -77,7 +74,7 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   PetscCall(PCCreate(comm_, &pc_a_));
   PetscCall(PCSetFromOptions(pc_a_));
   PetscCall(KSPCreate(comm_, &ksp_));
-  if (options_.schur != SchurApproximation::mass) {
+  if (options_.schur == SchurApproximation::selfp) {
     // One BoomerAMG V-cycle by default; the -dipc_mixed_s_ prefix reaches this KSP and its PC
     // (e.g. -dipc_mixed_s_ksp_type cg -dipc_mixed_s_ksp_rtol 1e-2 for an inner solve, which
     // only FGMRES, the upper factorization, tolerates: MINRES needs a fixed linear operator).
@@ -91,8 +88,8 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
     PetscBool fixed;
     PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp_s_), &fixed, KSPPREONLY, KSPRICHARDSON, ""));
     PetscCheck(fixed || options_.factorization == SchurFactorization::upper, comm_, PETSC_ERR_USER_INPUT,
-               "-dipc_mixed_s_ksp_type: a Krylov solve of the s block needs -dipc_mixed_schur_fact upper (FGMRES); "
-               "MINRES (diag) needs a fixed linear preconditioner: preonly or richardson");
+               "a Krylov solve of the s block (-dipc_mixed_s_ksp_type) needs -dipc_mixed_schur_fact upper "
+               "(FGMRES); MINRES (diag) needs a fixed linear preconditioner: preonly or richardson");
   }
   const bool upper = options_.factorization == SchurFactorization::upper;
   if (upper) {
@@ -200,72 +197,19 @@ PetscErrorCode MixedLinearSolve::setup_preconditioner() {
   PetscFunctionReturn(0);
 }
 
-// Ŝ = I + Bs C Bsᵀ with C = diag(A)⁻¹ (selfp) or A's inverted 3x3 nodal blocks (nodal), rebuilt
-// with every A (its pattern is that of B Bᵀ), and a BoomerAMG V-cycle on it. The nodal blocks
-// couple a node's three displacement components, which the scalar diagonal treats apart; the
-// s rows of an element see their 24 dofs through them.
+// selfp: Ŝ = I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ, rebuilt with every A (its pattern is that
+// of Bs Bsᵀ: elements that share a node), and its solver set up afresh.
 PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
   PetscFunctionBeginUser;
   PetscCall(MatDestroy(&scaled_bs_));
   PetscCall(MatDestroy(&schur_));
-  PetscCall(MatDestroy(&lsc_bs_));
-  if (options_.schur != SchurApproximation::nodal) {  // I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ
-    if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
-    PetscCall(MatGetDiagonal(A_, a_diagonal_));
-    PetscCall(VecReciprocal(a_diagonal_));
-    PetscCall(VecSqrtAbs(a_diagonal_));
-    PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
-    PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
-    PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
-    if (options_.schur == SchurApproximation::lsc) {  // Bs diag(A)^-1
-      PetscCall(MatDuplicate(scaled_bs_, MAT_COPY_VALUES, &lsc_bs_));
-      PetscCall(MatDiagonalScale(lsc_bs_, nullptr, a_diagonal_));
-      if (!lsc_u_[0]) {
-        PetscCall(VecDuplicate(rhs_u_, &lsc_u_[0]));
-        PetscCall(VecDuplicate(rhs_u_, &lsc_u_[1]));
-        PetscCall(VecDuplicate(rhs_s_, &lsc_s_));
-      }
-    }
-  } else {  // nodal: I + (Bs C) Bsᵀ
-    PetscInt m, first;
-    PetscCall(MatGetLocalSize(A_, &m, nullptr));
-    PetscCall(MatGetOwnershipRange(A_, &first, nullptr));
-    if (!block_inverse_) {
-      PetscCall(MatCreate(comm_, &block_inverse_));
-      PetscCall(MatSetSizes(block_inverse_, m, m, PETSC_DETERMINE, PETSC_DETERMINE));
-      PetscCall(MatSetType(block_inverse_, MATAIJ));
-      for (PetscInt node = 0; node < m / 3; ++node)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            block_rows_.push_back(first + 3 * node + i);
-            block_cols_.push_back(first + 3 * node + j);
-          }
-      PetscCall(MatSetPreallocationCOO(block_inverse_, static_cast<PetscCount>(block_rows_.size()), block_rows_.data(),
-                                       block_cols_.data()));
-    }
-    // A's local rows are whole nodes; each node's 3x3 diagonal block, inverted by its adjugate
-    // (symmetric positive definite as a principal block of A). Taken with MatGetValues rather
-    // than MatInvertBlockDiagonal, whose blocks follow the local part's block size, which PETSc
-    // leaves at 1 for a parallel AIJ matrix.
-    std::vector<PetscScalar> values(block_rows_.size());
-    for (PetscInt node = 0; node < m / 3; ++node) {
-      const PetscInt idx[3] = {first + 3 * node, first + 3 * node + 1, first + 3 * node + 2};
-      PetscScalar a[9];
-      PetscCall(MatGetValues(A_, 3, idx, 3, idx, a));
-      PetscScalar* inv = &values[9 * node];
-      inv[0] = a[4] * a[8] - a[5] * a[7], inv[1] = a[2] * a[7] - a[1] * a[8], inv[2] = a[1] * a[5] - a[2] * a[4];
-      inv[3] = a[5] * a[6] - a[3] * a[8], inv[4] = a[0] * a[8] - a[2] * a[6], inv[5] = a[2] * a[3] - a[0] * a[5];
-      inv[6] = a[3] * a[7] - a[4] * a[6], inv[7] = a[1] * a[6] - a[0] * a[7], inv[8] = a[0] * a[4] - a[1] * a[3];
-      const PetscScalar det = a[0] * inv[0] + a[1] * inv[3] + a[2] * inv[6];
-      PetscCheck(det > 0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED,
-                 "mixed solve: a 3x3 diagonal block of the Hessian is not positive definite (det %g)",
-                 static_cast<double>(det));
-      for (int k = 0; k < 9; ++k) inv[k] /= det;
-    }
-    PetscCall(MatSetValuesCOO(block_inverse_, values.data(), INSERT_VALUES));
-    PetscCall(MatMatMult(Bs_, block_inverse_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &scaled_bs_));
-    PetscCall(MatMatTransposeMult(scaled_bs_, Bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
-  }
+  if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
+  PetscCall(MatGetDiagonal(A_, a_diagonal_));
+  PetscCall(VecReciprocal(a_diagonal_));
+  PetscCall(VecSqrtAbs(a_diagonal_));
+  PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
+  PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
+  PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
   PetscCall(MatShift(schur_, 1.0));
   PetscCall(KSPSetOperators(ksp_s_, schur_, schur_));  // a new matrix: a new AMG hierarchy
   PetscCall(KSPSetUp(ksp_s_));
@@ -282,18 +226,10 @@ PetscErrorCode MixedLinearSolve::apply_preconditioner(PC pc, Vec x, Vec y) {
   PetscCall(VecNestGetSubVec(y, 0, &yu));
   PetscCall(VecNestGetSubVec(y, 1, &ys));
   // s block: ys = Ŝ⁻¹ xs (diag) or -Ŝ⁻¹ xs (upper)
-  if (self->options_.schur == SchurApproximation::mass) {
+  if (self->options_.schur == SchurApproximation::mass)
     PetscCall(VecPointwiseDivide(ys, xs, self->diagonal_));
-  } else if (self->options_.schur == SchurApproximation::lsc) {
-    // ys = X⁻¹ (I + Y) X⁻¹ xs, X = I + Bs C Bsᵀ (by its AMG), Y = (Bs C) A (Bs C)ᵀ, C = diag(A)⁻¹
-    PetscCall(KSPSolve(self->ksp_s_, xs, self->lsc_s_));
-    PetscCall(MatMultTranspose(self->lsc_bs_, self->lsc_s_, self->lsc_u_[0]));
-    PetscCall(MatMult(self->A_, self->lsc_u_[0], self->lsc_u_[1]));
-    PetscCall(MatMultAdd(self->lsc_bs_, self->lsc_u_[1], self->lsc_s_, self->lsc_s_));
-    PetscCall(KSPSolve(self->ksp_s_, self->lsc_s_, ys));
-  } else {
+  else
     PetscCall(KSPSolve(self->ksp_s_, xs, ys));
-  }
   if (self->options_.factorization == SchurFactorization::upper) {
     // [[Â, Bsᵀ], [0, -Ŝ]] [yu; ys] = [xu; xs]: ys = -Ŝ⁻¹ xs, yu = Â⁻¹ (xu - Bsᵀ ys)
     PetscCall(VecScale(ys, -1.0));

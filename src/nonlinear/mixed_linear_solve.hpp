@@ -1,5 +1,5 @@
 // MixedLinearSolve: the Newton system of mean-dilatation elements solved as a mixed u-p system,
-// so that its Krylov iterations do not grow with lambda.
+// so that its Krylov iterations grow far less with lambda than CG's on the full Hessian.
 //
 // With mean-dilatation elements the Hessian is H = A + Bᵀ D B: A (deviatoric and p d²J terms,
 // inertia, contact, friction) is free of lambda, B has one row b_e = dv_e/dx per element and
@@ -13,16 +13,23 @@
 // whose Schur complement on du is A + Bsᵀ Bs = H, so du is H⁻¹ r exactly. This is the usual
 // mixed form K = [[A, Bᵀ], [B, -D⁻¹]] with the element pressure q = D B du rescaled to
 // s = D^{-1/2} q, which keeps it finite where d_e = 0 (nu = 0, or f'' < 0 projected to 0).
-// MINRES with the symmetric positive definite block-diagonal preconditioner
+// It is solved by FGMRES with the block upper-triangular preconditioner
 //
-//   P = diag( AMG(A), I + D W ),   W = diag(V_e / (h² mu_e)),
+//   P = [[ AMG(A), Bsᵀ ], [ 0, -Ŝ ]],   Ŝ = I + Bs diag(A)⁻¹ Bsᵀ (one BoomerAMG V-cycle),
 //
-// that is diag(AMG(A), D^{1/2} (D⁻¹ + W) D^{1/2}) in the rescaled variable: W is the pressure
-// mass matrix over the shear modulus, spectrally equivalent to B A⁻¹ Bᵀ for an inf-sup stable
-// pair, so the preconditioned spectrum is bounded independently of lambda (Elman, Silvester &
-// Wathen, "Finite Elements and Fast Iterative Solvers", 2nd ed., ch. 4, for Stokes; the nearly
-// incompressible limit is the same saddle point with the -D⁻¹ block). Q1-P0 is not uniformly
-// inf-sup stable (its checkerboard pressure mode), so a mild mesh dependence remains.
+// Ŝ approximating the Schur complement S = I + Bs A⁻¹ Bsᵀ as PCFIELDSPLIT's "selfp" does. Why
+// this one (measured, bench/incompressible.py, docs/performance.md "Near-incompressible
+// materials"): the element (Q1-P0) is not inf-sup stable, so Bs A⁻¹ Bsᵀ is nearly zero on its
+// checkerboard-like pressure modes. The pressure mass over mu (W, the Stokes choice, ESW ch. 4)
+// is not, and the older default diag(AMG(A), I + D W) with MINRES needed iterations that grew
+// with lambda; Bs diag(A)⁻¹ Bsᵀ vanishes on those modes as Bs A⁻¹ Bsᵀ does. What it misses is
+// on smooth pressures (about (h k)² too small, k the wave number, where stiffness outweighs
+// inertia): a mesh-dependent but lambda-independent factor, so a milder growth remains.
+// The triangular form needs about half the iterations of the block diagonal one (with exact
+// blocks K P⁻¹ has the single eigenvalue 1 and a minimal polynomial of degree 2; Elman,
+// Silvester & Wathen, "Finite Elements and Fast Iterative Solvers", 2nd ed., sec. 9.2).
+// The older choices stay available: -dipc_mixed_schur mass, -dipc_mixed_schur_fact diag (MINRES
+// with the symmetric positive definite diag(AMG(A), Ŝ)).
 //
 // Dirichlet dofs: A carries them eliminated (unit diagonal), and their columns of B are zeroed,
 // so du is zero there as in the primal solve. Everything here goes through PETSc's Vec and Mat
@@ -37,30 +44,22 @@
 namespace dipc {
 
 // How the s block is preconditioned (Ŝ ≈ S = I + Bs A⁻¹ Bsᵀ, the Schur complement up to sign):
-//  - mass: the diagonal I + D W above;
-//  - selfp: one BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp" Schur
-//    approximation in the rescaled variable), which sees the element-to-element coupling that
-//    the diagonal misses;
-//  - nodal: the same with A's 3x3 nodal diagonal blocks inverted instead of its scalar diagonal.
-//  - lsc: Ŝ⁻¹ = X⁻¹ (I + Y) X⁻¹ with X = I + Bs C Bsᵀ (selfp's matrix, its AMG applied twice),
-//    Y = (Bs C) A (Bs C)ᵀ and C = diag(A)⁻¹: the scaled least-squares commutator ("BFBt")
-//    Bs A⁻¹ Bsᵀ ≈ (Bs C Bsᵀ)(Bs C A C Bsᵀ)⁻¹(Bs C Bsᵀ) (Elman, Howle, Shadid, Shuttleworth &
-//    Tuminaro, SISC 2006; ESW 2nd ed. sec. 9.2) with the I of the s block kept: exact in both
-//    limits, S ≈ I (d_e small) and S ≈ Bs A⁻¹ Bsᵀ (d_e large), where selfp's Bs C Bsᵀ is smaller
-//    than Bs A⁻¹ Bsᵀ on smooth pressures by about (h k)², k the wave number.
-enum class SchurApproximation { mass, selfp, nodal, lsc };
+//  - selfp (default): one BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp"
+//    Schur approximation in the rescaled variable), which sees the element-to-element coupling
+//    that a diagonal misses; its solver takes options with the prefix -dipc_mixed_s_;
+//  - mass: the diagonal I + D W, W = diag(V_e / (h² mu_e)), the pressure mass matrix over the
+//    shear modulus: spectrally equivalent to Bs A⁻¹ Bsᵀ (times D) for an inf-sup stable pair only.
+enum class SchurApproximation { mass, selfp };
 
 // How the two blocks are combined (PCFIELDSPLIT's -pc_fieldsplit_schur_fact_type):
 //  - diag: P = diag(AMG(A), Ŝ), symmetric positive definite, with MINRES;
-//  - upper: P = [[AMG(A), Bsᵀ], [0, -Ŝ]], block upper triangular, with FGMRES preconditioned on
-//    the right. With exact blocks K P⁻¹ has the single eigenvalue 1 and a minimal polynomial of
-//    degree 2 (Elman, Silvester & Wathen, 2nd ed., sec. 9.2), against three eigenvalues for the
-//    block diagonal; its residual is the unpreconditioned one.
+//  - upper (default): P = [[AMG(A), Bsᵀ], [0, -Ŝ]], block upper triangular, with FGMRES
+//    preconditioned on the right (so its residual is the unpreconditioned one).
 enum class SchurFactorization { diag, upper };
 
 struct MixedSolveOptions {
-  SchurApproximation schur = SchurApproximation::mass;
-  SchurFactorization factorization = SchurFactorization::diag;
+  SchurApproximation schur = SchurApproximation::selfp;
+  SchurFactorization factorization = SchurFactorization::upper;
 };
 
 // The mixed solve is the default from this lambda / mu on (the largest over the mean-dilatation
@@ -72,7 +71,7 @@ constexpr double kMixedSolveStiffnessRatio = 1000;
 // mixed solve needs them) take the mixed solve; `stiffness_ratio` is the largest lambda / mu
 // among them (0 where the mixed solve cannot run by default: device forms or matrix). Default:
 // on from kMixedSolveStiffnessRatio on.
-// -dipc_mixed_schur mass|selfp|nodal and -dipc_mixed_schur_fact diag|upper: `options`. Asking for
+// -dipc_mixed_schur selfp|mass and -dipc_mixed_schur_fact diag|upper: `options`. Asking for
 // the mixed solve without such elements is bad input (PETSC_ERR_USER_INPUT).
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
                                      MixedSolveOptions* options = nullptr);
@@ -103,7 +102,7 @@ class MixedLinearSolve {
 
  private:
   PetscErrorCode create_block_matrices(Mat A);
-  PetscErrorCode setup_schur_matrix();  // selfp, nodal
+  PetscErrorCode setup_schur_matrix();  // selfp
   static PetscErrorCode apply_preconditioner(PC pc, Vec x, Vec y);
 
   MPI_Comm comm_ = MPI_COMM_NULL;
@@ -115,13 +114,9 @@ class MixedLinearSolve {
   Mat Bs_ = nullptr, BsT_ = nullptr, minus_identity_ = nullptr, K_ = nullptr;
   Vec diagonal_ = nullptr;  // I + D W, the s block of the preconditioner (mass)
   MixedSolveOptions options_;
-  Mat scaled_bs_ = nullptr, schur_ = nullptr;  // selfp, nodal: Bs times A's inverted diagonal (blocks), Ŝ
-  Mat block_inverse_ = nullptr;                // nodal: A's inverted 3x3 diagonal blocks
-  Mat lsc_bs_ = nullptr;                       // lsc: Bs diag(A)⁻¹
-  Vec lsc_u_[2] = {nullptr, nullptr}, lsc_s_ = nullptr;
-  std::vector<PetscInt> block_rows_, block_cols_;
+  Mat scaled_bs_ = nullptr, schur_ = nullptr;  // selfp: Bs diag(A)^-1/2 and Ŝ
   Vec a_diagonal_ = nullptr;
-  KSP ksp_s_ = nullptr;  // selfp, nodal: Ŝ's solver, options prefix dipc_mixed_s_
+  KSP ksp_s_ = nullptr;  // selfp: Ŝ's solver, options prefix dipc_mixed_s_
   Vec rhs_ = nullptr, solution_ = nullptr;  // nests (u, s)
   Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr, work_u_ = nullptr;
   KSP ksp_ = nullptr;

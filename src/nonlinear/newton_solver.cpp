@@ -258,7 +258,7 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   PetscCall(PCShellSetContext(pc, this));
   PetscCall(PCShellSetSetUp(pc, mixed_setup));
   PetscCall(PCShellSetApply(pc, mixed_apply));
-  PetscCall(PCShellSetName(pc, "dipc mixed u-p solve (MINRES, mixed_linear_solve.hpp)"));
+  PetscCall(PCShellSetName(pc, "dipc mixed u-p solve (mixed_linear_solve.hpp)"));
   PetscFunctionReturn(0);
 }
 
@@ -270,8 +270,8 @@ PetscErrorCode NewtonSolver::mixed_setup(PC pc) {
   PetscFunctionReturn(0);
 }
 
-// One Newton system: du = H⁻¹ r through the mixed system. A MINRES that stops short fails the
-// linear solve (KSPPREONLY reports the PC failure to SNES).
+// One Newton system: du = H⁻¹ r through the mixed system. A Krylov solve (FGMRES or MINRES) that
+// stops short fails the linear solve (KSPPREONLY reports the PC failure to SNES).
 PetscErrorCode NewtonSolver::mixed_apply(PC pc, Vec r, Vec du) {
   PetscFunctionBeginUser;
   NewtonSolver* self;
@@ -339,7 +339,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   }
   PetscCall(SNESGetIterationNumber(snes_, &report->iterations));
   PetscCall(SNESGetLinearSolveIterations(snes_, &report->linear_iterations));
-  // KSPPREONLY counts one per solve; the work is MINRES's.
+  // KSPPREONLY counts one per solve; the work is the mixed solve's Krylov method's.
   if (mixed_) report->linear_iterations = mixed_iterations_ - mixed_before;
   PetscCall(SNESGetConvergedReason(snes_, &report->reason));
   report->preconditioner_rebuilds = pc_reuse_.rebuilds() - rebuilds_before;
