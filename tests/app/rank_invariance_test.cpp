@@ -1,7 +1,7 @@
 // Rank invariance: the beam scene (a clamped beam swinging under gravity) run on all ranks
 // of the test's communicator and on rank 0 alone must give the same trajectory: relative
 // difference of the displacements ≤ 1e-8 after 10 steps, with tight solver tolerances. The same
-// beam of nearly incompressible mean-dilatation elements (the mixed u-p linear solve, MINRES)
+// beam of nearly incompressible mean-dilatation elements (the mixed u-p linear solve)
 // must agree to 1e-6. Both partitioners (METIS, PT-Scotch) are used for the parallel run. Two
 // beams side by side, one neo-Hookean and one stable neo-Hookean (materials[].model per body),
 // must agree to 1e-8 too.
