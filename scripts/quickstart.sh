@@ -24,6 +24,8 @@ jobs=${JOBS:-$(nproc)}
 # --- 1. packages ------------------------------------------------------------
 packages=(cmake g++ make pkg-config openmpi-bin libopenmpi-dev petsc-dev libhypre-dev libmetis-dev
           libhdf5-openmpi-dev nlohmann-json3-dev libgtest-dev python3-numpy python3-h5py python3-matplotlib)
+# The test suite also opens the output with ParaView itself (tests/tools/paraview_open_test.py).
+[[ $mode == test ]] && packages+=(python3-paraview)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <stdexcept>
 
@@ -87,6 +88,60 @@ RowBlock rank0_rows(MPI_Comm comm, hsize_t rows, hsize_t columns) {
   return RowBlock{rows, columns, 0, rank == 0 ? rows : 0};
 }
 
+
+// The bodies' grids of a scene with kinematic bodies: each kinematic body its own grid named
+// by the body, the other bodies in runs of consecutive rows (a run of one body named by it, a
+// longer one "<first>..<last>"). dipc's driver numbers elements body by body in scene order,
+// so each body is one run of rows; for a numbering that interleaves bodies the mesh stays one
+// grid (the "kinematic" cell field still marks them). Collective; the same on every rank.
+std::vector<XdmfCellRange> kinematic_body_grids(MPI_Comm comm, const OutputMesh& mesh,
+                                                const std::vector<std::string>& names) {
+  int local_bodies = 0;
+  for (int e = 0; e < mesh.num_elements; ++e) local_bodies = std::max(local_bodies, mesh.element_body[e] + 1);
+  int num_bodies = std::max<int>(local_bodies, static_cast<int>(names.size()));
+  MPI_Allreduce(MPI_IN_PLACE, &num_bodies, 1, MPI_INT, MPI_MAX, comm);
+  const std::int64_t none = std::numeric_limits<std::int64_t>::max();
+  std::vector<std::int64_t> first(num_bodies, none), last(num_bodies, -1), count(num_bodies, 0);
+  std::vector<int> kinematic(num_bodies, 0);
+  for (int e = 0; e < mesh.num_elements; ++e) {
+    const int b = mesh.element_body[e];
+    const std::int64_t row = mesh.element_offset + e;
+    first[b] = std::min(first[b], row);
+    last[b] = std::max(last[b], row);
+    ++count[b];
+    kinematic[b] = std::max(kinematic[b], mesh.element_kinematic[e]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, first.data(), num_bodies, MPI_INT64_T, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, last.data(), num_bodies, MPI_INT64_T, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, count.data(), num_bodies, MPI_INT64_T, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, kinematic.data(), num_bodies, MPI_INT, MPI_MAX, comm);
+
+  std::vector<int> order;
+  for (int b = 0; b < num_bodies; ++b)
+    if (count[b] > 0) order.push_back(b);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return first[a] < first[b]; });
+  std::int64_t next_row = 0;
+  for (const int b : order) {
+    if (first[b] != next_row || last[b] - first[b] + 1 != count[b]) return {};
+    next_row += count[b];
+  }
+  const auto name = [&](int b) { return b < static_cast<int>(names.size()) ? names[b] : "body " + std::to_string(b); };
+  std::vector<XdmfCellRange> grids;
+  bool extend = false;  // the last grid is a run of non-kinematic bodies
+  std::string run_first;
+  for (const int b : order) {
+    if (kinematic[b] || !extend) {
+      grids.push_back({name(b), first[b], count[b]});
+      extend = !kinematic[b];
+      run_first = name(b);
+      continue;
+    }
+    grids.back().count += count[b];
+    grids.back().name = run_first + ".." + name(b);
+  }
+  return grids;
+}
+
 }  // namespace
 
 std::string XdmfWriter::write_strings(hid_t parent, const std::string& path, const std::vector<std::string>& texts,
@@ -162,6 +217,7 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
   if (error.empty() && kinematic_ && num_elements_ > 0 && mesh.element_kinematic == nullptr)
     error = missing_array("element_kinematic", num_elements_);
   throw_if_failed_anywhere(comm_, error);
+  if (kinematic_) body_grids_ = kinematic_body_grids(comm_, mesh, body_names_);
 
   if (rank_ == 0) {
     std::error_code ec;
@@ -181,6 +237,31 @@ XdmfWriter::XdmfWriter(const std::string& directory, const std::string& name, co
   else
     create_file(mesh);
   write_xdmf_on_rank0();
+}
+
+// Per-grid rows of cell fields (body_grids_): <parent>/grids/<g>/<name> holds rows [first,
+// first + count) of the field, each rank writing the part of its element block inside them.
+// Collective; throws on every rank on failure.
+void XdmfWriter::write_grid_cells(hid_t parent, const std::string& parent_path,
+                                  const std::vector<CellField>& fields) const {
+  const std::string h5 = h5_path();
+  Hdf5Handle grids(H5Gcreate2(parent, "grids", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  throw_if_failed_anywhere(comm_, grids.valid() ? "" : hdf5_failure("cannot create group " + parent_path + "/grids", h5));
+  for (std::size_t g = 0; g < body_grids_.size(); ++g) {
+    const XdmfCellRange& cells = body_grids_[g];
+    const std::string name = std::to_string(g);
+    Hdf5Handle group(H5Gcreate2(grids.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    throw_if_failed_anywhere(
+        comm_, group.valid() ? "" : hdf5_failure("cannot create group " + parent_path + "/grids/" + name, h5));
+    const std::int64_t begin = std::max(cells.first, element_offset_);
+    const std::int64_t end = std::min(cells.first + cells.count, element_offset_ + num_elements_);
+    const std::int64_t rows = std::max<std::int64_t>(0, end - begin);
+    const auto block = RowBlock{hsize_t(cells.count), 0, hsize_t(rows > 0 ? begin - cells.first : 0), hsize_t(rows)};
+    for (const CellField& f : fields) {
+      const char* first_row = static_cast<const char*>(f.data) + (rows > 0 ? (begin - element_offset_) * f.bytes : 0);
+      throw_if_failed_anywhere(comm_, write_rows(group.get(), f.name, f.file_type, f.memory_type, block, first_row, h5));
+    }
+  }
 }
 
 void XdmfWriter::create_file(const OutputMesh& mesh) {
@@ -221,6 +302,13 @@ void XdmfWriter::create_file(const OutputMesh& mesh) {
                                                mesh.element_kinematic, h5));
   if (!body_names_.empty())
     throw_if_failed_anywhere(comm_, write_strings(file_.get(), "/mesh/body_names", body_names_, h5));
+  if (!body_grids_.empty()) {
+    Hdf5Handle group(H5Gopen2(file_.get(), "/mesh", H5P_DEFAULT), H5Gclose);
+    write_grid_cells(group.get(), "/mesh",
+                     {{"rank", H5T_STD_I32LE, H5T_NATIVE_INT, owner, sizeof(int)},
+                      {"body", H5T_STD_I32LE, H5T_NATIVE_INT, mesh.element_body, sizeof(int)},
+                      {"kinematic", H5T_STD_I32LE, H5T_NATIVE_INT, mesh.element_kinematic, sizeof(int)}});
+  }
   for (std::size_t j = 0; j < obstacles_.size(); ++j) throw_if_failed_anywhere(comm_, write_obstacle(j));
   if (!mesh.selections.empty()) {
     Hdf5Handle g(H5Gcreate2(file_.get(), "/mesh/sets", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
@@ -365,6 +453,9 @@ void XdmfWriter::write_step(const StepFields& f) {
   if (friction_force_) node_field("friction_force", f.friction_force);
   throw_if_failed_anywhere(comm_, write_rows(group.get(), "volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, cells,
                                              f.volume_ratio, h5));
+  if (!body_grids_.empty())
+    write_grid_cells(group.get(), step, {{"volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, f.volume_ratio,
+                                          sizeof(double)}});
   if (moving > 0) {
     Hdf5Handle obstacles(H5Gcreate2(group.get(), "obstacles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!obstacles.valid()) error = hdf5_failure("cannot create group " + step + "/obstacles", h5);
@@ -402,6 +493,7 @@ void XdmfWriter::write_xdmf_on_rank0() const {
     layout.contact_force = contact_force_;
     layout.friction_force = friction_force_;
     layout.body_names = body_names_;
+    layout.body_grids = body_grids_;
     for (const OutputObstacle& o : obstacles_)
       layout.obstacles.push_back({o.name, o.nodes_per_cell, static_cast<std::int64_t>(o.rest.size() / 3),
                                   static_cast<std::int64_t>(o.cells.size() / o.nodes_per_cell), o.moving});

@@ -6,6 +6,10 @@
 //   /mesh/rank, /mesh/body   E int32        owning rank, body id
 //   /mesh/body_names         B strings      body id -> the scene's body name
 //   /mesh/kinematic          E int32        1 in kinematic bodies (only when the scene has one)
+//   /mesh/grids/<g>/rank, body, kinematic   the rows of bodies' grid g (scenes with kinematic
+//                            bodies: each kinematic body is a grid, the other bodies runs of
+//                            consecutive rows; grid g's name is in the .xmf), for readers that
+//                            cannot select rows (ParaView's XDMF 3 reader)
 //   /obstacles/<j>           contact obstacles (planes, then triangle meshes), attributes
 //                            "name" and "kind" ("plane" | "triangle_mesh"):
 //     coordinates  V x 3 double, topology  C x 4 (plane patch) or C x 3 int64,
@@ -15,6 +19,7 @@
 //   /steps/<k>/displacement  N x 3 double
 //   /steps/<k>/velocity      N x 3 double
 //   /steps/<k>/volume_ratio  E double       min det F over the element's quadrature points
+//   /steps/<k>/grids/<g>/volume_ratio      its rows of bodies' grid g, as /mesh/grids
 //   /steps/<k>/contact_force, friction_force  N x 3 double (contact / friction scenes only)
 //   /steps/<k>/obstacles/<j>/displacement     V x 3 double (moving obstacles)
 // Rows follow the numbering the caller gives: rank r writes its block of nodes and of elements
@@ -29,6 +34,7 @@
 #include <vector>
 
 #include "io/hdf5_handle.hpp"
+#include "io/xdmf_text.hpp"
 
 namespace dipc {
 
@@ -115,6 +121,13 @@ class XdmfWriter {
   std::string write_strings(hid_t parent, const std::string& path, const std::vector<std::string>& texts,
                             const std::string& h5) const;
   std::string write_obstacle(std::size_t j) const;
+  struct CellField {
+    const char* name;
+    hid_t file_type, memory_type;
+    const void* data;  // this rank's element block
+    std::size_t bytes;  // per row
+  };
+  void write_grid_cells(hid_t parent, const std::string& parent_path, const std::vector<CellField>& fields) const;
 
   MPI_Comm comm_;
   int rank_ = 0;
@@ -124,6 +137,7 @@ class XdmfWriter {
   bool kinematic_, contact_force_, friction_force_;
   std::vector<std::string> body_names_, contact_pair_kinds_;
   std::vector<OutputObstacle> obstacles_;
+  std::vector<XdmfCellRange> body_grids_;  // empty: one grid of all bodies
   Hdf5Handle file_;
   std::vector<double> step_times_;
 };

@@ -251,6 +251,10 @@ void check_xdmf_against_h5(const std::string& xmf_path, const std::string& h5_na
   EXPECT_EQ(items, items_per_step * static_cast<int>(times.size()));  // default: topology, geometry, 5 attributes
 }
 
+bool text_has_grid(const std::string& xmf_path, const std::string& name) {
+  return read_text(xmf_path).find("<Grid Name=\"" + name + "\" GridType=\"Uniform\">") != std::string::npos;
+}
+
 TEST_F(OutputTest, WritesMeshAndStepsCollectively) {
   const ColumnPart part(comm_rank(), comm_size());
   const std::string out_dir = dir_ + "/nested/out";  // created by the writer (mkdir -p)
@@ -328,8 +332,12 @@ TEST_F(OutputTest, WritesContactFieldsAndObstacleGrids) {
     EXPECT_THROW(writer.write_step(missing), std::runtime_error);
   }
   if (comm_rank() != 0) return;
-  // bodies: topology, geometry, 2 node + 2 force + 4 cell attributes; quad and triangles: 3 each.
-  check_xdmf_against_h5(xmf, "fields.h5", h5, {0.0, 0.5}, 10 + 3 + 3, 3);
+  // Bodies e % 2 are runs of rows only on one rank (2 elements): there the kinematic body is its
+  // own grid; with more elements they interleave and the mesh stays one grid.
+  const int body_grids = part.global_elements == 2 ? 2 : 1;
+  // A bodies' grid: topology, geometry, 2 node + 2 force + 4 cell attributes; quad and triangles: 3 each.
+  check_xdmf_against_h5(xmf, "fields.h5", h5, {0.0, 0.5}, 10 * body_grids + 3 + 3, body_grids + 2);
+  EXPECT_EQ(text_has_grid(xmf, "bodies"), body_grids == 1);
   const std::string text = read_text(xmf);
   EXPECT_NE(text.find("CollectionType=\"Spatial\""), std::string::npos);
   EXPECT_NE(text.find("Value=\"lower, upper &amp; &lt;top&gt;\""), std::string::npos);
@@ -380,6 +388,70 @@ TEST_F(OutputTest, WritesContactFieldsAndObstacleGrids) {
   const auto ramp = read_dataset<std::int64_t>(file, "/obstacles/1/topology", H5T_NATIVE_INT64);
   EXPECT_EQ(ramp.dims, dims({2, 3}));
   EXPECT_EQ(ramp.values, (std::vector<std::int64_t>{0, 1, 2, 0, 2, 3}));
+  H5Fclose(file);
+}
+
+// Kinematic bodies become their own grids: each kinematic body one grid, the other bodies runs
+// of consecutive rows, every grid a HyperSlab of the mesh's cell datasets. Elements 0..4 (5 on
+// 2 ranks, 2 on 1) belong to bodies A, K (kinematic), B, B, C: 2 ranks give A, K and "B..C".
+// (WritesContactFieldsAndObstacleGrids covers interleaved bodies: one grid, as without.)
+TEST_F(OutputTest, KinematicBodiesAreTheirOwnGrids) {
+  const ColumnPart part(comm_rank(), comm_size());
+  OutputMesh mesh = part.output_mesh();
+  const int body_of[] = {0, 1, 2, 2, 3};
+  std::vector<int> body, kinematic;
+  for (std::int64_t e = part.element_offset; e < part.element_offset + part.elements(); ++e) {
+    body.push_back(body_of[e]);
+    kinematic.push_back(body_of[e] == 1 ? 1 : 0);
+  }
+  mesh.element_body = body.data();
+  mesh.element_kinematic = kinematic.data();
+  mesh.body_names = {"A", "K", "B", "C"};
+  std::string h5, xmf;
+  {
+    XdmfWriter writer(dir_, "kinematic", mesh);
+    h5 = writer.h5_path();
+    xmf = writer.xdmf_path();
+    part.write_step(writer, 0, 0.5);
+  }
+  if (comm_rank() != 0) return;
+  const std::string text = read_text(xmf);
+  const bool two = part.global_elements == 5;
+  const std::vector<std::string> names = two ? std::vector<std::string>{"A", "K", "B..C"} : std::vector<std::string>{"A", "K"};
+  // Per grid: topology (a HyperSlab of one dataset), geometry, 2 node and 4 cell attributes.
+  check_xdmf_against_h5(xmf, "kinematic.h5", h5, {0.5}, 8 * static_cast<int>(names.size()),
+                        static_cast<int>(names.size()));
+  std::size_t at = 0;
+  for (const std::string& name : names) {
+    at = text.find("<Grid Name=\"" + name + "\" GridType=\"Uniform\">", at);
+    EXPECT_NE(at, std::string::npos) << name << " missing or out of order:\n" << text;
+  }
+  EXPECT_NE(text.find("<Grid Name=\"step_0\" GridType=\"Collection\" CollectionType=\"Spatial\">"), std::string::npos);
+  // K is row 1 of the cells: its topology selects that row, its cell fields are its own rows.
+  EXPECT_NE(text.find("<DataItem Dimensions=\"3 2\" Format=\"XML\">1 0 1 1 1 8</DataItem>"), std::string::npos) << text;
+  EXPECT_NE(text.find("Dimensions=\"1\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">kinematic.h5:/mesh/grids/1/body<"),
+            std::string::npos) << text;
+  if (two) {
+    EXPECT_NE(text.find(">2 0 1 1 3 8</DataItem>"), std::string::npos) << text;
+  }
+  // Each grid's rows of the cell fields equal the whole mesh's rows.
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const auto all_bodies = read_dataset<int>(file, "/mesh/body", H5T_NATIVE_INT);
+  const auto all_ratios = read_dataset<double>(file, "/steps/0/volume_ratio", H5T_NATIVE_DOUBLE);
+  const std::vector<std::pair<std::int64_t, std::int64_t>> rows = {{0, 1}, {1, 1}, {2, 3}};
+  for (std::size_t g = 0; g < names.size(); ++g) {
+    const std::string grid = "/grids/" + std::to_string(g);
+    const auto body = read_dataset<int>(file, "/mesh" + grid + "/body", H5T_NATIVE_INT);
+    const auto flag = read_dataset<int>(file, "/mesh" + grid + "/kinematic", H5T_NATIVE_INT);
+    const auto ratio = read_dataset<double>(file, "/steps/0" + grid + "/volume_ratio", H5T_NATIVE_DOUBLE);
+    ASSERT_EQ(body.values.size(), static_cast<std::size_t>(rows[g].second)) << names[g];
+    for (std::int64_t r = 0; r < rows[g].second; ++r) {
+      EXPECT_EQ(body.values[r], all_bodies.values[rows[g].first + r]) << names[g];
+      EXPECT_EQ(flag.values[r], all_bodies.values[rows[g].first + r] == 1 ? 1 : 0) << names[g];
+      EXPECT_EQ(ratio.values[r], all_ratios.values[rows[g].first + r]) << names[g];
+    }
+  }
   H5Fclose(file);
 }
 

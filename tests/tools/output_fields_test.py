@@ -19,7 +19,7 @@
 4. contact and friction forces are the same on 1 and 2 ranks (to the rank-invariance tolerance);
 5. without contact, no contact field, count or obstacle grid is written;
 6. a scene with a plane, a moving OBJ obstacle and a kinematic body: body names, the kinematic
-   flag, the reaction on the kinematic body's prescribed nodes (contact forces between bodies
+   body as its own grid (a HyperSlab of the mesh's cells) and flag, the reaction on the kinematic body's prescribed nodes (contact forces between bodies
    cancel), the obstacles' grids (the plane's patch lies in the plane and covers the scene's box;
    the obstacle's displacement is its prescribed motion); a run stopped after a checkpoint and
    restarted on the other rank count has the uninterrupted run's fields and obstacle data.
@@ -71,7 +71,20 @@ NUMBER_TYPES = {("Float", "8"): ("f", 8), ("Int", "8"): ("i", 8), ("Int", "4"): 
 
 
 def check_data_item(item, h5, h5_name, what):
-    """The HDF dataset an XDMF DataItem names: it exists with the stated dimensions and type."""
+    """The array an XDMF DataItem stands for: an HDF dataset of the .h5 beside the .xmf with the
+    stated dimensions and type, or a HyperSlab (start, stride and count per dimension) of one."""
+    if item.get("ItemType") == "HyperSlab":
+        selection, source = item.findall("DataItem")
+        assert selection.get("Format") == "XML", what + ": HyperSlab selection is not XML"
+        rank = int(selection.get("Dimensions").split()[1])
+        numbers = [int(v) for v in selection.text.split()]
+        start, stride, count = numbers[:rank], numbers[rank:2 * rank], numbers[2 * rank:]
+        whole = check_data_item(source, h5, h5_name, what)
+        assert whole.ndim == rank, what + ": HyperSlab rank"
+        assert tuple(count) == tuple(int(d) for d in item.get("Dimensions").split()), what + ": HyperSlab count"
+        assert all(s >= 0 and t >= 1 and c >= 1 and s + (c - 1) * t < n
+                   for s, t, c, n in zip(start, stride, count, whole.shape)), what + ": HyperSlab outside its dataset"
+        return whole[tuple(slice(s, s + c * t, t) for s, t, c in zip(start, stride, count))]
     assert item.get("Format") == "HDF", what + ": not an HDF DataItem"
     file_name, _, path = item.text.strip().partition(":")
     assert file_name == h5_name, "%s: refers to %s, not %s" % (what, file_name, h5_name)
@@ -82,7 +95,7 @@ def check_data_item(item, h5, h5_name, what):
     kind, size = NUMBER_TYPES[(item.get("NumberType"), item.get("Precision"))]
     assert dataset.dtype.kind == kind and dataset.dtype.itemsize == size, \
         "%s: %s is %s, the .xmf states %s%d" % (what, path, dataset.dtype, kind, size)
-    return dataset
+    return dataset[...]
 
 
 def check_uniform_grid(grid, h5, h5_name, step_name):
@@ -97,7 +110,7 @@ def check_uniform_grid(grid, h5, h5_name, step_name):
     assert geometry.get("GeometryType") == "XYZ" and points.shape[1] == 3
     ids = cells[...]
     assert ids.min() >= 0 and ids.max() < points.shape[0], what + ": topology names nodes that do not exist"
-    names = set()
+    names, body = set(), None
     for attribute in grid.findall("Attribute"):
         name = attribute.get("Name")
         assert name not in names, what + ": attribute %s twice" % name
@@ -107,17 +120,20 @@ def check_uniform_grid(grid, h5, h5_name, step_name):
         assert data.shape[0] == rows, "%s: attribute %s has %d rows for %d" % (what, name, data.shape[0], rows)
         columns = 3 if attribute.get("AttributeType") == "Vector" else 1
         assert (data.shape[1] if data.ndim == 2 else 1) == columns, what + ": attribute %s columns" % name
-    return names
+        if name == "body":
+            body = data
+    return names, body
 
 
-def check_xdmf(out):
-    """Parses out/dipc.xmf; returns, per step, the grids' names and their attributes."""
+def check_xdmf(out, with_bodies=False):
+    """Parses out/dipc.xmf; returns, per step, the grids' names and their attributes (and, with
+    with_bodies, per step each bodies' grid's cell field "body")."""
     xmf, h5_path = os.path.join(out, "dipc.xmf"), os.path.join(out, "dipc.h5")
     root = ET.parse(xmf).getroot()
     assert root.tag == "Xdmf"
     series = root.find("Domain/Grid")
     assert series.get("GridType") == "Collection" and series.get("CollectionType") == "Temporal"
-    steps = []
+    steps, bodies = [], []
     with h5py.File(h5_path, "r") as h5:
         for k, step in enumerate(series.findall("Grid")):
             time = float(step.find("Time").get("Value"))
@@ -127,9 +143,14 @@ def check_xdmf(out):
             else:
                 assert step.get("GridType") == "Collection" and step.get("CollectionType") == "Spatial"
                 grids = step.findall("Grid")
-            steps.append({g.get("Name"): check_uniform_grid(g, h5, "dipc.h5", step.get("Name")) for g in grids})
+            checked = {g.get("Name"): check_uniform_grid(g, h5, "dipc.h5", step.get("Name")) for g in grids}
+            hexahedra = [g for g in grids if g.find("Topology").get("TopologyType") == "Hexahedron"]
+            assert sum(int(g.find("Topology").get("NumberOfElements")) for g in hexahedra) == len(h5["mesh/topology"]), \
+                "step %d: the bodies' grids do not hold every element once" % k
+            steps.append({name: names for name, (names, _) in checked.items()})
+            bodies.append({name: body for name, (_, body) in checked.items() if body is not None})
         assert len(steps) == len(h5["steps"]), "the .xmf lists %d steps, the .h5 holds %d" % (len(steps), len(h5["steps"]))
-    return steps
+    return (steps, bodies) if with_bodies else steps
 
 
 def stats(out):
@@ -245,9 +266,12 @@ def scene_features(args, work):
     run(args, scene, 2, restarted, ["-dipc_steps", "4", "-dipc_checkpoint_every", "4"])
     run(args, scene, 1, restarted, ["-dipc_restart", "auto"])
     for out in (whole, restarted):
-        grids = check_xdmf(out)
-        assert list(grids[0]) == ["bodies", "plane0", "lift"], list(grids[0])
-        assert {"contact_force", "friction_force", "kinematic", "body"} <= grids[-1]["bodies"]
+        # The kinematic pusher is its own grid (ParaView block), next to the box and the obstacles.
+        grids, bodies = check_xdmf(out, with_bodies=True)
+        assert list(grids[0]) == ["box", "pusher", "plane0", "lift"], list(grids[0])
+        for name in ("box", "pusher"):
+            assert {"contact_force", "friction_force", "kinematic", "body"} <= grids[-1][name]
+        assert (bodies[-1]["box"] == 0).all() and (bodies[-1]["pusher"] == 1).all(), "a grid holds another body's cells"
     with h5py.File(os.path.join(whole, "dipc.h5"), "r") as a, h5py.File(os.path.join(restarted, "dipc.h5"), "r") as b:
         assert [n.decode() for n in a["mesh/body_names"][...]] == ["box", "pusher"]
         kinematic, body = a["mesh/kinematic"][...], a["mesh/body"][...]
