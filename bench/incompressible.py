@@ -153,6 +153,9 @@ def main():
     ap.add_argument("--out", default="bench/results")
     ap.add_argument("--csv-name", default="incompressible.csv")
     ap.add_argument("--timeout", type=float, default=300)
+    ap.add_argument("--resolution", type=int, default=0,
+                    help="hexes per edge of the cube (0: the scene's, drop 10, squeeze 8); for a mesh study, "
+                         "best with its own --csv-name")
     ap.add_argument("--steps", type=int, default=0,
                     help="run only the first N steps (-dipc_steps N; 0: the scene's); for quick screening, "
                          "best with its own --csv-name")
@@ -160,13 +163,15 @@ def main():
     a = ap.parse_args()
     csv_path = os.path.join(a.out, a.csv_name)
     fields = ["scene", "ranks", "volumetric", "pc", "nu", "steps", "newton_its", "ksp_its", "wall_s", "status", "options"]
+    if a.resolution:
+        fields.insert(5, "resolution")
     if not a.plot_only:
         os.makedirs(a.out, exist_ok=True)
         old = []
         if os.path.exists(csv_path):
             with open(csv_path) as f:
                 old = [dict(r, volumetric=r.get("volumetric") or "gauss_points") for r in csv.DictReader(f)]
-        key = lambda r: (r["scene"], str(r["ranks"]), r["volumetric"], r["pc"], r["nu"])
+        key = lambda r: (r["scene"], str(r["ranks"]), r["volumetric"], r["pc"], r["nu"], str(r.get("resolution", "")))
         rows = []
         tmp_dir = tempfile.TemporaryDirectory()
         tmp = tmp_dir.name
@@ -178,7 +183,11 @@ def main():
                     for nu in a.nu.split(","):
                         path = os.path.join(tmp, f"{scene}_{vol}_{nu}.json")
                         with open(path, "w") as s:
-                            s.write(SCENES[scene].replace("NU", nu).replace("VOL", vol))
+                            text = SCENES[scene].replace("NU", nu).replace("VOL", vol)
+                            if a.resolution:
+                                text = re.sub(r'"resolution": \[\d+, \d+, \d+\]',
+                                              '"resolution": [%d, %d, %d]' % ((a.resolution,) * 3), text)
+                            s.write(text)
                         for ranks in [int(r) for r in a.ranks.split(",")]:
                             for pc in a.pcs.split(","):
                                 if pc in NEEDS_MEAN_DILATATION and vol != "mean_dilatation":
@@ -188,6 +197,8 @@ def main():
                                 r = dict(scene=scene, ranks=ranks, volumetric=vol, pc=pc, nu=nu, steps=steps,
                                          newton_its=newton, ksp_its=ksp, wall_s=wall, status=status,
                                          options=" ".join(extra))
+                                if a.resolution:
+                                    r["resolution"] = a.resolution
                                 print(f"{scene:8s} np{ranks} {vol:15s} {pc:15s} nu={nu:7s} steps {steps:3d} "
                                       f"newton {newton:4d} ksp {ksp:6d} wall {wall:7.2f} {status}", flush=True)
                                 w.writerow(r)
