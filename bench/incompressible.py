@@ -133,7 +133,7 @@ def plot(rows, path):
         ax.invert_xaxis()
         ax.set_yscale("log")
         ax.set_xlabel("0.5 - nu")
-        ax.set_ylabel("Krylov iterations, CG or MINRES (sum over the steps)")
+        ax.set_ylabel("Krylov iterations, CG, MINRES or FGMRES (sum over the steps)")
         ax.set_title(f"{scene}, {ranks} rank{'s' if ranks > 1 else ''}")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
