@@ -95,8 +95,9 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   if (upper) {
     // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
     // linear operator. Restart 100: the measured scenes averaged 5 to 72 iterations per solve
-    // (bench/incompressible.py), so most run unrestarted; FGMRES keeps 2 x 100 vectors of the (u, s) size (4 values per node and 1 per
-    // element each), which matters only for millions of elements on one rank.
+    // (bench/incompressible.py), so most run unrestarted; FGMRES keeps 2 x 100 vectors of the
+    // (u, s) size (3 values per node and 1 per element each), which matters only for millions of
+    // elements on one rank.
     PetscCall(KSPSetType(ksp_, KSPFGMRES));
     PetscCall(KSPGMRESSetRestart(ksp_, 100));
   } else {
