@@ -31,7 +31,7 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
                              "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur_fact",
                              "Block preconditioner of the mixed solve: diag (block diagonal, MINRES) or upper "
-                             "(block upper triangular, GMRES)",
+                             "(block upper triangular, FGMRES)",
                              "MixedLinearSolve", fact_names, fact_choice, &fact_choice, nullptr));
   PetscOptionsEnd();
   if (options) {
@@ -76,8 +76,8 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   PetscCall(KSPCreate(comm_, &ksp_));
   if (options_.schur == SchurApproximation::selfp) {
     // One BoomerAMG V-cycle by default; the -dipc_mixed_s_ prefix reaches this KSP and its PC
-    // (e.g. -dipc_mixed_s_pc_hypre_boomeramg_max_iter 3). GMRES and MINRES need a fixed linear
-    // preconditioner, so an inner Krylov solve (-dipc_mixed_s_ksp_type cg) is refused.
+    // (e.g. -dipc_mixed_s_ksp_type cg -dipc_mixed_s_ksp_rtol 1e-2 for an inner solve, which
+    // only FGMRES, the upper factorization, tolerates: MINRES needs a fixed linear operator).
     PetscCall(KSPCreate(comm_, &ksp_s_));
     PetscCall(KSPSetOptionsPrefix(ksp_s_, "dipc_mixed_s_"));
     PetscCall(KSPSetType(ksp_s_, KSPPREONLY));
@@ -87,28 +87,29 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
     PetscCall(KSPSetFromOptions(ksp_s_));
     PetscBool fixed;
     PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp_s_), &fixed, KSPPREONLY, KSPRICHARDSON, ""));
-    PetscCheck(fixed, comm_, PETSC_ERR_USER_INPUT,
-               "a Krylov solve of the s block (-dipc_mixed_s_ksp_type) is not available: the mixed solve's GMRES "
-               "and MINRES need a fixed linear preconditioner (preonly or richardson)");
+    PetscCheck(fixed || options_.factorization == SchurFactorization::upper, comm_, PETSC_ERR_USER_INPUT,
+               "a Krylov solve of the s block (-dipc_mixed_s_ksp_type) needs -dipc_mixed_schur_fact upper "
+               "(FGMRES); MINRES (diag) needs a fixed linear preconditioner: preonly or richardson");
   }
   const bool upper = options_.factorization == SchurFactorization::upper;
   if (upper) {
-    // GMRES preconditioned on the left, so that it stops, as MINRES and the primal CG do, on the
-    // preconditioned residual |P⁻¹ (b - K x)|, which follows the error of du. FGMRES (right
-    // preconditioning) stops on the unpreconditioned residual instead, which at -ksp_rtol 1e-4
-    // let Newton stop early on soft modes: a static beam at nu = 0.4999 (bench/locking.py's
-    // 10x1x1) ended 0.65 % short of its deflection, against 0.005 % for MINRES and CG.
-    // Restart 100: the measured scenes averaged 5 to 72 iterations per solve
-    // (bench/incompressible.py), so most run unrestarted; GMRES keeps 100 vectors of the (u, s)
-    // size (3 values per node and 1 per element each), which matters only for millions of
+    // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
+    // linear operator. Restart 100: the measured scenes averaged 5 to 80 iterations per solve
+    // (bench/incompressible.py), so most run unrestarted; FGMRES keeps 2 x 100 vectors of the
+    // (u, s) size (3 values per node and 1 per element each), which matters only for millions of
     // elements on one rank.
-    PetscCall(KSPSetType(ksp_, KSPGMRES));
-    PetscCall(KSPSetPCSide(ksp_, PC_LEFT));
+    PetscCall(KSPSetType(ksp_, KSPFGMRES));
     PetscCall(KSPGMRESSetRestart(ksp_, 100));
   } else {
     PetscCall(KSPSetType(ksp_, KSPMINRES));
   }
-  PetscCall(KSPSetTolerances(ksp_, rtol_, atol_, PETSC_DEFAULT, max_it_));
+  // FGMRES stops on the unpreconditioned residual, MINRES and the primal CG on a preconditioned
+  // one, which follows the error of du on the soft modes far better: at the preset's -ksp_rtol
+  // 1e-4, FGMRES let Newton stop early on a static nu = 0.4999 beam (bench/locking.py's 10x1x1,
+  // 0.65 % short of the deflection; 2.5e-5 at rtol x 0.1, 2e-6 at x 0.01, CG 4e-6), hence
+  // kUnpreconditionedRtolFactor. GMRES preconditioned on the left instead stalled Newton on `drop`
+  // at nu = 0.4999 (its preconditioned residual weighs the two blocks by Ŝ and AMG(A)).
+  PetscCall(KSPSetTolerances(ksp_, upper ? rtol_ * kUnpreconditionedRtolFactor : rtol_, atol_, PETSC_DEFAULT, max_it_));
   PC pc;
   PetscCall(KSPGetPC(ksp_, &pc));
   PetscCall(PCSetType(pc, PCSHELL));

@@ -13,7 +13,7 @@
 // whose Schur complement on du is A + Bsᵀ Bs = H, so du is H⁻¹ r exactly. This is the usual
 // mixed form K = [[A, Bᵀ], [B, -D⁻¹]] with the element pressure q = D B du rescaled to
 // s = D^{-1/2} q, which keeps it finite where d_e = 0 (nu = 0, or f'' < 0 projected to 0).
-// It is solved by GMRES with the block upper-triangular preconditioner (on the left)
+// It is solved by FGMRES with the block upper-triangular preconditioner
 //
 //   P = [[ AMG(A), Bsᵀ ], [ 0, -Ŝ ]],   Ŝ = I + Bs diag(A)⁻¹ Bsᵀ (one BoomerAMG V-cycle),
 //
@@ -46,22 +46,27 @@ namespace dipc {
 // How the s block is preconditioned (Ŝ ≈ S = I + Bs A⁻¹ Bsᵀ, the Schur complement up to sign):
 //  - selfp (default): one BoomerAMG V-cycle on I + Bs diag(A)⁻¹ Bsᵀ (PCFIELDSPLIT's "selfp"
 //    Schur approximation in the rescaled variable), which sees the element-to-element coupling
-//    that a diagonal misses; its solver takes options with the prefix -dipc_mixed_s_ (a fixed
-//    linear one: preonly or richardson);
+//    that a diagonal misses; its solver takes options with the prefix -dipc_mixed_s_;
 //  - mass: the diagonal I + D W, W = diag(V_e / (h² mu_e)), the pressure mass matrix over the
 //    shear modulus: spectrally equivalent to Bs A⁻¹ Bsᵀ (times D) for an inf-sup stable pair only.
 enum class SchurApproximation { mass, selfp };
 
 // How the two blocks are combined (PCFIELDSPLIT's -pc_fieldsplit_schur_fact_type):
 //  - diag: P = diag(AMG(A), Ŝ), symmetric positive definite, with MINRES;
-//  - upper (default): P = [[AMG(A), Bsᵀ], [0, -Ŝ]], block upper triangular, with GMRES
-//    preconditioned on the left (so it stops on the preconditioned residual, as MINRES does).
+//  - upper (default): P = [[AMG(A), Bsᵀ], [0, -Ŝ]], block upper triangular, with FGMRES
+//    preconditioned on the right (so its residual is the unpreconditioned one, solved to
+//    -ksp_rtol x kUnpreconditionedRtolFactor).
 enum class SchurFactorization { diag, upper };
 
 struct MixedSolveOptions {
   SchurApproximation schur = SchurApproximation::selfp;
   SchurFactorization factorization = SchurFactorization::upper;
 };
+
+// FGMRES (the upper factorization) solves to -ksp_rtol times this: it stops on the
+// unpreconditioned residual, which needs a smaller tolerance than CG's and MINRES's
+// preconditioned one for the same accuracy of du (mixed_linear_solve.cpp, setup).
+constexpr double kUnpreconditionedRtolFactor = 0.01;
 
 // The mixed solve is the default from this lambda / mu on (the largest over the mean-dilatation
 // elements). Below it CG + AMG on the full Hessian took fewer Krylov iterations than MINRES on

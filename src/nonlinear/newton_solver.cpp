@@ -270,7 +270,7 @@ PetscErrorCode NewtonSolver::mixed_setup(PC pc) {
   PetscFunctionReturn(0);
 }
 
-// One Newton system: du = H⁻¹ r through the mixed system. A Krylov solve (GMRES or MINRES) that
+// One Newton system: du = H⁻¹ r through the mixed system. A Krylov solve (FGMRES or MINRES) that
 // stops short fails the linear solve (KSPPREONLY reports the PC failure to SNES).
 PetscErrorCode NewtonSolver::mixed_apply(PC pc, Vec r, Vec du) {
   PetscFunctionBeginUser;

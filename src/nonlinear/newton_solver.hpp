@@ -13,7 +13,7 @@
 //    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp);
 //  - with mean-dilatation elements (unless -dipc_mixed_solve 0) the forms keep the volumetric
 //    rank-one terms out of the assembled matrix A, and each Newton system H du = -g is solved as
-//    the mixed u-p system of mixed_linear_solve.hpp (GMRES or MINRES). SNES then sees H as a
+//    the mixed u-p system of mixed_linear_solve.hpp (FGMRES or MINRES). SNES then sees H as a
 //    shell operator (A + Bsᵀ Bs), A as the preconditioning matrix, and a KSPPREONLY whose PCSHELL
 //    runs that solve; the report counts its Krylov iterations as the linear iterations;
 //    -dipc_pc_reuse does not apply to it.

@@ -95,9 +95,10 @@ TEST(RankInvariance, MeanDilatationBeamMatchesOneRank) {
 // The mixed solve at the default preset's loose tolerances (-ksp_rtol 1e-4, velocity_tol_rel
 // 1e-5) must end Newton where CG on the full Hessian does: a static clamped beam of nearly
 // incompressible mean-dilatation elements (bench/locking.py's 10x1x1 at nu = 0.4999), whose
-// bending modes are soft. A Krylov method that stops on the unpreconditioned residual (FGMRES)
-// ended 0.65 % short of the deflection here; GMRES preconditioned on the left, MINRES and CG
-// agree to about 1e-5. Run on every rank of the test's communicator.
+// bending modes are soft. FGMRES, which stops on the unpreconditioned residual, ended 0.65 %
+// short of the deflection here (1 rank; the step failed on 2) when it was given -ksp_rtol as
+// it is; at -ksp_rtol x kUnpreconditionedRtolFactor (0.01), MINRES and CG agree to about 1e-5.
+// Run on every rank of the test's communicator.
 double static_beam_tip(const char* mixed_solve) {
   const Scene scene = parse_scene_text(R"({
     "materials": [{"name": "m", "E": 1e8, "nu": 0.4999, "rho": 1000, "volumetric": "mean_dilatation"}],
