@@ -106,7 +106,7 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   // FGMRES stops on the unpreconditioned residual, MINRES and the primal CG on a preconditioned
   // one, which follows the error of du on the soft modes far better: at the preset's -ksp_rtol
   // 1e-4, FGMRES let Newton stop early on a static nu = 0.4999 beam (bench/locking.py's 10x1x1,
-  // 0.65 % short of the deflection; 2.5e-5 at rtol x 0.1, 2e-6 at x 0.01, CG 4e-6), hence
+  // 0.65 % short of the deflection; 2.6e-5 at rtol x 0.1, 6e-6 at x 0.01, CG 7e-6), hence
   // kUnpreconditionedRtolFactor. GMRES preconditioned on the left instead stalled Newton on `drop`
   // at nu = 0.4999 (its preconditioned residual weighs the two blocks by Ŝ and AMG(A)).
   PetscCall(KSPSetTolerances(ksp_, upper ? rtol_ * kUnpreconditionedRtolFactor : rtol_, atol_, PETSC_DEFAULT, max_it_));
