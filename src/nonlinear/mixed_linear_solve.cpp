@@ -94,10 +94,10 @@ PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const Volumetr
   const bool upper = options_.factorization == SchurFactorization::upper;
   if (upper) {
     // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
-    // linear operator. Restart 100: the measured scenes averaged 5 to 80 iterations per solve
-    // (bench/incompressible.py), so most run unrestarted; FGMRES keeps 2 x 100 vectors of the
-    // (u, s) size (3 values per node and 1 per element each), which matters only for millions of
-    // elements on one rank.
+    // linear operator. Restart 100: the measured scenes averaged 5 to 110 iterations per solve
+    // (bench/incompressible.py; 110 on 8000 hexes), so most run unrestarted; FGMRES keeps
+    // 2 x 100 vectors of the (u, s) size (3 values per node and 1 per element each), which
+    // matters only for millions of elements on one rank.
     PetscCall(KSPSetType(ksp_, KSPFGMRES));
     PetscCall(KSPGMRESSetRestart(ksp_, 100));
   } else {
