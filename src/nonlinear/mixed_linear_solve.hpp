@@ -24,7 +24,9 @@
 // is not, and the older default diag(AMG(A), I + D W) with MINRES needed iterations that grew
 // with lambda; Bs diag(A)⁻¹ Bsᵀ vanishes on those modes as Bs A⁻¹ Bsᵀ does. What it misses is
 // on smooth pressures (about (h k)² too small, k the wave number, where stiffness outweighs
-// inertia): a mesh-dependent but lambda-independent factor, so a milder growth remains.
+// inertia): a mesh-dependent but lambda-independent factor, so a milder growth with lambda
+// remains, and a growth with mesh refinement that lets CG on H catch up from a few thousand
+// hexes on (measured in docs/performance.md).
 // The triangular form needs about half the iterations of the block diagonal one (with exact
 // blocks K P⁻¹ has the single eigenvalue 1 and a minimal polynomial of degree 2; Elman,
 // Silvester & Wathen, "Finite Elements and Fast Iterative Solvers", 2nd ed., sec. 9.2).
