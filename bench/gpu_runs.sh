@@ -17,6 +17,9 @@
 #   bench/gpu_runs.sh reuse        the same, 10 steps, AMG reuse (-dipc_pc_reuse) and looser CG (CUDA PETSc build)
 #   bench/gpu_runs.sh presets      the same, 10 steps, each -dipc_preset and the built-in values before presets
 #                                  (CUDA PETSc build; AMG_SIZES as for amgsweep)
+#   bench/gpu_runs.sh strong       CPU strong scaling of whole steps on 1, 2, 4, 8, 16 ranks (STRONG_RANKS), 64,000
+#                                  and 512,000 elements (STRONG_SIZES), with STRONG_THREADS OpenMP threads per rank
+#                                  (default 1, dipc's setting; the cores' count is what the libraries take unset)
 #   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
 #                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
 #                                  300000; AMG_VARIANTS picks variants by name)
@@ -76,6 +79,15 @@ case "${1:-}" in
       run mpirun -n 1 "$bin/bench_step_breakdown" -elements 500,1000,2500,5000,20000 -steps 2 -dipc_backend $be \
         -csv "$out/crossover_$be.csv" | tail -6
     done ;;
+  strong)
+    threads=${STRONG_THREADS:-1}
+    csvs=()
+    for r in ${STRONG_RANKS:-1 2 4 8 16}; do
+      csvs+=("$out/strong_t${threads}_r$r.csv")
+      OMP_NUM_THREADS=$threads run mpirun -n $r -x OMP_NUM_THREADS "$bin/bench_step_breakdown" \
+        -elements ${STRONG_SIZES:-64000,512000} -steps 2 -dipc_backend cpu -csv "$out/strong_t${threads}_r$r.csv" | tail -3
+    done
+    awk 'FNR == 1 && NR > 1 { next } { print }' "${csvs[@]}" > "$out/strong_scaling_t$threads.csv" ;;
   host16)
     for be in cpu cuda; do
       run mpirun -n 16 "$bin/bench_step_breakdown" -elements 100000,1000000 -steps 2 -dipc_backend $be \

@@ -11,6 +11,9 @@
 --breakdown, --crossover, --weak: bench_step_breakdown CSVs (several concatenated are fine):
   per-Newton-iteration phases as stacked bars per configuration; seconds per Newton iteration
   against elements per backend; per-phase time against GPU count.
+--strong: bench_step_breakdown CSVs of one size on several rank counts (bench/gpu_runs.sh
+  strong) -> speedup of each phase and of the whole step over 1 rank, one panel per size, one
+  line style per OpenMP threads-per-rank setting; also prints the speedup table.
 --broad-phase: bench_broad_phase CSV -> seconds per search against triangles, CPU and GPU.
 """
 import argparse
@@ -122,6 +125,42 @@ def plot_weak(paths, out):
     fig.savefig(os.path.join(out, "weak_scaling.png"), dpi=120)
 
 
+def plot_strong(paths, out):
+    """Speedup over one rank of each phase (seconds of the slowest rank, not per Newton iteration:
+    the rank count can change the iterations) and of the whole step loop (assembly + line search
+    + linear solve, per_step_s)."""
+    data = rows(paths)
+    sizes = sorted({int(r["elements"]) for r in data})
+    threads = sorted({r.get("threads_per_rank", "") for r in data})
+    keys = [("per_step_s", "whole step"), ("assembly_s", "assembly"), ("amg_setup_s", "AMG setup"),
+            ("ksp_solve_s", "KSP solve"), ("setup_s", "setup")]
+    fig, axes = plt.subplots(1, len(sizes), figsize=(6 * len(sizes), 4.5), squeeze=False)
+    for ax, n in zip(axes[0], sizes):
+        for t, style in zip(threads, ["-", "--", ":"]):
+            sel = sorted((r for r in data if int(r["elements"]) == n and r.get("threads_per_rank", "") == t),
+                         key=lambda r: int(r["ranks"]))
+            base = [r for r in sel if int(r["ranks"]) == 1]
+            if not base:
+                continue
+            ranks = [int(r["ranks"]) for r in sel]
+            for (key, label), marker in zip(keys, "o^sDv"):
+                speedup = [float(base[0][key]) / max(1e-12, float(r[key])) for r in sel]
+                ax.plot(ranks, speedup, marker + style, label=f"{label}, {t} thread(s)/rank")
+                print(f"{n} elements, {t} thread(s) per rank, {label}: " +
+                      ", ".join(f"{q} ranks {v:.2f}x" for q, v in zip(ranks, speedup)))
+        top = max(int(r["ranks"]) for r in data)
+        ax.plot([1, top], [1, top], "k:", lw=0.8, label="ideal")
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log", base=2)
+        ax.set_xlabel("MPI ranks")
+        ax.set_ylabel("speedup over 1 rank")
+        ax.set_title(f"CPU strong scaling, {n:,} elements", fontsize=9)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "strong_scaling.png"), dpi=120)
+
+
 def plot_broad_phase(path, out):
     data = rows([path])
     n = [int(r["triangles"]) for r in data]
@@ -137,6 +176,7 @@ def main():
     p.add_argument("--breakdown", nargs="*", default=[])
     p.add_argument("--crossover", nargs="*", default=[])
     p.add_argument("--weak", nargs="*", default=[])
+    p.add_argument("--strong", nargs="*", default=[])
     p.add_argument("--broad-phase")
     p.add_argument("--out", default=".")
     a = p.parse_args()
@@ -149,6 +189,8 @@ def main():
         plot_crossover(a.crossover, a.out)
     if a.weak:
         plot_weak(a.weak, a.out)
+    if a.strong:
+        plot_strong(a.strong, a.out)
     if a.broad_phase:
         plot_broad_phase(a.broad_phase, a.out)
 

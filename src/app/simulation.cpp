@@ -17,6 +17,7 @@
 #include "app/backend.hpp"
 #include "app/checkpoint.hpp"
 #include "app/natural_order.hpp"
+#include "app/openmp_threads.hpp"
 #include "app/option_checks.hpp"
 #include "app/output_obstacles.hpp"
 #include "app/problem_builder.hpp"
@@ -291,7 +292,8 @@ struct DeviceUse {
 
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
                             TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
-                            double dt_min, const BackendChoice& backend, const DeviceUse& device_use) {
+                            double dt_min, const BackendChoice& backend, const DeviceUse& device_use,
+                            const OpenMpThreads& threads) {
   PetscFunctionBeginUser;
   int size;
   MPI_Comm_size(comm, &size);
@@ -308,9 +310,13 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   MPI_Allreduce(&entries, &total_entries, 1, MPI_LONG_LONG, MPI_SUM, comm);
   PetscCall(PetscPrintf(comm, "dipc %s | PETSc %d.%d.%d | scene: %s\n", "0.1.0", PETSC_VERSION_MAJOR,
                         PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR, scene.source.c_str()));
-  PetscCall(PetscPrintf(comm, "  ranks %d | backend %s | elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
-                        size, backend.description.c_str(), (long long)mesh.num_global_elements, ne_min, ne_max,
-                        (long long)mesh.num_global_nodes, (int)integrator.num_dofs()));
+  const std::string per_rank_threads =
+      !threads.available ? "library default (built without OpenMP)"
+                         : std::to_string(threads.threads) + (threads.from_environment ? " (OMP_NUM_THREADS)" : "");
+  PetscCall(PetscPrintf(comm, "  ranks %d | OpenMP threads per rank %s | backend %s | elements %lld (%d..%d per rank) | "
+                        "nodes %lld | dofs %d\n",
+                        size, per_rank_threads.c_str(), backend.description.c_str(), (long long)mesh.num_global_elements,
+                        ne_min, ne_max, (long long)mesh.num_global_nodes, (int)integrator.num_dofs()));
   if (backend.space == MemorySpace::device) {
     // Measured on each rank as the drop in free device memory over the setup; the largest shown.
     double used = static_cast<double>(device_use.free_before) - static_cast<double>(device_use.free_after), max_used;
@@ -352,6 +358,8 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       for (int& r : body.box->resolution) r *= options.refine;
   const double t_start = MPI_Wtime();
   *result = RunResult{};
+  const OpenMpThreads threads = limit_openmp_threads();
+  result->openmp_threads = threads.threads;
   const LogStages& stages = log_stages();
   PetscBool device_types;
   PetscCall(default_types_for_device_hypre(&device_types));
@@ -418,7 +426,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   // nothing read is misspelt or unknown, and would otherwise be ignored.
   check_no_unknown_options(comm);
   if (options.report) {
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use));
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads));
     // The partition's quality and where the partition phase's time went (slowest rank per part).
     double parts[7] = {t_slices, distribution.match_faces, distribution.partition, distribution.quality_check,
                        distribution.elements, distribution.nodes, distribution.surface};

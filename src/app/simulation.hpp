@@ -44,6 +44,7 @@ struct RunResult {
   long long newton_iterations = 0, linear_iterations = 0;
   long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
   long long num_elements = 0, num_dofs = 0;
+  int openmp_threads = 0;           // per rank, as set for the libraries (openmp_threads.hpp; 0: unknown)
   long max_contact_pairs = 0;       // over the steps (contact runs)
   long new_matrix_patterns = 0;     // matrices made after setup because a pattern changed (contact)
   std::vector<std::string> timing_rows;  // the timing table's rows: the phases this run has
