@@ -32,6 +32,19 @@ struct ElementBlock {
   }
 };
 
+// Elements [first, first + count) of a block, as a block of their own (its node ids index the
+// same local arrays).
+inline ElementBlock element_range(const ElementBlock& block, int first, int count) {
+  ElementBlock r = block;
+  r.num_elements = count;
+  r.nodes = block.nodes + 8 * static_cast<std::int64_t>(first);
+  r.lambda = block.lambda + first;
+  r.mu = block.mu + first;
+  if (block.volumetric) r.volumetric = block.volumetric + first;
+  if (block.model) r.model = block.model + first;
+  return r;
+}
+
 // Thrown when a global dof id does not fit PETSc's 32-bit index (3*global_node + 2 > 2^31-1).
 class DofIndexOverflow : public std::overflow_error {
  public:

@@ -18,6 +18,7 @@ class ElasticForm : public Form {
     *pattern = elements_.pattern(ElementLayout::elastic);
     return true;
   }
+  bool element_hessian(const double* x, int first, int count, double* values) override;
   bool is_valid(const double* x) override;
   void set_time_step(double h) override { scale_ = h * h; }
   // True when some element is a mean-dilatation one (its rank-one volumetric term can be split).

@@ -71,6 +71,10 @@ class Form {
   // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
   // pattern must not change (pattern_may_change() false).
   virtual bool element_pattern(ElementPattern* pattern) const { return false; }
+  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
+  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
+  // of every element's values (576 per hex) exists. Returns false as value().
+  virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
   // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
   // contact). 1 for forms without such a limit.

@@ -149,14 +149,16 @@ PetscErrorCode IncrementalPotential::build_element_blocks() {
   std::vector<NodeBlockReduction::Input> inputs;
   form_begin_.assign(forms_.size(), 0);
   form_size_.assign(forms_.size(), 0);
-  element_form_.assign(forms_.size(), 0);
+  element_map_.assign(forms_.size(), -1);
+  bool all_host = true;
   std::size_t raw = 0;
   for (std::size_t f = 0; f < forms_.size(); ++f) {
     ElementPattern pattern;
     if (!forms_[f]->element_pattern(&pattern)) continue;
     PetscCheck(!forms_[f]->pattern_may_change(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
                "form %s gives node blocks but says its pattern may change", forms_[f]->name().c_str());
-    element_form_[f] = 1;
+    element_map_[f] = static_cast<int>(inputs.size());
+    all_host = all_host && forms_[f]->memory_space() == MemorySpace::host;
     form_begin_[f] = raw;
     form_size_[f] = static_cast<std::size_t>(element_values(pattern.layout)) * static_cast<std::size_t>(pattern.num_elements);
     inputs.push_back({pattern, raw});
@@ -168,6 +170,10 @@ PetscErrorCode IncrementalPotential::build_element_blocks() {
   num_element_raw_ = raw;
   try {
     blocks_ = NodeBlockReduction::build(inputs, mesh_->node_offset, mesh_->node_offset + mesh_->num_owned_nodes);
+    // A host matrix of host element forms sums their values element chunk by chunk (no array
+    // of all their raw values); the device sums them all at once, through the sources.
+    chunked_ = !inputs.empty() && all_host && !device_matrix_;
+    if (chunked_) blocks_.index_elements();
   } catch (const std::length_error& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
@@ -178,6 +184,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
   PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
+  device_matrix_ = any_device_ && matrix_on_device(J_);
   if (!blocks_built_) {
     PetscCall(build_element_blocks());
     blocks_built_ = true;
@@ -189,7 +196,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
     std::vector<std::vector<PetscInt>> form_rows(forms_.size()), form_cols(forms_.size());
     std::size_t total = 0;
     for (std::size_t f = 0; f < forms_.size(); ++f)
-      if (!element_form_[f]) {
+      if (element_map_[f] < 0) {
         forms_[f]->coo_pattern(&form_rows[f], &form_cols[f]);
         total += form_rows[f].size();
       }
@@ -198,7 +205,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
     pattern_versions_.clear();
     for (std::size_t f = 0; f < forms_.size(); ++f) {
       pattern_versions_.push_back(forms_[f]->pattern_version());
-      if (element_form_[f]) continue;
+      if (element_map_[f] >= 0) continue;
       form_begin_[f] = num_element_raw_ + rows.size();
       form_size_[f] = form_rows[f].size();
       rows.insert(rows.end(), form_rows[f].begin(), form_rows[f].end());
@@ -248,6 +255,11 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
   std::vector<PetscInt>().swap(reduction_.rows);
   std::vector<PetscInt>().swap(reduction_.cols);
   num_unique_ = unique_rows.size();
+  // PETSc's AIJ matrices count a rank's nonzeros in PetscInt (row offsets).
+  PetscCheck(num_unique_ <= static_cast<std::size_t>(PETSC_MAX_INT), PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "this rank's Hessian has %zu nonzeros, more than PETSc's %d-bit PetscInt holds: run on more ranks, or "
+             "use a PETSc configured with --with-64-bit-indices",
+             num_unique_, static_cast<int>(8 * sizeof(PetscInt)));
 
   // Dirichlet elimination on the matrix's entries: zero in a prescribed row or column, one on
   // an owned prescribed diagonal (a ghost row's diagonal is its owner's). Prescribed global dofs
@@ -275,11 +287,10 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
     }
   }
 
-  device_matrix_ = any_device_ && matrix_on_device(J_);
   if (device_matrix_)
     std::vector<PetscScalar>().swap(values_);
   else
-    values_.assign(num_raw_entries_, 0.0);
+    values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
   if (any_device_) {
     d_values_.resize(num_raw_entries_);
     // The Dirichlet diagonal's raw values are summed, then overwritten by the elimination:
@@ -486,15 +497,22 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
 
 bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
   const MemorySpace target = on_device ? MemorySpace::device : MemorySpace::host;
+  // values_ starts after the element forms' values when those are summed chunk by chunk.
+  const std::size_t target_offset = on_device ? 0 : host_raw_offset();
   double* const matrix_values = on_device ? d_values_.data() : values_.data();
+  if (chunked_) unique_values_.assign(num_unique_, 0.0);
   bool ok = true;
   for (std::size_t f = 0; f < forms_.size(); ++f) {
+    if (chunked_ && element_map_[f] >= 0) {
+      ok = add_element_chunks(f, x.in(MemorySpace::host)) && ok;
+      continue;
+    }
     const MemorySpace space = forms_[f]->memory_space();
     const std::size_t begin = form_begin_[f], count = form_size_[f];
     // A form evaluated away from the matrix writes its block where it runs, and the block
     // crosses once: device forms into d_values_ (sized whenever there are device forms), host
     // forms into host_block_.
-    double* own = matrix_values + begin;
+    double* own = matrix_values + (begin - target_offset);
     if (space != target) {
       if (space == MemorySpace::device) {
         own = d_values_.data() + begin;
@@ -504,7 +522,24 @@ bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
       }
     }
     ok = forms_[f]->hessian(x.in(space), own) && ok;
-    if (space != target) copy_between(target, matrix_values + begin, space, own, count);
+    if (space != target) copy_between(target, matrix_values + (begin - target_offset), space, own, count);
+  }
+  return ok;
+}
+
+bool IncrementalPotential::add_element_chunks(std::size_t f, const double* x) {
+  // Small enough to stay in cache (9.4 MB of elastic values), large enough that the calls cost
+  // nothing.
+  constexpr int kChunk = 2048;
+  ElementPattern pattern;
+  forms_[f]->element_pattern(&pattern);
+  const std::size_t m = static_cast<std::size_t>(element_map_[f]);
+  chunk_values_.resize(static_cast<std::size_t>(kChunk) * element_values(pattern.layout));
+  bool ok = true;
+  for (int first = 0; first < pattern.num_elements; first += kChunk) {
+    const int count = std::min(kChunk, pattern.num_elements - first);
+    ok = forms_[f]->element_hessian(x, first, count, chunk_values_.data()) && ok;
+    blocks_.add_elements(m, first, count, chunk_values_.data(), unique_values_.data());
   }
   return ok;
 }
@@ -531,9 +566,9 @@ double* IncrementalPotential::sum_values(bool on_device) {
   }
   unique_values_.resize(num_unique_);
   double* unique = unique_values_.data();
-  blocks_.reduce(values_.data(), unique);
+  if (!chunked_) blocks_.reduce(values_.data(), unique);  // else summed by assemble_values
   scalar_sums_.resize(num_scalar);
-  reduction_.reduce(values_.data() + num_element_raw_, scalar_sums_.data());
+  reduction_.reduce(values_.data() + (num_element_raw_ - host_raw_offset()), scalar_sums_.data());
   for (std::size_t v = 0; v < num_scalar; ++v) {
     const std::size_t u = scalar_target_[v];
     unique[u] = (u < num_block_entries_ ? unique[u] : 0.0) + scalar_sums_[v];

@@ -142,6 +142,8 @@ class IncrementalPotential {
   // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix);
   // host forms of a device matrix go through host_block_.
   bool assemble_values(LocalViews& x, bool on_device);
+  // Element form f's values chunk by chunk into unique_values_ (chunked_); false as hessian().
+  bool add_element_chunks(std::size_t f, const double* x);
   // The raw values summed into the matrix's entries, eliminated; returns them (device memory
   // for a device matrix).
   double* sum_values(bool on_device);
@@ -167,13 +169,19 @@ class IncrementalPotential {
   Mat J_ = nullptr;                            // not owned
   // Each form's values in the raw array: start and count; element forms first.
   std::vector<std::size_t> form_begin_, form_size_;
-  std::vector<char> element_form_;             // per form: gives node blocks (element_pattern)
+  std::vector<int> element_map_;               // per form: its index among blocks_.forms, or -1
+  // Host element forms of a host matrix: their values are summed element chunk by chunk
+  // (add_element_chunks), never all held; values_ then starts at the other forms' values.
+  bool chunked_ = false;
+  std::vector<double> chunk_values_;
+  std::size_t host_raw_offset() const { return chunked_ ? num_element_raw_ : 0; }
   std::size_t num_element_raw_ = 0;            // raw values of the element forms (the array's start)
   std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
   std::size_t num_raw_entries_ = 0;            // element forms, other forms, Dirichlet diagonal
   bool device_matrix_ = false;                 // values are summed on the device (device forms and matrix)
-  // The raw values on the host: only for a host matrix. With a device matrix the host keeps
-  // neither these nor the maps, only the block of the largest host form (friction) in host_block_.
+  // The raw values on the host: only for a host matrix, and without the element forms' when
+  // chunked_. With a device matrix the host keeps neither these nor the maps, only the block of
+  // the largest host form (friction) in host_block_.
   std::vector<PetscScalar> values_, host_block_;
   // Raw values -> the matrix's entries. Per hex element (576 raw elastic values, 192 more with a
   // consistent mass; about 27 node blocks, 243 entries): 4 B per element node pair (64 per hex

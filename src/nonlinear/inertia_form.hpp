@@ -42,6 +42,7 @@ class ConsistentInertiaForm : public Form {
     *pattern = elements_.pattern(ElementLayout::consistent_mass);
     return true;
   }
+  bool element_hessian(const double* x, int first, int count, double* values) override;
   void begin_step(const double* x_hat) override;
 
  private:

@@ -171,6 +171,38 @@ std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col) const 
   return static_cast<std::int64_t>(block_start[k]) + rank_in_mask(block_mask[k], bit);
 }
 
+void NodeBlockReduction::index_elements() {
+  if (num_blocks() > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("more than 2^32 - 1 node blocks on one rank: run on more ranks");
+  for (FormMap& form : forms) {
+    form.block_of.resize(form.sources.size());
+    for (std::size_t k = 0; k + 1 < form.offsets.size(); ++k)
+      for (std::uint32_t j = form.offsets[k]; j < form.offsets[k + 1]; ++j)
+        form.block_of[form.sources[j]] = static_cast<std::uint32_t>(k);
+    std::vector<std::uint32_t>().swap(form.offsets);
+    std::vector<std::uint32_t>().swap(form.sources);
+  }
+}
+
+void NodeBlockReduction::add_elements(std::size_t m, int first, int count, const double* values,
+                                      double* unique) const {
+  const FormMap& form = forms[m];
+  const std::size_t per = static_cast<std::size_t>(element_values(form.layout));
+  const unsigned form_mask = element_block_mask(form.layout);
+  for (int e = 0; e < count; ++e) {
+    const double* v = values + per * static_cast<std::size_t>(e);
+    const std::uint32_t* blocks = form.block_of.data() + 64 * (static_cast<std::size_t>(first) + e);
+    for (int ab = 0; ab < 64; ++ab) {
+      const std::uint32_t k = blocks[ab];
+      const unsigned mask = block_mask[k];
+      double* out = unique + block_start[k];
+      for (int bit = 0; bit < 9; ++bit)
+        if (form_mask >> bit & 1u)
+          out[rank_in_mask(mask, bit)] += v[element_value_offset(form.layout, ab >> 3, bit / 3, ab & 7, bit % 3)];
+    }
+  }
+}
+
 void NodeBlockReduction::reduce(const double* raw, double* unique) const {
   const std::size_t nb = num_blocks();
   for (std::size_t k = 0; k < nb; ++k) {

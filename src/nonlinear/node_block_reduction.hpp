@@ -34,6 +34,7 @@ class NodeBlockReduction {
     ElementLayout layout = ElementLayout::elastic;
     std::size_t raw_begin = 0;
     std::vector<std::uint32_t> offsets, sources;
+    std::vector<std::uint32_t> block_of;  // after index_elements(): the block of 64e + 8a + b
   };
 
   // The distinct blocks of the forms' patterns on a rank that owns the global nodes
@@ -52,6 +53,16 @@ class NodeBlockReduction {
   std::int64_t find(std::int64_t row, std::int64_t col) const;
   // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).
   void reduce(const double* raw, double* unique) const;
+
+  // The inverse map, for sums on the host element chunk by chunk: fills each form's block_of
+  // and frees its offsets and sources (reduce() then no longer works). Throws std::length_error
+  // when the blocks do not fit 32-bit ids.
+  void index_elements();
+  // Adds the values of form m's elements [first, first + count) (in its layout, element first's
+  // at values) into unique. Called for the forms in order and their elements in ascending order
+  // on zeroed entries, it gives reduce()'s sums bit for bit: each entry receives the same terms
+  // in the same order.
+  void add_elements(std::size_t m, int first, int count, const double* values, double* unique) const;
 
   std::vector<std::int64_t> row_nodes;     // global node of each block row, ascending
   std::vector<std::size_t> row_start;      // blocks of row r: [row_start[r], row_start[r+1])
