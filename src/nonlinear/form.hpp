@@ -62,7 +62,8 @@ class Form {
   virtual bool value(const double* x, double* energy) = 0;
   // Adds ∂E/∂x into g (3 per local node). Returns false as value().
   virtual bool gradient(const double* x, double* g) = 0;
-  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern.
+  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern (for
+  // element forms the expansion of element_pattern(), which the potential does not ask for).
   virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
   // Writes the Hessian values in coo_pattern() order. Returns false as value().
   virtual bool hessian(const double* x, double* values) = 0;
@@ -73,7 +74,8 @@ class Form {
   virtual bool element_pattern(ElementPattern* pattern) const { return false; }
   // Host element forms: the values of elements [first, first + count) only, as hessian() writes
   // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
-  // of every element's values (576 per hex) exists. Returns false as value().
+  // of every element's values (576 per hex) exists. Returns false as value(). A form that
+  // returns true from element_pattern() and evaluates on the host must implement it.
   virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
   // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
