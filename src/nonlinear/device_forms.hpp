@@ -37,6 +37,10 @@ class DeviceElasticForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
+  bool element_pattern(ElementPattern* pattern) const override {
+    *pattern = elements_.pattern(ElementLayout::elastic);
+    return true;
+  }
   bool is_valid(const double* x) override;
   void set_time_step(double h) override { scale_ = h * h; }
 
@@ -75,6 +79,10 @@ class DeviceConsistentInertiaForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
+  bool element_pattern(ElementPattern* pattern) const override {
+    *pattern = elements_.pattern(ElementLayout::consistent_mass);
+    return true;
+  }
   void begin_step(const double* x_hat) override;
 
  private:
