@@ -19,9 +19,10 @@ import argparse
 import csv
 import os
 import re
-import subprocess
 import sys
 import tempfile
+
+from run_dipc import run_dipc
 
 # Preconditioner variants: extra PETSc options on top of dipc's defaults.
 PCS = {
@@ -45,12 +46,20 @@ PCS = {
     # Linear solves of mean-dilatation scenes (src/nonlinear/mixed_linear_solve.hpp): the mixed
     # u-p system by MINRES, its s block preconditioned by the pressure mass over mu (the default
     # for such scenes) or by AMG on I + Bs diag(A)^-1 Bs^T; or CG + AMG on the full Hessian.
-    "mixed": ["-dipc_mixed_solve", "1"],
-    "mixed_selfp": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur", "selfp"],
+    # The block factorization (diag: MINRES; upper: block upper triangular, FGMRES) and the s
+    # block's approximation (mass, selfp, nodal) are named in the variant.
+    "mixed": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "mass"],
+    "mixed_selfp": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "selfp"],
+    "mixed_nodal": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "nodal"],
+    "mixed_upper": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "mass"],
+    "mixed_upper_selfp": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "selfp"],
+    "mixed_lsc": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "diag", "-dipc_mixed_schur", "lsc"],
+    "mixed_upper_lsc": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "lsc"],
+    "mixed_upper_nodal": ["-dipc_mixed_solve", "1", "-dipc_mixed_schur_fact", "upper", "-dipc_mixed_schur", "nodal"],
     "primal": ["-dipc_mixed_solve", "0"],
 }
 # Variants that need mean-dilatation elements (skipped for the standard element).
-NEEDS_MEAN_DILATATION = {"mixed", "mixed_selfp", "primal"}
+NEEDS_MEAN_DILATATION = {"primal"} | {pc for pc in PCS if pc.startswith("mixed")}
 
 DROP = """{
   "materials": [{"name": "rubber", "E": 1e6, "nu": NU, "rho": 1000, "volumetric": "VOL"}],
@@ -86,14 +95,7 @@ TOTAL = re.compile(r"^total\s+([0-9.eE+-]+)")
 
 
 def run(dipc, ranks, scene_path, extra, timeout):
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
-    cmd = ["mpirun", "-n", str(ranks), dipc, scene_path, "-dipc_no_output", "-snes_max_it", "1000"] + extra
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
-        out, rc = p.stdout + p.stderr, p.returncode
-    except subprocess.TimeoutExpired as e:
-        out, rc = (e.stdout or b"").decode() if isinstance(e.stdout, bytes) else (e.stdout or ""), "timeout"
+    out, rc, cmd = run_dipc(dipc, ranks, [scene_path, "-dipc_no_output", "-snes_max_it", "1000"] + extra, timeout)
     newton = ksp = steps = 0
     wall = float("nan")
     for line in out.splitlines():
@@ -131,7 +133,7 @@ def plot(rows, path):
         ax.invert_xaxis()
         ax.set_yscale("log")
         ax.set_xlabel("0.5 - nu")
-        ax.set_ylabel("Krylov iterations, CG or MINRES (sum over the steps)")
+        ax.set_ylabel("Krylov iterations, CG, MINRES or FGMRES (sum over the steps)")
         ax.set_title(f"{scene}, {ranks} rank{'s' if ranks > 1 else ''}")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
@@ -151,17 +153,25 @@ def main():
     ap.add_argument("--out", default="bench/results")
     ap.add_argument("--csv-name", default="incompressible.csv")
     ap.add_argument("--timeout", type=float, default=300)
+    ap.add_argument("--resolution", type=int, default=0,
+                    help="hexes per edge of the cube (0: the scene's, drop 10, squeeze 8); for a mesh study, "
+                         "best with its own --csv-name")
+    ap.add_argument("--steps", type=int, default=0,
+                    help="run only the first N steps (-dipc_steps N; 0: the scene's); for quick screening, "
+                         "best with its own --csv-name")
     ap.add_argument("--plot-only", action="store_true", help="redraw the PNG from the CSV")
     a = ap.parse_args()
     csv_path = os.path.join(a.out, a.csv_name)
     fields = ["scene", "ranks", "volumetric", "pc", "nu", "steps", "newton_its", "ksp_its", "wall_s", "status", "options"]
+    if a.resolution:
+        fields.insert(5, "resolution")
     if not a.plot_only:
         os.makedirs(a.out, exist_ok=True)
         old = []
         if os.path.exists(csv_path):
             with open(csv_path) as f:
                 old = [dict(r, volumetric=r.get("volumetric") or "gauss_points") for r in csv.DictReader(f)]
-        key = lambda r: (r["scene"], str(r["ranks"]), r["volumetric"], r["pc"], r["nu"])
+        key = lambda r: (r["scene"], str(r["ranks"]), r["volumetric"], r["pc"], r["nu"], str(r.get("resolution", "")))
         rows = []
         tmp_dir = tempfile.TemporaryDirectory()
         tmp = tmp_dir.name
@@ -173,15 +183,22 @@ def main():
                     for nu in a.nu.split(","):
                         path = os.path.join(tmp, f"{scene}_{vol}_{nu}.json")
                         with open(path, "w") as s:
-                            s.write(SCENES[scene].replace("NU", nu).replace("VOL", vol))
+                            text = SCENES[scene].replace("NU", nu).replace("VOL", vol)
+                            if a.resolution:
+                                text = re.sub(r'"resolution": \[\d+, \d+, \d+\]',
+                                              '"resolution": [%d, %d, %d]' % ((a.resolution,) * 3), text)
+                            s.write(text)
                         for ranks in [int(r) for r in a.ranks.split(",")]:
                             for pc in a.pcs.split(","):
                                 if pc in NEEDS_MEAN_DILATATION and vol != "mean_dilatation":
                                     continue
-                                steps, newton, ksp, wall, status, cmd = run(a.dipc, ranks, path, PCS[pc], a.timeout)
+                                extra = PCS[pc] + (["-dipc_steps", str(a.steps)] if a.steps else [])
+                                steps, newton, ksp, wall, status, cmd = run(a.dipc, ranks, path, extra, a.timeout)
                                 r = dict(scene=scene, ranks=ranks, volumetric=vol, pc=pc, nu=nu, steps=steps,
                                          newton_its=newton, ksp_its=ksp, wall_s=wall, status=status,
-                                         options=" ".join(PCS[pc]))
+                                         options=" ".join(extra))
+                                if a.resolution:
+                                    r["resolution"] = a.resolution
                                 print(f"{scene:8s} np{ranks} {vol:15s} {pc:15s} nu={nu:7s} steps {steps:3d} "
                                       f"newton {newton:4d} ksp {ksp:6d} wall {wall:7.2f} {status}", flush=True)
                                 w.writerow(r)

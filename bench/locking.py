@@ -17,12 +17,13 @@ read from the run's HDF5 output (h5py). Writes <out>/locking.csv and <out>/locki
 import argparse
 import csv
 import os
-import subprocess
 import sys
 import tempfile
 
 import h5py
 import numpy as np
+
+from run_dipc import run_dipc
 
 SCENE = """{
   "materials": [{"name": "m", "E": 1e8, "nu": NU, "rho": 1000, "volumetric": "VOL"}],
@@ -52,8 +53,6 @@ def main():
     ap.add_argument("--meshes", default="10x1x1,20x2x2,40x4x4")
     ap.add_argument("--out", default="bench/results")
     a = ap.parse_args()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for mesh in a.meshes.split(","):
@@ -65,11 +64,10 @@ def main():
                     with open(scene, "w") as s:
                         s.write(SCENE.replace("NU", nu).replace("VOL", vol).replace("NX", nx).replace("NY", ny)
                                 .replace("NZ", nz).replace("OUT", out))
-                    p = subprocess.run(["mpirun", "-n", "1", a.dipc, scene, "-dipc_quiet"], capture_output=True,
-                                       text=True, env=env)
-                    if p.returncode != 0:
-                        print(p.stdout[-2000:], p.stderr[-2000:], file=sys.stderr)
-                        sys.exit(f"dipc failed on {scene} (exit {p.returncode})")
+                    text, status, _ = run_dipc(a.dipc, 1, [scene, "-dipc_quiet"])
+                    if status != 0:
+                        print(text[-4000:], file=sys.stderr)
+                        sys.exit(f"dipc failed on {scene} (exit {status})")
                     d = tip_deflection(os.path.join(out, "beam.h5"))
                     rows.append(dict(mesh=mesh, volumetric=vol, nu=nu, tip_deflection=d, ratio_to_euler_bernoulli=d / DELTA_EB))
                     print(f"{mesh:9s} {vol:16s} nu={nu:7s} tip {d:.5e} m  delta/delta_EB {d / DELTA_EB:.3f}", flush=True)

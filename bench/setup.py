@@ -131,9 +131,12 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
-    groups = sorted({(r["ranks"], r["partitioner"], r["source"]) for r in rows})
+    # Rows read back from the CSV hold strings, rows of this run numbers: group by (int, str, str).
+    def group(r):
+        return (int(r["ranks"]), r["partitioner"], r["source"])
+    groups = sorted({group(r) for r in rows})
     for g in groups:
-        sel = sorted([r for r in rows if (r["ranks"], r["partitioner"], r["source"]) == g and r.get("first_iteration_s")],
+        sel = sorted([r for r in rows if group(r) == g and r.get("first_iteration_s")],
                      key=lambda r: int(r["elements"]))
         if not sel:
             continue

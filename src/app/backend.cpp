@@ -89,13 +89,15 @@ std::size_t device_bytes_per_element(bool matrix_on_device) {
   // x/p/w, inertia x̂ and mass, body force, ...). A device matrix holds each of the ~81
   // nonzeros of a row once (value + column index), 3 rows per node, twice over for the
   // preconditioner setup's copy. The COO values are summed into those unique entries on the
-  // device (CooReduction): 4 B per COO value and per unique entry for the map, 8 B per unique
-  // entry for the sums, and PETSc's COO maps of the unique entries (8 B each way).
+  // device through the node-block map (NodeBlockReduction): 4 B per element node pair (64 per
+  // element and element form) and, per node block (27 per node), 4 B per element form, 2 B of
+  // mask and 8 B of start; 8 B per unique entry for the sums, and PETSc's COO maps of the unique
+  // entries (8 B each way).
   std::size_t bytes = 8 * 4 + 2 * 8 + (kElasticCooPerElement + kMassCooPerElement) * 8 + 3 * 8 + 11 * 3 * 8;
-  constexpr std::size_t unique_per_element = 3 * 81;
+  constexpr std::size_t unique_per_element = 3 * 81, blocks_per_element = 27, element_forms = 2;
   if (matrix_on_device)
-    bytes += 2 * unique_per_element * (8 + 4) + (kElasticCooPerElement + kMassCooPerElement) * 4 +
-             unique_per_element * (4 + 8 + 2 * 8);
+    bytes += 2 * unique_per_element * (8 + 4) + element_forms * 64 * 4 +
+             blocks_per_element * (element_forms * 4 + 2 + 8) + unique_per_element * (8 + 2 * 8);
   return bytes;
 }
 

@@ -101,7 +101,8 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       flag("-dipc_pc_reuse"),                      // read in nonlinear/preconditioner_reuse.cpp
       positive_real("-dipc_pc_reuse_setup_cost"),  // the same
       flag("-dipc_mixed_solve"),                   // read in nonlinear/mixed_linear_solve.cpp
-      one_of("-dipc_mixed_schur", "mass selfp"),   // the same
+      one_of("-dipc_mixed_schur", "mass selfp"),      // the same
+      one_of("-dipc_mixed_schur_fact", "diag upper"),        // the same
       positive_real("-dipc_dt_min"),
       fraction("-dipc_alpha_floor"),
       flag("-dipc_output_substeps"),

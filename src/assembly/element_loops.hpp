@@ -32,6 +32,19 @@ struct ElementBlock {
   }
 };
 
+// Elements [first, first + count) of a block, as a block of their own (its node ids index the
+// same local arrays).
+inline ElementBlock element_range(const ElementBlock& block, int first, int count) {
+  ElementBlock r = block;
+  r.num_elements = count;
+  r.nodes = block.nodes + 8 * static_cast<std::int64_t>(first);
+  r.lambda = block.lambda + first;
+  r.mu = block.mu + first;
+  if (block.volumetric) r.volumetric = block.volumetric + first;
+  if (block.model) r.model = block.model + first;
+  return r;
+}
+
 // Thrown when a global dof id does not fit PETSc's 32-bit index (3*global_node + 2 > 2^31-1).
 class DofIndexOverflow : public std::overflow_error {
  public:
@@ -49,6 +62,26 @@ constexpr int kElasticCooPerElement = 576;
 DIPC_HD constexpr int elastic_coo_offset(int a, int k, int b, int l) { return 8 * (24 * k + 8 * l + b) + a; }
 // Entries per element of the consistent mass COO pattern (8x8 node pairs x 3 components).
 constexpr int kMassCooPerElement = 192;
+
+// How an element form lays out its Hessian values, 8x8 node blocks per element: the potential
+// sums them into the matrix through a map over node blocks (nonlinear/node_block_reduction.hpp)
+// and computes where entry (a, i; b, j) of an element lies instead of storing it per entry.
+enum class ElementLayout : std::uint8_t {
+  elastic,          // 576 values per element at elastic_coo_offset: every block a dense 3x3
+  consistent_mass,  // 192 values per element, 3(8a + b) + i: M_ab on the block's diagonal only
+};
+DIPC_HD constexpr int element_values(ElementLayout layout) {
+  return layout == ElementLayout::elastic ? kElasticCooPerElement : kMassCooPerElement;
+}
+// Which of a node block's 9 entries (bit 3i + j) the layout writes.
+DIPC_HD constexpr unsigned element_block_mask(ElementLayout layout) {
+  return layout == ElementLayout::elastic ? 0x1FFu : 0x111u;
+}
+// Offset of entry (node a, component i; node b, component j) among an element's values, or -1
+// where the layout has none (the mass's off-diagonal components).
+DIPC_HD constexpr int element_value_offset(ElementLayout layout, int a, int i, int b, int j) {
+  return layout == ElementLayout::elastic ? elastic_coo_offset(a, i, b, j) : (i == j ? 3 * (8 * a + b) + i : -1);
+}
 
 // x holds 3 current coordinates per local node. Functions returning bool return false as
 // soon as an element has det F <= 0 at a quadrature point; their outputs are then partial

@@ -97,9 +97,17 @@ __global__ void zero_at_kernel(double* values, const std::size_t* index, std::si
   if (k < count) values[index[k]] = 0.0;
 }
 
-__global__ void fill_kernel(double* values, std::size_t n, double v) {
+__global__ void one_at_kernel(double* values, const std::size_t* index, std::size_t count) {
   const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
-  if (k < n) values[k] = v;
+  if (k < count) values[index[k]] = 1.0;
+}
+
+__global__ void add_at_kernel(double* values, const std::size_t* index, const double* add, std::size_t n,
+                              std::size_t fresh_from) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k >= n) return;
+  const std::size_t u = index[k];
+  values[u] = (u < fresh_from ? values[u] : 0.0) + add[k];
 }
 
 // One thread per unique entry: an entry sums few raw ones (the element blocks sharing it, at
@@ -189,15 +197,22 @@ void add_scaled(double* y, double s, const double* x, std::size_t n) {
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-void eliminate(double* values, const std::size_t* index, std::size_t count, std::size_t first, std::size_t last) {
-  if (count) {
-    zero_at_kernel<<<blocks_for(count, 256), 256>>>(values, index, count);
+void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, const std::size_t* one,
+               std::size_t num_one) {
+  if (num_zero) {
+    zero_at_kernel<<<blocks_for(num_zero, 256), 256>>>(values, zero, num_zero);
     DIPC_CUDA_CHECK_LAUNCH();
   }
-  if (last > first) {
-    fill_kernel<<<blocks_for(last - first, 256), 256>>>(values + first, last - first, 1.0);
+  if (num_one) {
+    one_at_kernel<<<blocks_for(num_one, 256), 256>>>(values, one, num_one);
     DIPC_CUDA_CHECK_LAUNCH();
   }
+}
+
+void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from) {
+  if (!n) return;
+  add_at_kernel<<<blocks_for(n, 256), 256>>>(values, index, add, n, fresh_from);
+  DIPC_CUDA_CHECK_LAUNCH();
 }
 
 void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,

@@ -120,8 +120,13 @@ class Reducer {
 void axpy_into(double* w, const double* x, double alpha, const double* p, std::size_t n);
 // y += s * x.
 void add_scaled(double* y, double s, const double* x, std::size_t n);
-// values[index[k]] = 0 for every k, then values[first..last) = 1 (Dirichlet elimination in COO).
-void eliminate(double* values, const std::size_t* index, std::size_t count, std::size_t first, std::size_t last);
+// values[zero[k]] = 0 for k < num_zero, then values[one[k]] = 1 for k < num_one (Dirichlet
+// elimination of the matrix's entries).
+void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, const std::size_t* one,
+               std::size_t num_one);
+// values[index[k]] = (index[k] < fresh_from ? values[index[k]] : 0) + add[k] for k < n, the
+// indices distinct: sums of other terms added onto entries, those from fresh_from on new ones.
+void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from);
 // unique[u] = sum of raw[sources[j]] for j in [offsets[u], offsets[u+1]), added from 0 in that
 // order: CooReduction::reduce on device arrays, bit for bit the same.
 void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,

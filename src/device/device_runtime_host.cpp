@@ -36,7 +36,10 @@ void Reducer::reset_flag() { no_cuda("device flag"); }
 bool Reducer::flag_set() { no_cuda("device flag"); }
 void axpy_into(double*, const double*, double, const double*, std::size_t) { no_cuda("device axpy"); }
 void add_scaled(double*, double, const double*, std::size_t) { no_cuda("device axpy"); }
-void eliminate(double*, const std::size_t*, std::size_t, std::size_t, std::size_t) { no_cuda("device elimination"); }
+void eliminate(double*, const std::size_t*, std::size_t, const std::size_t*, std::size_t) {
+  no_cuda("device elimination");
+}
+void add_at(double*, const std::size_t*, const double*, std::size_t, std::size_t) { no_cuda("device add_at"); }
 void reduce_coo(const double*, const std::uint32_t*, const std::uint32_t*, std::size_t, double*) {
   no_cuda("device COO reduction");
 }

@@ -65,22 +65,32 @@ void ElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>
 
 bool ElasticForm::hessian(const double* x, double* values) {
   if (device_) return device_->hessian(x, scale_, values);
+  return element_hessian(x, 0, elements_.num_elements(), values);
+}
+
+bool ElasticForm::element_hessian(const double* x, int first, int count, double* values) {
+  const ElementBlock range = element_range(elements_.block(), first, count);
   bool ok;
   if (split_) {
     const std::size_t ne = static_cast<std::size_t>(elements_.num_elements());
     b_work_.resize(24 * ne);
     f2_work_.resize(ne);
-    ok = elastic_hessian_split(elements_.block(), x, values, b_work_.data(), f2_work_.data());
-    for (std::size_t r = 0; r < split_elements_.size(); ++r) {
-      const std::size_t e = static_cast<std::size_t>(split_elements_[r]);
+    ok = elastic_hessian_split(range, x, values, b_work_.data() + 24 * static_cast<std::size_t>(first),
+                               f2_work_.data() + first);
+    // The split elements of this range (split_elements_ ascends).
+    const auto begin = std::lower_bound(split_elements_.begin(), split_elements_.end(), first);
+    const auto end = std::lower_bound(begin, split_elements_.end(), first + count);
+    for (auto it = begin; it != end; ++it) {
+      const std::size_t r = static_cast<std::size_t>(it - split_elements_.begin());
+      const std::size_t e = static_cast<std::size_t>(*it);
       std::copy(b_work_.begin() + 24 * e, b_work_.begin() + 24 * e + 24, part_.gradient.begin() + 24 * r);
       part_.curvature[r] = scale_ * f2_work_[e];
       part_.weight[r] = volumes_[r] / (scale_ * elements_.mu[e]);
     }
   } else {
-    ok = elastic_hessian(elements_.block(), x, values);
+    ok = elastic_hessian(range, x, values);
   }
-  const std::size_t n = 576 * static_cast<std::size_t>(elements_.num_elements());
+  const std::size_t n = kElasticCooPerElement * static_cast<std::size_t>(count);
   if (scale_ != 1.0) std::transform(values, values + n, values, [this](double v) { return scale_ * v; });
   return ok;
 }

@@ -20,6 +20,11 @@ class ElasticForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
+  bool element_pattern(ElementPattern* pattern) const override {
+    *pattern = elements_.pattern(ElementLayout::elastic);
+    return true;
+  }
+  bool element_hessian(const double* x, int first, int count, double* values) override;
   bool is_valid(const double* x) override;
   void set_time_step(double h) override { scale_ = h * h; }
   // True when some element is a mean-dilatation one (its rank-one volumetric term can be split);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "assembly/element_loops.hpp"
+#include "nonlinear/form.hpp"
 #include "nonlinear/problem.hpp"
 #include "partition/distributed_mesh.hpp"
 
@@ -35,6 +36,10 @@ struct ElementData {
   // device forms share them.
   void elastic_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
   void consistent_mass_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  // The same patterns as node blocks (form.hpp), for Form::element_pattern.
+  ElementPattern pattern(ElementLayout layout) const {
+    return {num_elements(), nodes.data(), local_to_global.data(), layout};
+  }
 };
 
 }  // namespace dipc

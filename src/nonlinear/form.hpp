@@ -24,9 +24,21 @@
 #include <string>
 #include <vector>
 
+#include "assembly/element_loops.hpp"
+
 namespace dipc {
 
 enum class MemorySpace { host, device };
+
+// The Hessian pattern of an element form as dense 8x8 node blocks per element (64 node pairs
+// instead of 576 scalar entries): the element's 8 local node ids, the local-to-global node map,
+// and where each entry's value lies among the element's values (ElementLayout).
+struct ElementPattern {
+  int num_elements = 0;
+  const std::int32_t* nodes = nullptr;            // 8 local node ids per element
+  const std::int64_t* local_to_global = nullptr;  // global node id of each local node
+  ElementLayout layout = ElementLayout::elastic;
+};
 
 // The stiff volumetric part of a Hessian kept apart as rank-one terms d_e b_e b_eᵀ, one row per
 // mean-dilatation element of this rank (hex8_mean_dilatation.hpp, mixed_linear_solve.hpp).
@@ -50,10 +62,21 @@ class Form {
   virtual bool value(const double* x, double* energy) = 0;
   // Adds ∂E/∂x into g (3 per local node). Returns false as value().
   virtual bool gradient(const double* x, double* g) = 0;
-  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern.
+  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern (for
+  // element forms the expansion of element_pattern(), which the potential does not ask for).
   virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
   // Writes the Hessian values in coo_pattern() order. Returns false as value().
   virtual bool hessian(const double* x, double* values) = 0;
+  // Element forms (elastic, consistent inertia) also describe their pattern as node blocks and
+  // return true: the potential then builds the matrix from the blocks and never expands
+  // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
+  // pattern must not change (pattern_may_change() false).
+  virtual bool element_pattern(ElementPattern* pattern) const { return false; }
+  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
+  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
+  // of every element's values (576 per hex) exists. Returns false as value(). A form that
+  // returns true from element_pattern() and evaluates on the host must implement it.
+  virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
   // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
   // contact). 1 for forms without such a limit.

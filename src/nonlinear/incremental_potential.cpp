@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "assembly/cuda/element_kernels.hpp"
 #include "nonlinear/device_matrix.hpp"
 
 namespace dipc {
@@ -83,6 +84,13 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
     any_step_limit_ = any_step_limit_ || form->limits_step();
     any_pattern_change_ = any_pattern_change_ || form->pattern_may_change();
   }
+  // Global dof ids (3 per node) index PETSc's vectors and matrix as PetscInt.
+  PetscCheck(3 * static_cast<std::int64_t>(mesh.num_global_nodes) - 1 <= static_cast<std::int64_t>(PETSC_MAX_INT),
+             comm_, PETSC_ERR_SUP,
+             "%lld nodes need %lld dofs, more than PETSc's %d-bit PetscInt holds: use a PETSc configured with "
+             "--with-64-bit-indices, or a smaller mesh",
+             static_cast<long long>(mesh.num_global_nodes), 3 * static_cast<long long>(mesh.num_global_nodes),
+             static_cast<int>(8 * sizeof(PetscInt)));
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
   local_to_global_ = mesh.local_to_global;
@@ -134,33 +142,128 @@ bool IncrementalPotential::pattern_changed() const {
   return false;
 }
 
+PetscErrorCode IncrementalPotential::build_element_blocks() {
+  PetscFunctionBeginUser;
+  // The element forms' values come first in the raw array, so that their offsets (and the map's)
+  // stay put when the other forms' patterns change; their patterns never do.
+  std::vector<NodeBlockReduction::Input> inputs;
+  form_begin_.assign(forms_.size(), 0);
+  form_size_.assign(forms_.size(), 0);
+  element_map_.assign(forms_.size(), -1);
+  bool all_host = true;
+  std::size_t raw = 0;
+  for (std::size_t f = 0; f < forms_.size(); ++f) {
+    ElementPattern pattern;
+    if (!forms_[f]->element_pattern(&pattern)) continue;
+    PetscCheck(!forms_[f]->pattern_may_change(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "form %s gives node blocks but says its pattern may change", forms_[f]->name().c_str());
+    element_map_[f] = static_cast<int>(inputs.size());
+    all_host = all_host && forms_[f]->memory_space() == MemorySpace::host;
+    form_begin_[f] = raw;
+    form_size_[f] = static_cast<std::size_t>(element_values(pattern.layout)) * static_cast<std::size_t>(pattern.num_elements);
+    inputs.push_back({pattern, raw});
+    raw += form_size_[f];
+  }
+  PetscCheck(inputs.size() <= static_cast<std::size_t>(device::kMaxElementBlockMaps), PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "%zu element forms; the node-block reduction takes at most %d", inputs.size(),
+             device::kMaxElementBlockMaps);
+  num_element_raw_ = raw;
+  try {
+    blocks_ = NodeBlockReduction::build(inputs, mesh_->node_offset, mesh_->node_offset + mesh_->num_owned_nodes);
+    // A host matrix of host element forms sums their values element chunk by chunk (no array
+    // of all their raw values); the device sums them all at once, through the sources.
+    chunked_ = !inputs.empty() && all_host && !device_matrix_;
+    if (chunked_) blocks_.index_elements();
+  } catch (const std::length_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode IncrementalPotential::rebuild_pattern() {
   PetscFunctionBeginUser;
-  // The raw combined pattern, values_'s order: the forms' patterns, then the Dirichlet
-  // diagonal. Reserved whole, because appending a small pattern after the elastic one's
-  // hundreds of millions of entries would reallocate and copy them.
-  std::vector<std::vector<PetscInt>> form_rows(forms_.size()), form_cols(forms_.size());
-  std::size_t total = 0;
-  for (std::size_t f = 0; f < forms_.size(); ++f) {
-    forms_[f]->coo_pattern(&form_rows[f], &form_cols[f]);
-    total += form_rows[f].size();
+  const double start = MPI_Wtime();
+  PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
+  device_matrix_ = any_device_ && matrix_on_device(J_);
+  if (!blocks_built_) {
+    PetscCall(build_element_blocks());
+    blocks_built_ = true;
   }
-  for (int k = 0; k < num_owned_dofs_; ++k) total += dirichlet_dof_[k] ? 1 : 0;
+  // The other forms' raw COO lists (contact, friction, the lumped mass: small, or changing with
+  // the active set) after the element forms' values, then the Dirichlet diagonal.
   std::vector<PetscInt> rows, cols;
-  rows.reserve(total), cols.reserve(total);
-  form_offset_.clear(), pattern_versions_.clear();
-  for (std::size_t f = 0; f < forms_.size(); ++f) {
-    form_offset_.push_back(rows.size());
-    pattern_versions_.push_back(forms_[f]->pattern_version());
-    rows.insert(rows.end(), form_rows[f].begin(), form_rows[f].end());
-    cols.insert(cols.end(), form_cols[f].begin(), form_cols[f].end());
-    std::vector<PetscInt>().swap(form_rows[f]);
-    std::vector<PetscInt>().swap(form_cols[f]);
+  {
+    std::vector<std::vector<PetscInt>> form_rows(forms_.size()), form_cols(forms_.size());
+    std::size_t total = 0;
+    for (std::size_t f = 0; f < forms_.size(); ++f)
+      if (element_map_[f] < 0) {
+        forms_[f]->coo_pattern(&form_rows[f], &form_cols[f]);
+        total += form_rows[f].size();
+      }
+    for (int k = 0; k < num_owned_dofs_; ++k) total += dirichlet_dof_[k] ? 1 : 0;
+    rows.reserve(total), cols.reserve(total);
+    pattern_versions_.clear();
+    for (std::size_t f = 0; f < forms_.size(); ++f) {
+      pattern_versions_.push_back(forms_[f]->pattern_version());
+      if (element_map_[f] >= 0) continue;
+      form_begin_[f] = num_element_raw_ + rows.size();
+      form_size_[f] = form_rows[f].size();
+      rows.insert(rows.end(), form_rows[f].begin(), form_rows[f].end());
+      cols.insert(cols.end(), form_cols[f].begin(), form_cols[f].end());
+    }
   }
-  form_offset_.push_back(rows.size());
+  // Diagonal entries of the owned prescribed dofs: in the pattern, so that kinematic nodes
+  // (no element of theirs is assembled) get one; their value is set by the elimination below.
+  dirichlet_raw_begin_ = num_element_raw_ + rows.size();
+  for (int k = 0; k < num_owned_dofs_; ++k)
+    if (dirichlet_dof_[k]) {
+      const PetscInt dof = static_cast<PetscInt>(3 * mesh_->node_offset + k);
+      rows.push_back(dof);
+      cols.push_back(dof);
+    }
+  num_raw_entries_ = num_element_raw_ + rows.size();
+  const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
+  try {
+    reduction_ = CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs_);
+  } catch (const std::length_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+  }
+  std::vector<PetscInt>().swap(rows);
+  std::vector<PetscInt>().swap(cols);
 
-  // Prescribed global dofs as a bitmap over their id range: this test runs for every COO
-  // entry (hundreds of millions at 1M elements), where a hash set took seconds.
+  // The matrix's entries: the element blocks', then those of the other forms that no block
+  // holds. scalar_target_[v] is where the other forms' unique entry v is added.
+  std::vector<PetscInt> unique_rows, unique_cols;
+  try {
+    blocks_.entries(&unique_rows, &unique_cols);
+  } catch (const std::overflow_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+  }
+  num_block_entries_ = unique_rows.size();
+  const std::size_t num_scalar = reduction_.num_unique();
+  scalar_target_.resize(num_scalar);
+  for (std::size_t v = 0; v < num_scalar; ++v) {
+    const std::int64_t k = blocks_.find(reduction_.rows[v], reduction_.cols[v]);
+    if (k >= 0) {
+      scalar_target_[v] = static_cast<std::size_t>(k);
+    } else {
+      scalar_target_[v] = unique_rows.size();
+      unique_rows.push_back(reduction_.rows[v]);
+      unique_cols.push_back(reduction_.cols[v]);
+    }
+  }
+  std::vector<PetscInt>().swap(reduction_.rows);
+  std::vector<PetscInt>().swap(reduction_.cols);
+  num_unique_ = unique_rows.size();
+  // PETSc's AIJ matrices count a rank's nonzeros in PetscInt (row offsets).
+  PetscCheck(num_unique_ <= static_cast<std::size_t>(PETSC_MAX_INT), PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "this rank's Hessian has %zu nonzeros, more than PETSc's %d-bit PetscInt holds: run on more ranks, or "
+             "use a PETSc configured with --with-64-bit-indices",
+             num_unique_, static_cast<int>(8 * sizeof(PetscInt)));
+
+  // Dirichlet elimination on the matrix's entries: zero in a prescribed row or column, one on
+  // an owned prescribed diagonal (a ghost row's diagonal is its owner's). Prescribed global dofs
+  // as a bitmap over their id range: the test runs for every entry.
   PetscInt lo = std::numeric_limits<PetscInt>::max(), hi = -1;
   for (std::size_t n = 0; n < local_to_global_.size(); ++n)
     for (int c = 0; c < 3; ++c)
@@ -168,62 +271,59 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
         const PetscInt dof = static_cast<PetscInt>(3 * local_to_global_[n] + c);
         lo = std::min(lo, dof), hi = std::max(hi, dof);
       }
-  eliminated_.clear();
+  zero_entries_.clear();
+  one_entries_.clear();
   if (hi >= lo) {
     std::vector<bool> prescribed(static_cast<std::size_t>(hi - lo + 1), false);
     for (std::size_t n = 0; n < local_to_global_.size(); ++n)
       for (int c = 0; c < 3; ++c)
         if (dirichlet_dof_[3 * n + c]) prescribed[static_cast<PetscInt>(3 * local_to_global_[n] + c) - lo] = true;
     const auto is_prescribed = [&](PetscInt dof) { return dof >= lo && dof <= hi && prescribed[dof - lo]; };
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      if (is_prescribed(rows[k]) || is_prescribed(cols[k])) eliminated_.push_back(k);
-  }
-  dirichlet_diagonal_begin_ = rows.size();
-  for (int k = 0; k < num_owned_dofs_; ++k)
-    if (dirichlet_dof_[k]) {
-      const PetscInt dof = static_cast<PetscInt>(3 * mesh_->node_offset + k);
-      rows.push_back(dof);
-      cols.push_back(dof);
+    for (std::size_t u = 0; u < num_unique_; ++u) {
+      const PetscInt r = unique_rows[u], c = unique_cols[u];
+      if (!is_prescribed(r) && !is_prescribed(c)) continue;
+      const bool owned_diagonal = r == c && r >= owned_begin && r < owned_begin + num_owned_dofs_;
+      (owned_diagonal ? one_entries_ : zero_entries_).push_back(u);
     }
-  num_raw_entries_ = rows.size();
-  device_matrix_ = any_device_ && matrix_on_device(J_);
+  }
+
   if (device_matrix_)
     std::vector<PetscScalar>().swap(values_);
   else
-    values_.assign(num_raw_entries_, 0.0);
+    values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
   if (any_device_) {
     d_values_.resize(num_raw_entries_);
-    d_eliminated_.upload(eliminated_);
+    // The Dirichlet diagonal's raw values are summed, then overwritten by the elimination:
+    // zeroed once, so that no uninitialised memory is read.
+    if (num_raw_entries_ > dirichlet_raw_begin_)
+      device::zero(d_values_.data() + dirichlet_raw_begin_, (num_raw_entries_ - dirichlet_raw_begin_) * sizeof(double));
   }
-  // The matrix's unique entries. Rows are bucketed directly over the owned range, which holds
-  // all but the ghost rows.
-  const double start = MPI_Wtime();
-  PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
-  const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
-  try {
-    reduction_ =
-        CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs_);
-  } catch (const std::length_error& e) {
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
-  }
-  PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
-  std::vector<PetscInt>().swap(rows);
-  std::vector<PetscInt>().swap(cols);
-  num_unique_ = reduction_.num_unique();
-  // The map goes to the device where hessian() sums there (device forms and a device matrix),
-  // and then leaves the host.
+  // The maps go to the device where hessian() sums there (device forms and a device matrix),
+  // and then leave the host; the blocks' layout stays for the next pattern change.
   if (device_matrix_) {
+    if (d_block_sources_.empty()) {
+      d_block_mask_.upload(blocks_.block_mask);
+      d_block_start_.upload(blocks_.block_start);
+      for (auto& form : blocks_.forms) {
+        d_block_offsets_.emplace_back("node-block offsets");
+        d_block_offsets_.back().upload(form.offsets);
+        d_block_sources_.emplace_back("node-block sources");
+        d_block_sources_.back().upload(form.sources);
+        std::vector<std::uint32_t>().swap(form.offsets);
+        std::vector<std::uint32_t>().swap(form.sources);
+      }
+    }
     d_reduction_offsets_.upload(reduction_.offsets);
     d_reduction_sources_.upload(reduction_.sources);
     std::vector<CooReduction::Index>().swap(reduction_.offsets);
     std::vector<CooReduction::Index>().swap(reduction_.sources);
+    d_scalar_target_.upload(scalar_target_);
+    d_zero_entries_.upload(zero_entries_);
+    d_one_entries_.upload(one_entries_);
   }
-  // PETSc may reorder the index arrays it is given and keeps its own copy: hand over the
-  // reduction's, which nothing reads afterwards.
-  std::vector<PetscInt> unique_rows = std::move(reduction_.rows), unique_cols = std::move(reduction_.cols);
-  reduction_.rows.clear(), reduction_.cols.clear();
-  PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(unique_rows.size()), unique_rows.data(),
-                                   unique_cols.data()));
+  PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
+  // PETSc may reorder the index arrays it is given and keeps its own copy.
+  PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(num_unique_), unique_rows.data(), unique_cols.data()));
   times_.preallocation += MPI_Wtime() - start;
   ++times_.preallocations;
   PetscFunctionReturn(0);
@@ -389,16 +489,7 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
   PetscCall(x_views_.end());
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
   const double insert_start = MPI_Wtime();
-  double* unique = nullptr;
-  if (on_device) {
-    d_unique_values_.resize(num_unique_);
-    unique = d_unique_values_.data();
-    device::reduce_coo(d_values_.data(), d_reduction_offsets_.data(), d_reduction_sources_.data(), num_unique_, unique);
-  } else {
-    unique_values_.resize(num_unique_);
-    unique = unique_values_.data();
-    reduction_.reduce(values_.data(), unique);
-  }
+  double* const unique = sum_values(on_device);
   PetscCall(MatSetValuesCOO(J, unique, INSERT_VALUES));
   times_.coo_insert += MPI_Wtime() - insert_start;
   PetscFunctionReturn(0);
@@ -406,15 +497,22 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
 
 bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
   const MemorySpace target = on_device ? MemorySpace::device : MemorySpace::host;
+  // values_ starts after the element forms' values when those are summed chunk by chunk.
+  const std::size_t target_offset = on_device ? 0 : host_raw_offset();
   double* const matrix_values = on_device ? d_values_.data() : values_.data();
+  if (chunked_) unique_values_.assign(num_unique_, 0.0);
   bool ok = true;
   for (std::size_t f = 0; f < forms_.size(); ++f) {
+    if (chunked_ && element_map_[f] >= 0) {
+      ok = add_element_chunks(f, x.in(MemorySpace::host)) && ok;
+      continue;
+    }
     const MemorySpace space = forms_[f]->memory_space();
-    const std::size_t begin = form_offset_[f], count = form_offset_[f + 1] - begin;
+    const std::size_t begin = form_begin_[f], count = form_size_[f];
     // A form evaluated away from the matrix writes its block where it runs, and the block
     // crosses once: device forms into d_values_ (sized whenever there are device forms), host
     // forms into host_block_.
-    double* own = matrix_values + begin;
+    double* own = matrix_values + (begin - target_offset);
     if (space != target) {
       if (space == MemorySpace::device) {
         own = d_values_.data() + begin;
@@ -424,16 +522,60 @@ bool IncrementalPotential::assemble_values(LocalViews& x, bool on_device) {
       }
     }
     ok = forms_[f]->hessian(x.in(space), own) && ok;
-    if (space != target) copy_between(target, matrix_values + begin, space, own, count);
-  }
-  if (on_device) {
-    device::eliminate(d_values_.data(), d_eliminated_.data(), eliminated_.size(), dirichlet_diagonal_begin_,
-                      num_raw_entries_);
-  } else {
-    for (std::size_t k : eliminated_) values_[k] = 0;
-    for (std::size_t k = dirichlet_diagonal_begin_; k < values_.size(); ++k) values_[k] = 1;
+    if (space != target) copy_between(target, matrix_values + (begin - target_offset), space, own, count);
   }
   return ok;
+}
+
+bool IncrementalPotential::add_element_chunks(std::size_t f, const double* x) {
+  // Small enough to stay in cache (9.4 MB of elastic values), large enough that the calls cost
+  // nothing.
+  constexpr int kChunk = 2048;
+  ElementPattern pattern;
+  forms_[f]->element_pattern(&pattern);
+  const std::size_t m = static_cast<std::size_t>(element_map_[f]);
+  chunk_values_.resize(static_cast<std::size_t>(kChunk) * element_values(pattern.layout));
+  bool ok = true;
+  for (int first = 0; first < pattern.num_elements; first += kChunk) {
+    const int count = std::min(kChunk, pattern.num_elements - first);
+    ok = forms_[f]->element_hessian(x, first, count, chunk_values_.data()) && ok;
+    blocks_.add_elements(m, first, count, chunk_values_.data(), unique_values_.data());
+  }
+  return ok;
+}
+
+double* IncrementalPotential::sum_values(bool on_device) {
+  // Per entry: the element forms' sum, plus the other forms' sum (entries of their own start
+  // from 0), then the Dirichlet elimination; the same order on the host and on the device.
+  const std::size_t num_scalar = scalar_target_.size();
+  if (on_device) {
+    d_unique_values_.resize(num_unique_);
+    double* unique = d_unique_values_.data();
+    std::vector<device::ElementBlockMap> maps;
+    for (std::size_t m = 0; m < blocks_.forms.size(); ++m)
+      maps.push_back({blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(),
+                      d_block_sources_[m].data()});
+    device::reduce_element_blocks(d_values_.data(), blocks_.num_blocks(), d_block_mask_.data(), d_block_start_.data(),
+                                  maps.data(), static_cast<int>(maps.size()), unique);
+    d_scalar_sums_.resize(num_scalar);
+    device::reduce_coo(d_values_.data() + num_element_raw_, d_reduction_offsets_.data(), d_reduction_sources_.data(),
+                       num_scalar, d_scalar_sums_.data());
+    device::add_at(unique, d_scalar_target_.data(), d_scalar_sums_.data(), num_scalar, num_block_entries_);
+    device::eliminate(unique, d_zero_entries_.data(), zero_entries_.size(), d_one_entries_.data(), one_entries_.size());
+    return unique;
+  }
+  unique_values_.resize(num_unique_);
+  double* unique = unique_values_.data();
+  if (!chunked_) blocks_.reduce(values_.data(), unique);  // else summed by assemble_values
+  scalar_sums_.resize(num_scalar);
+  reduction_.reduce(values_.data() + (num_element_raw_ - host_raw_offset()), scalar_sums_.data());
+  for (std::size_t v = 0; v < num_scalar; ++v) {
+    const std::size_t u = scalar_target_[v];
+    unique[u] = (u < num_block_entries_ ? unique[u] : 0.0) + scalar_sums_[v];
+  }
+  for (std::size_t u : zero_entries_) unique[u] = 0;
+  for (std::size_t u : one_entries_) unique[u] = 1;
+  return unique;
 }
 
 PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {

@@ -5,10 +5,14 @@
 // contributions of ghost nodes back to their owners once. The local nodes are the mesh's
 // (owned, then element ghosts) followed by the extra nodes forms ask for (contact surfaces of
 // other ranks); the exchange is rebuilt when those change. The Hessian is assembled with
-// MatSetValuesCOO on the concatenated COO patterns of all forms, preallocated again only when a
-// form's pattern changes (the contact active set), never per iteration otherwise. Forms write
-// their values in that raw concatenated order; PETSc is given only its distinct entries, sorted
-// (CooReduction), and the raw values are summed into them before each MatSetValuesCOO.
+// MatSetValuesCOO, preallocated again only when a form's pattern changes (the contact active
+// set), never per iteration otherwise. Forms write their raw values into one array: the element
+// forms' (elastic, consistent mass) first, element by element in their layouts, then the other
+// forms' in their COO patterns' order. PETSc is given only the distinct entries: the element
+// forms' node blocks (NodeBlockReduction, built once: their patterns never change, and are never
+// expanded to 576 scalar entries per hex), then the other forms' entries outside those blocks
+// (CooReduction over their small lists); the raw values are summed into them before each
+// MatSetValuesCOO.
 //
 // Forms evaluate in their own memory space (form.hpp): the potential hands each the local
 // arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
@@ -31,6 +35,7 @@
 #include "nonlinear/coo_reduction.hpp"
 #include "nonlinear/form.hpp"
 #include "nonlinear/local_views.hpp"
+#include "nonlinear/node_block_reduction.hpp"
 #include "partition/ghost_exchange.hpp"
 
 namespace dipc {
@@ -116,7 +121,8 @@ class IncrementalPotential {
   bool has_changing_pattern() const { return any_pattern_change_; }
   // 3 flags per local node (mesh nodes first), the Dirichlet dofs.
   const std::vector<char>& prescribed_dofs() const { return dirichlet_dof_; }
-  PetscInt num_hessian_entries() const { return static_cast<PetscInt>(num_raw_entries_); }
+  // Raw Hessian values the forms write per assembly (576 per hex for the elastic form).
+  std::int64_t num_hessian_entries() const { return static_cast<std::int64_t>(num_raw_entries_); }
   const EvaluationTimes& times() const { return times_; }
 
  private:
@@ -136,9 +142,16 @@ class IncrementalPotential {
   // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix);
   // host forms of a device matrix go through host_block_.
   bool assemble_values(LocalViews& x, bool on_device);
+  // Element form f's values chunk by chunk into unique_values_ (chunked_); false as hessian().
+  bool add_element_chunks(std::size_t f, const double* x);
+  // The raw values summed into the matrix's entries, eliminated; returns them (device memory
+  // for a device matrix).
+  double* sum_values(bool on_device);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
-  // Combined COO pattern, Dirichlet elimination, the reduction to unique entries and the
+  // The element forms' node-block map and their place in the raw values (once).
+  PetscErrorCode build_element_blocks();
+  // The other forms' COO pattern, the matrix's entries, the Dirichlet elimination and the
   // preallocation of J_ (set by create_matrix before the first call).
   PetscErrorCode rebuild_pattern();
   bool pattern_changed() const;
@@ -154,22 +167,35 @@ class IncrementalPotential {
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
   Mat J_ = nullptr;                            // not owned
-  std::vector<std::size_t> form_offset_;       // start of each form's block in values_
-  std::vector<std::size_t> eliminated_;        // entries in a Dirichlet row or column
-  std::size_t dirichlet_diagonal_begin_ = 0;
-  std::size_t num_raw_entries_ = 0;            // of the combined pattern (forms, then Dirichlet diagonal)
+  // Each form's values in the raw array: start and count; element forms first.
+  std::vector<std::size_t> form_begin_, form_size_;
+  std::vector<int> element_map_;               // per form: its index among blocks_.forms, or -1
+  // Host element forms of a host matrix: their values are summed element chunk by chunk
+  // (add_element_chunks), never all held; values_ then starts at the other forms' values.
+  bool chunked_ = false;
+  std::vector<double> chunk_values_;
+  std::size_t host_raw_offset() const { return chunked_ ? num_element_raw_ : 0; }
+  std::size_t num_element_raw_ = 0;            // raw values of the element forms (the array's start)
+  std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
+  std::size_t num_raw_entries_ = 0;            // element forms, other forms, Dirichlet diagonal
   bool device_matrix_ = false;                 // values are summed on the device (device forms and matrix)
-  // The raw values in the combined pattern's order, on the host: only for a host matrix. With
-  // a device matrix the host keeps neither these nor the reduction map (at 1M elements about
-  // 6 GB and 4 GB), only the block of the largest host form (friction) in host_block_.
+  // The raw values on the host: only for a host matrix, and without the element forms' when
+  // chunked_. With a device matrix the host keeps neither these nor the maps, only the block of
+  // the largest host form (friction) in host_block_.
   std::vector<PetscScalar> values_, host_block_;
-  // Raw values -> the matrix's unique entries. Per hex element (576 raw elastic entries, 192
-  // more with a consistent mass; ≈ 243 unique): the map takes 4 B per raw and per unique entry
-  // (≈ 3.3 KB, 4 KB with a consistent mass) where the values are summed (the host, or the
-  // device with a device matrix), and the summed values 8 B per unique entry (≈ 1.9 KB).
-  // PETSc's own COO maps (8 B per entry it is given) shrink by about as much.
-  CooReduction reduction_;
-  std::size_t num_unique_ = 0;                 // reduction_.num_unique(), kept when its map is freed
+  // Raw values -> the matrix's entries. Per hex element (576 raw elastic values, 192 more with a
+  // consistent mass; about 27 node blocks, 243 entries): 4 B per element node pair (64 per hex
+  // and element form) and, per block, 4 B per element form, 2 B of mask and 8 B of start, where
+  // the values are summed (the host, or the device with a device matrix); the summed values
+  // take 8 B per entry.
+  bool blocks_built_ = false;
+  NodeBlockReduction blocks_;
+  std::size_t num_block_entries_ = 0;          // the matrix's entries held by node blocks (its first)
+  CooReduction reduction_;                     // the other forms' raw values (and the Dirichlet diagonal)
+  std::vector<std::size_t> scalar_target_;     // reduction_'s unique entry -> the matrix's entry
+  std::vector<double> scalar_sums_;
+  std::vector<std::size_t> zero_entries_, one_entries_;  // Dirichlet elimination of the matrix's entries
+  std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
   std::vector<PetscScalar> unique_values_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
@@ -178,9 +204,14 @@ class IncrementalPotential {
   std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)
   device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
   device::Array<double> d_values_{"Hessian COO values"};
-  device::Array<std::size_t> d_eliminated_{"Dirichlet COO entries"};
+  device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
+  device::Array<std::uint64_t> d_block_start_{"node-block starts"};
+  std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form
   device::Array<CooReduction::Index> d_reduction_offsets_{"COO reduction offsets"},
       d_reduction_sources_{"COO reduction sources"};
+  device::Array<double> d_scalar_sums_{"summed COO values of the other forms"};
+  device::Array<std::size_t> d_scalar_target_{"COO entries in the matrix"}, d_zero_entries_{"Dirichlet zero entries"},
+      d_one_entries_{"Dirichlet diagonal entries"};
   device::Array<double> d_unique_values_{"Hessian unique COO values"};
   // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
   std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;

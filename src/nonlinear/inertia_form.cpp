@@ -109,10 +109,15 @@ void ConsistentInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector
   elements_.consistent_mass_pattern(rows, cols);
 }
 
-bool ConsistentInertiaForm::hessian(const double*, double* values) {
+bool ConsistentInertiaForm::hessian(const double* x, double* values) {
   if (device_) return device_->hessian(values);
+  return element_hessian(x, 0, elements_.num_elements(), values);
+}
+
+bool ConsistentInertiaForm::element_hessian(const double*, int first, int count, double* values) {
+  const std::size_t begin = 64 * static_cast<std::size_t>(first), end = begin + 64 * static_cast<std::size_t>(count);
   std::size_t k = 0;
-  for (std::size_t m = 0; m < element_mass_.size(); ++m)
+  for (std::size_t m = begin; m < end; ++m)
     for (int c = 0; c < 3; ++c) values[k++] = element_mass_[m];
   return true;
 }

@@ -47,6 +47,11 @@ class ConsistentInertiaForm : public Form {
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
+  bool element_pattern(ElementPattern* pattern) const override {
+    *pattern = elements_.pattern(ElementLayout::consistent_mass);
+    return true;
+  }
+  bool element_hessian(const double* x, int first, int count, double* values) override;
   void begin_step(const double* x_hat) override;
 
  private:

@@ -11,23 +11,33 @@
 namespace dipc {
 
 PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, double stiffness_ratio, bool* use,
-                                     SchurApproximation* schur) {
+                                     MixedSolveOptions* options) {
   PetscFunctionBeginUser;
   PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
   PetscBool set = PETSC_FALSE;
+  const MixedSolveOptions defaults;
   const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
-  PetscEnum schur_choice = static_cast<PetscEnum>(SchurApproximation::mass);
+  const char* const fact_names[] = {"diag", "upper", "SchurFactorization", "", nullptr};
+  PetscEnum schur_choice = static_cast<PetscEnum>(defaults.schur);
+  PetscEnum fact_choice = static_cast<PetscEnum>(defaults.factorization);
   PetscOptionsBegin(comm, nullptr, "dipc mixed u-p linear solve (mean-dilatation elements)", "SNES");
   PetscCall(PetscOptionsBool("-dipc_mixed_solve",
-                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system (MINRES); "
+                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system; "
                              "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
                              "MixedLinearSolve", flag, &flag, &set));
   PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
-                             "Preconditioner of the mixed solve's pressure block: mass (I + D W) or selfp "
-                             "(AMG on I + Bs diag(A)^-1 Bs^T)",
+                             "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 "
+                             "Bs^T) or mass (I + D W)",
                              "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
+  PetscCall(PetscOptionsEnum("-dipc_mixed_schur_fact",
+                             "Block preconditioner of the mixed solve: diag (block diagonal, MINRES) or upper "
+                             "(block upper triangular, FGMRES)",
+                             "MixedLinearSolve", fact_names, fact_choice, &fact_choice, nullptr));
   PetscOptionsEnd();
-  if (schur) *schur = static_cast<SchurApproximation>(schur_choice);
+  if (options) {
+    options->schur = static_cast<SchurApproximation>(schur_choice);
+    options->factorization = static_cast<SchurFactorization>(fact_choice);
+  }
   // Bad input (exit status 1, PETSC_ERR_USER_INPUT); has_split_elements is the same on every rank.
   PetscCheck(!(set && flag && !has_split_elements), comm, PETSC_ERR_USER_INPUT,
              "-dipc_mixed_solve needs mean-dilatation elements (scene key materials[].volumetric = "
@@ -39,7 +49,7 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
 MixedLinearSolve::~MixedLinearSolve() {
   KSPDestroy(&ksp_);
   PCDestroy(&pc_a_);
-  PCDestroy(&pc_s_);
+  KSPDestroy(&ksp_s_);
   MatDestroy(&schur_);
   MatDestroy(&scaled_bs_);
   VecDestroy(&a_diagonal_);
@@ -47,31 +57,66 @@ MixedLinearSolve::~MixedLinearSolve() {
   MatDestroy(&BsT_);
   MatDestroy(&Bs_);
   MatDestroy(&minus_identity_);
-  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_}) VecDestroy(v);
+  for (Vec* v : {&diagonal_, &rhs_, &solution_, &rhs_u_, &rhs_s_, &sol_u_, &sol_s_, &work_s_, &work_u_}) VecDestroy(v);
 }
 
 PetscErrorCode MixedLinearSolve::setup(MPI_Comm comm, std::vector<const VolumetricPart*> parts,
                                        const std::vector<char>* prescribed, PetscReal rtol, PetscReal atol,
-                                       PetscInt max_it, SchurApproximation schur) {
+                                       PetscInt max_it, MixedSolveOptions options) {
   PetscFunctionBeginUser;
   comm_ = comm;
   parts_ = std::move(parts);
   prescribed_ = prescribed;
   rtol_ = rtol, atol_ = atol, max_it_ = max_it;
-  selfp_ = schur == SchurApproximation::selfp;
+  options_ = options;
   num_rows_ = 0;
   for (const VolumetricPart* p : parts_) num_rows_ += p->rows;
   PetscCall(PCCreate(comm_, &pc_a_));
   PetscCall(PCSetFromOptions(pc_a_));
   PetscCall(KSPCreate(comm_, &ksp_));
-  PetscCall(KSPSetType(ksp_, KSPMINRES));
-  PetscCall(KSPSetTolerances(ksp_, rtol_, atol_, PETSC_DEFAULT, max_it_));
+  if (options_.schur == SchurApproximation::selfp) {
+    // One BoomerAMG V-cycle by default; the -dipc_mixed_s_ prefix reaches this KSP and its PC
+    // (e.g. -dipc_mixed_s_ksp_type cg -dipc_mixed_s_ksp_rtol 1e-2 for an inner solve, which
+    // only FGMRES, the upper factorization, tolerates: MINRES needs a fixed linear operator).
+    PetscCall(KSPCreate(comm_, &ksp_s_));
+    PetscCall(KSPSetOptionsPrefix(ksp_s_, "dipc_mixed_s_"));
+    PetscCall(KSPSetType(ksp_s_, KSPPREONLY));
+    PC pc;
+    PetscCall(KSPGetPC(ksp_s_, &pc));
+    PetscCall(PCSetType(pc, PCHYPRE));
+    PetscCall(KSPSetFromOptions(ksp_s_));
+    PetscBool fixed;
+    PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(ksp_s_), &fixed, KSPPREONLY, KSPRICHARDSON, ""));
+    PetscCheck(fixed || options_.factorization == SchurFactorization::upper, comm_, PETSC_ERR_USER_INPUT,
+               "a Krylov solve of the s block (-dipc_mixed_s_ksp_type) needs -dipc_mixed_schur_fact upper "
+               "(FGMRES); MINRES (diag) needs a fixed linear preconditioner: preonly or richardson");
+  }
+  const bool upper = options_.factorization == SchurFactorization::upper;
+  if (upper) {
+    // FGMRES: right preconditioning only, and it tolerates a preconditioner that is not a fixed
+    // linear operator. Restart 100: the measured scenes averaged 5 to 110 iterations per solve
+    // (bench/incompressible.py; 110 on 8000 hexes), so most run unrestarted; FGMRES keeps
+    // 2 x 100 vectors of the (u, s) size (3 values per node and 1 per element each), which
+    // matters only for millions of elements on one rank.
+    PetscCall(KSPSetType(ksp_, KSPFGMRES));
+    PetscCall(KSPGMRESSetRestart(ksp_, 100));
+  } else {
+    PetscCall(KSPSetType(ksp_, KSPMINRES));
+  }
+  // FGMRES stops on the unpreconditioned residual, MINRES and the primal CG on a preconditioned
+  // one, which follows the error of du on the soft modes far better: at the preset's -ksp_rtol
+  // 1e-4, FGMRES let Newton stop early on a static nu = 0.4999 beam (bench/locking.py's 10x1x1,
+  // 0.65 % short of the deflection; 2.6e-5 at rtol x 0.1, 6e-6 at x 0.01, CG 7e-6), hence
+  // kUnpreconditionedRtolFactor. GMRES preconditioned on the left instead stalled Newton on `drop`
+  // at nu = 0.4999 (its preconditioned residual weighs the two blocks by Ŝ and AMG(A)).
+  PetscCall(KSPSetTolerances(ksp_, upper ? rtol_ * kUnpreconditionedRtolFactor : rtol_, atol_, PETSC_DEFAULT, max_it_));
   PC pc;
   PetscCall(KSPGetPC(ksp_, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, this));
   PetscCall(PCShellSetApply(pc, apply_preconditioner));
-  PetscCall(PCShellSetName(pc, "dipc mixed u-p: diag(A-block PC, I + D W)"));
+  PetscCall(PCShellSetName(pc, upper ? "dipc mixed u-p: [[A-block PC, Bs^T], [0, -S-block PC]]"
+                                     : "dipc mixed u-p: diag(A-block PC, S-block PC)"));
   PetscFunctionReturn(0);
 }
 
@@ -109,6 +154,7 @@ PetscErrorCode MixedLinearSolve::create_block_matrices(Mat A) {
   PetscCall(VecDuplicate(rhs_u_, &sol_u_));
   PetscCall(VecDuplicate(rhs_s_, &sol_s_));
   PetscCall(VecDuplicate(rhs_s_, &work_s_));
+  PetscCall(VecDuplicate(rhs_u_, &work_u_));
   PetscCall(VecDuplicate(rhs_s_, &diagonal_));
   Vec rhs_parts[2] = {rhs_u_, rhs_s_}, sol_parts[2] = {sol_u_, sol_s_};
   PetscCall(VecCreateNest(comm_, 2, nullptr, rhs_parts, &rhs_));
@@ -155,26 +201,26 @@ PetscErrorCode MixedLinearSolve::setup_preconditioner() {
     pc_a_needs_reset_ = false;
   }
   PetscCall(PCSetUp(pc_a_));
-  if (selfp_) {  // I + C Cᵀ with C = Bs diag(A)^{-1/2}, rebuilt with every A (its pattern is B's)
-    if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
-    PetscCall(MatGetDiagonal(A_, a_diagonal_));
-    PetscCall(VecReciprocal(a_diagonal_));
-    PetscCall(VecSqrtAbs(a_diagonal_));
-    PetscCall(MatDestroy(&scaled_bs_));
-    PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
-    PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
-    PetscCall(MatDestroy(&schur_));
-    PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
-    PetscCall(MatShift(schur_, 1.0));
-    if (!pc_s_) {
-      PetscCall(PCCreate(comm_, &pc_s_));
-      PetscCall(PCSetType(pc_s_, PCHYPRE));
-    } else {
-      PetscCall(PCReset(pc_s_));
-    }
-    PetscCall(PCSetOperators(pc_s_, schur_, schur_));
-    PetscCall(PCSetUp(pc_s_));
-  }
+  if (options_.schur != SchurApproximation::mass) PetscCall(setup_schur_matrix());
+  PetscFunctionReturn(0);
+}
+
+// selfp: Ŝ = I + (Bs diag(A)^-1/2)(Bs diag(A)^-1/2)ᵀ, rebuilt with every A (its pattern is that
+// of Bs Bsᵀ: elements that share a node), and its solver set up afresh.
+PetscErrorCode MixedLinearSolve::setup_schur_matrix() {
+  PetscFunctionBeginUser;
+  PetscCall(MatDestroy(&scaled_bs_));
+  PetscCall(MatDestroy(&schur_));
+  if (!a_diagonal_) PetscCall(MatCreateVecs(A_, &a_diagonal_, nullptr));
+  PetscCall(MatGetDiagonal(A_, a_diagonal_));
+  PetscCall(VecReciprocal(a_diagonal_));
+  PetscCall(VecSqrtAbs(a_diagonal_));
+  PetscCall(MatDuplicate(Bs_, MAT_COPY_VALUES, &scaled_bs_));
+  PetscCall(MatDiagonalScale(scaled_bs_, nullptr, a_diagonal_));
+  PetscCall(MatMatTransposeMult(scaled_bs_, scaled_bs_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &schur_));
+  PetscCall(MatShift(schur_, 1.0));
+  PetscCall(KSPSetOperators(ksp_s_, schur_, schur_));  // a new matrix: a new AMG hierarchy
+  PetscCall(KSPSetUp(ksp_s_));
   PetscFunctionReturn(0);
 }
 
@@ -187,11 +233,20 @@ PetscErrorCode MixedLinearSolve::apply_preconditioner(PC pc, Vec x, Vec y) {
   PetscCall(VecNestGetSubVec(x, 1, &xs));
   PetscCall(VecNestGetSubVec(y, 0, &yu));
   PetscCall(VecNestGetSubVec(y, 1, &ys));
-  PetscCall(PCApply(self->pc_a_, xu, yu));
-  if (self->selfp_)
-    PetscCall(PCApply(self->pc_s_, xs, ys));
-  else
+  // s block: ys = Ŝ⁻¹ xs (diag) or -Ŝ⁻¹ xs (upper)
+  if (self->options_.schur == SchurApproximation::mass)
     PetscCall(VecPointwiseDivide(ys, xs, self->diagonal_));
+  else
+    PetscCall(KSPSolve(self->ksp_s_, xs, ys));
+  if (self->options_.factorization == SchurFactorization::upper) {
+    // [[Â, Bsᵀ], [0, -Ŝ]] [yu; ys] = [xu; xs]: ys = -Ŝ⁻¹ xs, yu = Â⁻¹ (xu - Bsᵀ ys)
+    PetscCall(VecScale(ys, -1.0));
+    PetscCall(MatMultTranspose(self->Bs_, ys, self->work_u_));
+    PetscCall(VecAYPX(self->work_u_, -1.0, xu));
+    PetscCall(PCApply(self->pc_a_, self->work_u_, yu));
+  } else {
+    PetscCall(PCApply(self->pc_a_, xu, yu));
+  }
   PetscCall(PetscObjectStateIncrease(reinterpret_cast<PetscObject>(y)));
   PCFailedReason failed;
   PetscCall(PCGetFailedReason(self->pc_a_, &failed));

@@ -13,9 +13,10 @@
 //    -dipc_pc_reuse keeps the preconditioner while that pays (preconditioner_reuse.hpp);
 //  - with mean-dilatation elements (unless -dipc_mixed_solve 0) the forms keep the volumetric
 //    rank-one terms out of the assembled matrix A, and each Newton system H du = -g is solved as
-//    the mixed u-p system of mixed_linear_solve.hpp (MINRES). SNES then sees H as a shell
-//    operator (A + Bsᵀ Bs), A as the preconditioning matrix, and a KSPPREONLY whose PCSHELL runs
-//    that solve; the report counts MINRES's iterations as the linear iterations.
+//    the mixed u-p system of mixed_linear_solve.hpp (FGMRES or MINRES). SNES then sees H as a
+//    shell operator (A + Bsᵀ Bs), A as the preconditioning matrix, and a KSPPREONLY whose PCSHELL
+//    runs that solve; the report counts its Krylov iterations as the linear iterations;
+//    -dipc_pc_reuse does not apply to it.
 #pragma once
 #include <petscsnes.h>
 
@@ -106,7 +107,7 @@ class NewtonSolver {
   std::vector<std::string> user_snes_options_;
   std::unique_ptr<MixedLinearSolve> mixed_;  // null unless the mixed solve is on
   Mat newton_matrix_ = nullptr;              // with it: the shell H = A + Bsᵀ Bs
-  PetscInt mixed_iterations_ = 0;            // MINRES iterations so far
+  PetscInt mixed_iterations_ = 0;            // the mixed solve's Krylov iterations so far
 };
 
 

@@ -223,7 +223,7 @@ PetscInt TimeIntegrator::num_dofs() const {
   return n;
 }
 
-PetscInt TimeIntegrator::hessian_entries() const { return potential_.num_hessian_entries(); }
+std::int64_t TimeIntegrator::hessian_entries() const { return potential_.num_hessian_entries(); }
 
 PetscErrorCode TimeIntegrator::apply_dirichlet(Vec x, double t) {
   PetscFunctionBeginUser;

@@ -108,7 +108,7 @@ class TimeIntegrator {
   const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
   const std::vector<std::string>& form_names() const { return form_names_; }
   PetscInt num_dofs() const;
-  PetscInt hessian_entries() const;
+  std::int64_t hessian_entries() const;
   Vec positions() const { return x_; }
   // Lumped, owned nodes; empty in a static run without gravity or contact (nothing needs them).
   const std::vector<double>& node_masses() const { return node_mass_; }

@@ -6,7 +6,8 @@
 //  - the mixed solve's du equals the primal solve's du = H⁻¹ r (CG on the assembled H, tight
 //    tolerance), both at rtol 1e-12;
 //  - on several ranks the mixed du equals the one computed on each rank alone (PETSC_COMM_SELF);
-// with both preconditioners of the s block.
+// with both preconditioners of the s block (selfp, mass) and both block factorizations (block
+// upper triangular with FGMRES, block diagonal with MINRES).
 // The state is a 2 % expansion with a random perturbation, and part of the Dirichlet set
 // (box.xmin) is prescribed, so both the element terms and the elimination are exercised.
 #include <gtest/gtest.h>
@@ -70,7 +71,7 @@ std::unique_ptr<IncrementalPotential> make_potential(const DistributedMesh& mesh
   return potential;
 }
 
-Results solve_both(const HexMesh& whole, MPI_Comm comm, double nu, SchurApproximation schur) {
+Results solve_both(const HexMesh& whole, MPI_Comm comm, double nu, MixedSolveOptions options) {
   DistributedMesh mesh = distribute_mesh(whole, comm);
   const double E = 1e6, h = 0.005;
   BodyMaterial material{E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu)), 1000};
@@ -102,7 +103,7 @@ Results solve_both(const HexMesh& whole, MPI_Comm comm, double nu, SchurApproxim
   for (const auto& form : split->forms())
     if (form->volumetric_part()) parts.push_back(form->volumetric_part());
   EXPECT_EQ(parts.size(), 1u);
-  EXPECT_EQ(mixed.setup(comm, parts, &split->prescribed_dofs(), 1e-12, 1e-50, 5000, schur), 0);
+  EXPECT_EQ(mixed.setup(comm, parts, &split->prescribed_dofs(), 1e-12, 1e-50, 5000, options), 0);
   EXPECT_EQ(mixed.update(A), 0);
   EXPECT_EQ(mixed.setup_preconditioner(), 0);
 
@@ -128,7 +129,7 @@ Results solve_both(const HexMesh& whole, MPI_Comm comm, double nu, SchurApproxim
 
   KSPConvergedReason reason;
   EXPECT_EQ(mixed.solve(r, du, &out.mixed_iterations, &reason), 0);
-  EXPECT_GT(reason, 0) << "MINRES did not converge: " << KSPConvergedReasons[reason];
+  EXPECT_GT(reason, 0) << "the mixed Krylov solve did not converge: " << KSPConvergedReasons[reason];
   out.du_mixed = gather_by_input_id(mesh, du);
 
   KSP ksp;
@@ -160,36 +161,72 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
   return diff / norm;
 }
 
-class MixedSolve : public ::testing::TestWithParam<std::tuple<double, SchurApproximation>> {};
+class MixedSolve
+    : public ::testing::TestWithParam<std::tuple<double, SchurApproximation, SchurFactorization>> {};
 
 TEST_P(MixedSolve, EqualsPrimalSolveAndRankCount) {
   const double nu = std::get<0>(GetParam());
-  const SchurApproximation schur = std::get<1>(GetParam());
+  MixedSolveOptions options;
+  options.schur = std::get<1>(GetParam());
+  options.factorization = std::get<2>(GetParam());
   MPI_Comm world = PETSC_COMM_WORLD;
   PetscOptionsSetValue(nullptr, "-pc_type", "hypre");  // the A block's preconditioner, as dipc sets it
   HexMesh whole = generate_box({0.1, 0.1, 0.1}, {4, 4, 4}, {0, 0, 0}, 0, "box");
-  const Results parallel = solve_both(whole, world, nu, schur);
+  const Results parallel = solve_both(whole, world, nu, options);
   EXPECT_LT(parallel.split_product_error, 1e-12) << "A + Bs^T Bs differs from the assembled H";
   const double d = relative_difference(parallel.du_mixed, parallel.du_primal);
   EXPECT_LT(d, 1e-7) << "mixed du against primal du";
   int size;
   MPI_Comm_size(world, &size);
   if (size > 1) {
-    const Results serial = solve_both(whole, PETSC_COMM_SELF, nu, schur);
+    const Results serial = solve_both(whole, PETSC_COMM_SELF, nu, options);
     EXPECT_LT(relative_difference(parallel.du_mixed, serial.du_mixed), 1e-7) << "mixed du, all ranks vs one";
   }
   PetscOptionsClearValue(nullptr, "-pc_type");
   int rank;
   MPI_Comm_rank(world, &rank);
   if (rank == 0)
-    std::printf("nu %g, s block %s: |(A + Bs^T Bs) v - H v| / |H v| = %.2e, mixed vs primal du %.2e, MINRES %d iterations\n", nu,
-                schur == SchurApproximation::mass ? "mass" : "selfp",
+    std::printf("nu %g, s block %s, %s: |(A + Bs^T Bs) v - H v| / |H v| = %.2e, mixed vs primal du %.2e, %d Krylov "
+                "iterations\n",
+                nu, options.schur == SchurApproximation::mass ? "mass" : "selfp", options.factorization == SchurFactorization::upper ? "upper" : "diag",
                 parallel.split_product_error, d, static_cast<int>(parallel.mixed_iterations));
+}
+
+// An inner Krylov solve of the s block (options prefix -dipc_mixed_s_): a preconditioner that is
+// not a fixed linear operator, which FGMRES (upper) tolerates; du must still be H⁻¹ r, on all
+// ranks as on one. MINRES (diag) needs a fixed one, so the same options are refused there.
+TEST(MixedSolveInnerSchurSolve, EqualsPrimalSolveWithUpperAndIsRefusedWithDiag) {
+  MPI_Comm world = PETSC_COMM_WORLD;
+  PetscOptionsSetValue(nullptr, "-pc_type", "hypre");
+  PetscOptionsSetValue(nullptr, "-dipc_mixed_s_ksp_type", "cg");
+  PetscOptionsSetValue(nullptr, "-dipc_mixed_s_ksp_rtol", "1e-2");
+  HexMesh whole = generate_box({0.1, 0.1, 0.1}, {4, 4, 4}, {0, 0, 0}, 0, "box");
+  MixedSolveOptions upper;
+  upper.factorization = SchurFactorization::upper;
+  const Results parallel = solve_both(whole, world, 0.4999, upper);
+  EXPECT_LT(relative_difference(parallel.du_mixed, parallel.du_primal), 1e-7) << "mixed du against primal du";
+  int size;
+  MPI_Comm_size(world, &size);
+  if (size > 1) {
+    const Results serial = solve_both(whole, PETSC_COMM_SELF, 0.4999, upper);
+    EXPECT_LT(relative_difference(parallel.du_mixed, serial.du_mixed), 1e-7) << "mixed du, all ranks vs one";
+  }
+  MixedSolveOptions diag;
+  diag.factorization = SchurFactorization::diag;
+  {
+    MixedLinearSolve mixed;
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+    const PetscErrorCode code = mixed.setup(world, {}, nullptr, 1e-8, 1e-50, 100, diag);
+    PetscPopErrorHandler();
+    EXPECT_EQ(code, PETSC_ERR_USER_INPUT) << "an inner CG on the s block with MINRES must be refused";
+  }
+  for (const char* o : {"-pc_type", "-dipc_mixed_s_ksp_type", "-dipc_mixed_s_ksp_rtol"}) PetscOptionsClearValue(nullptr, o);
 }
 
 INSTANTIATE_TEST_SUITE_P(NearlyIncompressibleAndCompressible, MixedSolve,
                          ::testing::Combine(::testing::Values(0.4999, 0.3, 0.0),
-                                            ::testing::Values(SchurApproximation::mass, SchurApproximation::selfp)));
+                                            ::testing::Values(SchurApproximation::selfp, SchurApproximation::mass),
+                                            ::testing::Values(SchurFactorization::upper, SchurFactorization::diag)));
 
 }  // namespace
 }  // namespace dipc

@@ -324,7 +324,52 @@ __global__ void consistent_inertia_kernel(ElementBlock block, const double* __re
   }
 }
 
+struct ElementBlockMaps {
+  ElementBlockMap map[kMaxElementBlockMaps];
+  int count;
+};
+
+// One thread per (block, bit 3i + j): the entry's serial sum over the maps and their sources in
+// order is NodeBlockReduction::reduce's, so both give the same bits.
+__global__ void reduce_element_blocks_kernel(const double* __restrict__ raw, std::size_t num_blocks,
+                                             const std::uint16_t* __restrict__ block_mask,
+                                             const std::uint64_t* __restrict__ block_start, ElementBlockMaps maps,
+                                             double* __restrict__ unique) {
+  const std::size_t t = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  const std::size_t k = t / 9;
+  const int bit = static_cast<int>(t % 9);
+  if (k >= num_blocks) return;
+  const unsigned mask = block_mask[k];
+  if (!(mask >> bit & 1u)) return;
+  const int i = bit / 3, j = bit % 3;
+  double sum = 0.0;
+  for (int m = 0; m < maps.count; ++m) {
+    const ElementBlockMap& map = maps.map[m];
+    if (!(element_block_mask(map.layout) >> bit & 1u)) continue;
+    const std::size_t per = static_cast<std::size_t>(element_values(map.layout));
+    for (std::uint32_t s = map.d_offsets[k]; s < map.d_offsets[k + 1]; ++s) {
+      const std::uint32_t src = map.d_sources[s];
+      sum += raw[map.raw_begin + per * (src >> 6) +
+                 element_value_offset(map.layout, static_cast<int>(src >> 3 & 7u), i, static_cast<int>(src & 7u), j)];
+    }
+  }
+  unique[block_start[k] + __popc(mask & ((1u << bit) - 1u))] = sum;
+}
+
 }  // namespace
+
+void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
+                           const std::uint64_t* d_block_start, const ElementBlockMap* maps, int num_maps,
+                           double* d_unique) {
+  if (num_maps > kMaxElementBlockMaps) throw DeviceError("reduce_element_blocks: more element forms than kernel slots");
+  if (num_blocks == 0) return;
+  ElementBlockMaps all{};
+  for (int m = 0; m < num_maps; ++m) all.map[m] = maps[m];
+  all.count = num_maps;
+  reduce_element_blocks_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(d_raw, num_blocks, d_block_mask,
+                                                                        d_block_start, all, d_unique);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
 
 bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy,
                       double* d_gradient, double* d_hessian, Reducer& reducer) {

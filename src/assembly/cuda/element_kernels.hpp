@@ -38,4 +38,21 @@ void consistent_inertia_gradient(const ElementBlock& block, const double* d_elem
 // Σ_k f_k x_k over n dofs.
 double dot(const double* d_f, const double* d_x, std::size_t n, Reducer& reducer);
 
+// One element form's node-block map on the device (NodeBlockReduction::FormMap): the sources
+// 64e + 8a + b of block k are d_sources[d_offsets[k] .. d_offsets[k+1]); the form's values
+// start at d_raw + raw_begin, laid out as `layout` says.
+struct ElementBlockMap {
+  ElementLayout layout = ElementLayout::elastic;
+  std::size_t raw_begin = 0;
+  const std::uint32_t* d_offsets = nullptr;
+  const std::uint32_t* d_sources = nullptr;
+};
+constexpr int kMaxElementBlockMaps = 4;
+// NodeBlockReduction::reduce on the device, bit for bit the same (one thread per entry, summed
+// from 0 over the maps in order, then their sources in order): d_unique[d_block_start[k] + rank
+// of bit 3i + j in d_block_mask[k]] for the num_blocks blocks. At most kMaxElementBlockMaps maps.
+void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
+                           const std::uint64_t* d_block_start, const ElementBlockMap* maps, int num_maps,
+                           double* d_unique);
+
 }  // namespace dipc::device

@@ -20,5 +20,9 @@ void consistent_inertia_gradient(const ElementBlock&, const double*, const doubl
   no_cuda();
 }
 double dot(const double*, const double*, std::size_t, Reducer&) { no_cuda(); }
+void reduce_element_blocks(const double*, std::size_t, const std::uint16_t*, const std::uint64_t*,
+                           const ElementBlockMap*, int, double*) {
+  no_cuda();
+}
 
 }  // namespace dipc::device

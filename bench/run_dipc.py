@@ -1,0 +1,33 @@
+"""Launch the dipc program through mpirun for the bench scripts: one place for the launcher, the
+environment Open MPI needs here (running as root, more ranks than cores) and a timeout that ends
+every rank, not only mpirun.
+
+    from run_dipc import run_dipc
+    text, status, cmd = run_dipc("build/src/app/dipc", 2, [scene, "-dipc_no_output"], timeout=300)
+
+text is stdout + stderr, status the exit status or "timeout", cmd the command line as a list.
+"""
+import os
+import signal
+import subprocess
+
+
+def mpi_env():
+    """The environment of the launched run: Open MPI refuses root and oversubscription by default."""
+    return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
+def run_dipc(dipc, ranks, args, timeout=None):
+    cmd = ["mpirun", "-n", str(ranks), dipc] + [str(a) for a in args]
+    # A session of its own, so that a timeout can end mpirun and its ranks together (killing
+    # mpirun alone with SIGKILL leaves the ranks running).
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=mpi_env(),
+                         start_new_session=True)
+    try:
+        text, _ = p.communicate(timeout=timeout)
+        return text, p.returncode, cmd
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        text, _ = p.communicate()
+        return text or "", "timeout", cmd

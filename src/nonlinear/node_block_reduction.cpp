@@ -1,0 +1,229 @@
+#include "nonlinear/node_block_reduction.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace dipc {
+
+namespace {
+// An element node pair on a block row, bucketed by row: its column node, and the key that
+// orders the summation, (form index << 56) | (64e + 8a + b).
+struct Item {
+  std::int64_t col;
+  std::uint64_t key;
+};
+constexpr int kFormShift = 56;
+constexpr std::uint64_t kSourceMask = (std::uint64_t{1} << 32) - 1;
+// Sources are 64e + 8a + b in 32 bits.
+constexpr std::int64_t kMaxElements = std::int64_t{1} << 26;
+
+int rank_in_mask(unsigned mask, int bit) { return __builtin_popcount(mask & ((1u << bit) - 1u)); }
+}  // namespace
+
+NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
+                                             std::int64_t owned_end) {
+  if (inputs.size() >= (std::size_t{1} << (64 - kFormShift)))
+    throw std::length_error("too many element forms for the node-block reduction");
+  for (const Input& in : inputs)
+    if (in.pattern.num_elements >= kMaxElements)
+      throw std::length_error("an element form has " + std::to_string(in.pattern.num_elements) +
+                              " elements on one rank; the node-block map holds at most 2^26 - 1 (67,108,863) per "
+                              "rank: run on more ranks");
+  const std::int64_t dense_begin = owned_begin, dense_end = std::max(owned_begin, owned_end);
+  const auto in_dense = [&](std::int64_t g) { return g >= dense_begin && g < dense_end; };
+
+  // Rows are global nodes. The owned ones are contiguous and indexed directly; the others (ghost
+  // nodes of this rank's elements) are numbered by their rank among the distinct ones, so that
+  // no array spans the global node range (as in CooReduction).
+  std::vector<std::int64_t> sparse;
+  for (const Input& in : inputs) {
+    const ElementPattern& p = in.pattern;
+    for (std::size_t k = 0; k < 8 * static_cast<std::size_t>(p.num_elements); ++k) {
+      const std::int64_t g = p.local_to_global[p.nodes[k]];
+      if (!in_dense(g)) sparse.push_back(g);
+    }
+  }
+  std::sort(sparse.begin(), sparse.end());
+  sparse.erase(std::unique(sparse.begin(), sparse.end()), sparse.end());
+  sparse.shrink_to_fit();
+  const std::size_t dense_size = static_cast<std::size_t>(dense_end - dense_begin);
+  const std::size_t below =
+      static_cast<std::size_t>(std::lower_bound(sparse.begin(), sparse.end(), dense_begin) - sparse.begin());
+  const std::size_t num_rows = dense_size + sparse.size();
+  const auto slot_of = [&](std::int64_t g) -> std::size_t {
+    if (in_dense(g)) return below + static_cast<std::size_t>(g - dense_begin);
+    return static_cast<std::size_t>(std::lower_bound(sparse.begin(), sparse.end(), g) - sparse.begin()) +
+           (g >= dense_end ? dense_size : 0);
+  };
+
+  // Counting sort of the element node pairs by row node: 8 per element node, filled in the
+  // order form, element, row node, column node, so that each row's items come in key order.
+  std::vector<std::size_t> start(num_rows + 1, 0);
+  for (const Input& in : inputs) {
+    const ElementPattern& p = in.pattern;
+    for (std::size_t k = 0; k < 8 * static_cast<std::size_t>(p.num_elements); ++k)
+      start[slot_of(p.local_to_global[p.nodes[k]]) + 1] += 8;
+  }
+  for (std::size_t s = 0; s < num_rows; ++s) start[s + 1] += start[s];
+  std::vector<Item> items(start[num_rows]);
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < inputs.size(); ++f) {
+      const ElementPattern& p = inputs[f].pattern;
+      for (std::int64_t e = 0; e < p.num_elements; ++e) {
+        std::int64_t g[8];
+        for (int a = 0; a < 8; ++a) g[a] = p.local_to_global[p.nodes[8 * e + a]];
+        for (int a = 0; a < 8; ++a) {
+          Item* out = items.data() + next[slot_of(g[a])];
+          next[slot_of(g[a])] += 8;
+          for (int b = 0; b < 8; ++b)
+            out[b] = {g[b], (static_cast<std::uint64_t>(f) << kFormShift) |
+                                static_cast<std::uint64_t>(64 * e + 8 * a + b)};
+        }
+      }
+    }
+  }
+
+  NodeBlockReduction r;
+  r.row_nodes.resize(num_rows);
+  for (std::size_t s = 0; s < num_rows; ++s)
+    r.row_nodes[s] = s < below ? sparse[s]
+                     : s < below + dense_size ? dense_begin + static_cast<std::int64_t>(s - below)
+                                              : sparse[s - dense_size];
+  std::vector<std::int64_t>().swap(sparse);
+  r.forms.resize(inputs.size());
+  for (std::size_t f = 0; f < inputs.size(); ++f) {
+    r.forms[f].layout = inputs[f].pattern.layout;
+    r.forms[f].raw_begin = inputs[f].raw_begin;
+    r.forms[f].sources.reserve(64 * static_cast<std::size_t>(inputs[f].pattern.num_elements));
+  }
+  // A row's items by column, ties in key order (form, then element: the summation order); each
+  // run of one column is a block.
+  r.row_start.reserve(num_rows + 1);
+  r.row_start.push_back(0);
+  std::uint64_t entries = 0;
+  for (std::size_t s = 0; s < num_rows; ++s) {
+    Item* b = items.data() + start[s];
+    Item* e = items.data() + start[s + 1];
+    std::sort(b, e, [](const Item& x, const Item& y) { return x.col < y.col || (x.col == y.col && x.key < y.key); });
+    for (Item* it = b; it != e;) {
+      Item* run = it;
+      unsigned mask = 0;
+      for (auto& form : r.forms) form.offsets.push_back(static_cast<std::uint32_t>(form.sources.size()));
+      for (; it != e && it->col == run->col; ++it) {
+        FormMap& form = r.forms[it->key >> kFormShift];
+        mask |= element_block_mask(form.layout);
+        form.sources.push_back(static_cast<std::uint32_t>(it->key & kSourceMask));
+      }
+      r.block_col.push_back(run->col);
+      r.block_mask.push_back(static_cast<std::uint16_t>(mask));
+      r.block_start.push_back(entries);
+      entries += static_cast<std::uint64_t>(__builtin_popcount(mask));
+    }
+    r.row_start.push_back(r.block_col.size());
+  }
+  r.block_start.push_back(entries);
+  for (auto& form : r.forms) form.offsets.push_back(static_cast<std::uint32_t>(form.sources.size()));
+  r.block_col.shrink_to_fit();
+  r.block_mask.shrink_to_fit();
+  r.block_start.shrink_to_fit();
+  for (auto& form : r.forms) form.offsets.shrink_to_fit();
+  return r;
+}
+
+void NodeBlockReduction::entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
+  const std::size_t n = num_entries();
+  rows->resize(n);
+  cols->resize(n);
+  constexpr std::int64_t kMaxDof = std::numeric_limits<PetscInt>::max();
+  for (std::size_t s = 0; s + 1 < row_start.size(); ++s) {
+    const std::int64_t row_node = row_nodes[s];
+    for (std::size_t k = row_start[s]; k < row_start[s + 1]; ++k) {
+      if (3 * std::max(row_node, block_col[k]) + 2 > kMaxDof)
+        throw std::overflow_error("global dof id " + std::to_string(3 * std::max(row_node, block_col[k]) + 2) +
+                                  " does not fit PETSc's " + std::to_string(8 * sizeof(PetscInt)) +
+                                  "-bit PetscInt: use a PETSc configured with --with-64-bit-indices");
+      std::size_t out = block_start[k];
+      for (int bit = 0; bit < 9; ++bit)
+        if (block_mask[k] >> bit & 1u) {
+          (*rows)[out] = static_cast<PetscInt>(3 * row_node + bit / 3);
+          (*cols)[out] = static_cast<PetscInt>(3 * block_col[k] + bit % 3);
+          ++out;
+        }
+    }
+  }
+}
+
+std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col) const {
+  if (row < 0 || col < 0) return -1;
+  const auto r = std::lower_bound(row_nodes.begin(), row_nodes.end(), row / 3);
+  if (r == row_nodes.end() || *r != row / 3) return -1;
+  const std::size_t s = static_cast<std::size_t>(r - row_nodes.begin());
+  const auto first = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s]);
+  const auto last = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s + 1]);
+  const auto c = std::lower_bound(first, last, col / 3);
+  if (c == last || *c != col / 3) return -1;
+  const std::size_t k = static_cast<std::size_t>(c - block_col.begin());
+  const int bit = static_cast<int>(3 * (row % 3) + col % 3);
+  if (!(block_mask[k] >> bit & 1u)) return -1;
+  return static_cast<std::int64_t>(block_start[k]) + rank_in_mask(block_mask[k], bit);
+}
+
+void NodeBlockReduction::index_elements() {
+  if (num_blocks() > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("more than 2^32 - 1 node blocks on one rank: run on more ranks");
+  for (FormMap& form : forms) {
+    form.block_of.resize(form.sources.size());
+    for (std::size_t k = 0; k + 1 < form.offsets.size(); ++k)
+      for (std::uint32_t j = form.offsets[k]; j < form.offsets[k + 1]; ++j)
+        form.block_of[form.sources[j]] = static_cast<std::uint32_t>(k);
+    std::vector<std::uint32_t>().swap(form.offsets);
+    std::vector<std::uint32_t>().swap(form.sources);
+  }
+}
+
+void NodeBlockReduction::add_elements(std::size_t m, int first, int count, const double* values,
+                                      double* unique) const {
+  const FormMap& form = forms[m];
+  const std::size_t per = static_cast<std::size_t>(element_values(form.layout));
+  const unsigned form_mask = element_block_mask(form.layout);
+  for (int e = 0; e < count; ++e) {
+    const double* v = values + per * static_cast<std::size_t>(e);
+    const std::uint32_t* blocks = form.block_of.data() + 64 * (static_cast<std::size_t>(first) + e);
+    for (int ab = 0; ab < 64; ++ab) {
+      const std::uint32_t k = blocks[ab];
+      const unsigned mask = block_mask[k];
+      double* out = unique + block_start[k];
+      for (int bit = 0; bit < 9; ++bit)
+        if (form_mask >> bit & 1u)
+          out[rank_in_mask(mask, bit)] += v[element_value_offset(form.layout, ab >> 3, bit / 3, ab & 7, bit % 3)];
+    }
+  }
+}
+
+void NodeBlockReduction::reduce(const double* raw, double* unique) const {
+  const std::size_t nb = num_blocks();
+  for (std::size_t k = 0; k < nb; ++k) {
+    // Each entry's sum runs over the forms, then their sources, in order: the device kernel's
+    // order (device::reduce_element_blocks).
+    double sum[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (const FormMap& form : forms) {
+      const std::size_t per = static_cast<std::size_t>(element_values(form.layout));
+      const unsigned form_mask = element_block_mask(form.layout);
+      for (std::uint32_t j = form.offsets[k]; j < form.offsets[k + 1]; ++j) {
+        const std::uint32_t src = form.sources[j];
+        const int a = static_cast<int>(src >> 3 & 7u), b = static_cast<int>(src & 7u);
+        const double* v = raw + form.raw_begin + per * (src >> 6);
+        for (int bit = 0; bit < 9; ++bit)
+          if (form_mask >> bit & 1u) sum[bit] += v[element_value_offset(form.layout, a, bit / 3, b, bit % 3)];
+      }
+    }
+    double* out = unique + block_start[k];
+    for (int bit = 0; bit < 9; ++bit)
+      if (block_mask[k] >> bit & 1u) *out++ = sum[bit];
+  }
+}
+
+}  // namespace dipc

@@ -1,0 +1,75 @@
+// NodeBlockReduction: the Hessian entries of the element forms as distinct node blocks, and the
+// map that sums the forms' element values into them.
+//
+// An element form's Hessian is a dense block over each hex's 8x8 node pairs. Expanded to scalar
+// COO entries it is 576 (row, col) pairs per hex, each repeated in up to 8 elements; building,
+// reducing and storing that list was most of the setup's time and memory (docs/performance.md).
+// Here a rank keeps one entry per distinct node pair (row node, col node) — a block of up to 9
+// scalar entries — and, per element form, the list of the element node pairs (e, a, b) that
+// fall on each block (64 per element, 4 B each). Where a value lies among the form's raw
+// values follows from (e, a, b, i, j) and the form's ElementLayout, so no per-entry index is
+// stored. Each entry sums, from 0, the forms in their order, each over its elements in
+// ascending order: the same order on the host and on the device, so both give the same bits.
+#pragma once
+#include <petscsys.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "nonlinear/form.hpp"
+
+namespace dipc {
+
+class NodeBlockReduction {
+ public:
+  // One element form's pattern, and where its values start in the raw value array.
+  struct Input {
+    ElementPattern pattern;
+    std::size_t raw_begin = 0;
+  };
+  // An element form's map: the sources of block k are sources[offsets[k] .. offsets[k+1]),
+  // each 64e + 8a + b (element e, row node a, col node b), ascending.
+  struct FormMap {
+    ElementLayout layout = ElementLayout::elastic;
+    std::size_t raw_begin = 0;
+    std::vector<std::uint32_t> offsets, sources;
+    std::vector<std::uint32_t> block_of;  // after index_elements(): the block of 64e + 8a + b
+  };
+
+  // The distinct blocks of the forms' patterns on a rank that owns the global nodes
+  // [owned_begin, owned_end): those rows are bucketed directly, the few others (ghost nodes)
+  // after sorting them. Throws std::length_error when a form has 2^26 elements or more (its
+  // sources would not fit 32 bits; run on more ranks).
+  static NodeBlockReduction build(const std::vector<Input>& forms, std::int64_t owned_begin, std::int64_t owned_end);
+
+  std::size_t num_blocks() const { return block_col.size(); }
+  // Scalar entries of all blocks; entries are numbered block by block, bits 3i + j ascending.
+  std::size_t num_entries() const { return block_start.empty() ? 0 : static_cast<std::size_t>(block_start.back()); }
+  // Global dof ids of every entry, in entry order (3 node + i, 3 node + j). Throws
+  // std::overflow_error when an id does not fit PetscInt (configure PETSc with 64-bit indices).
+  void entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  // Entry index of the dof pair (row, col), or -1 where no block holds it.
+  std::int64_t find(std::int64_t row, std::int64_t col) const;
+  // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).
+  void reduce(const double* raw, double* unique) const;
+
+  // The inverse map, for sums on the host element chunk by chunk: fills each form's block_of
+  // and frees its offsets and sources (reduce() then no longer works). Throws std::length_error
+  // when the blocks do not fit 32-bit ids.
+  void index_elements();
+  // Adds the values of form m's elements [first, first + count) (in its layout, element first's
+  // at values) into unique. Called for the forms in order and their elements in ascending order
+  // on zeroed entries, it gives reduce()'s sums bit for bit: each entry receives the same terms
+  // in the same order.
+  void add_elements(std::size_t m, int first, int count, const double* values, double* unique) const;
+
+  std::vector<std::int64_t> row_nodes;     // global node of each block row, ascending
+  std::vector<std::size_t> row_start;      // blocks of row r: [row_start[r], row_start[r+1])
+  std::vector<std::int64_t> block_col;     // global column node of each block, ascending in a row
+  std::vector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)
+  std::vector<std::uint64_t> block_start;  // first entry of each block; num_blocks() + 1
+  std::vector<FormMap> forms;              // in the order of build()'s inputs
+};
+
+}  // namespace dipc
