@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "contact/broad_phase/bvh.hpp"
 #include "contact/contact_pair_terms.hpp"
 #include "contact/segment_triangle.hpp"
 #include "math/aabb.hpp"
@@ -121,26 +122,34 @@ std::string ContactSet::closest_pair(const double* x) const {
 }
 
 long ContactSet::count_intersections(const double* x, std::string* first) const {
-  // Triangles sorted by the lower x of their boxes, so each edge only looks at the triangles
-  // whose x-range can overlap its own (sweep and prune).
-  std::vector<std::pair<double, std::size_t>> by_x;
+  // Each edge meets only the triangles whose boxes overlap its own, found in a BVH of the
+  // triangle boxes (a sweep along x alone visits whole faces of a box-shaped surface per edge,
+  // quadratic in the surface). The overlaps are taken in the order of the triangles' lower x
+  // (then index), so the first crossing reported does not depend on the tree.
   std::vector<Aabb> face_box(faces_.size());
+  std::vector<std::pair<double, std::size_t>> by_x;
   for (std::size_t f = 0; f < faces_.size(); ++f) {
     face_box[f] = aabb_empty();
     for (int k = 0; k < 3; ++k) aabb_add_point(&face_box[f], x + 3 * faces_[f].node[k]);
     by_x.emplace_back(face_box[f].lo[0], f);
   }
   std::sort(by_x.begin(), by_x.end());
+  std::vector<std::size_t> x_rank(faces_.size());
+  for (std::size_t r = 0; r < by_x.size(); ++r) x_rank[by_x[r].second] = r;
+  const contact::Bvh tree(face_box);
   long count = 0;
+  std::vector<std::size_t> near;
   for (std::size_t e = 0; e < owned_edges_; ++e) {
     const Primitive& edge = edges_[e];
     Aabb eb = aabb_empty();
     aabb_add_point(&eb, x + 3 * edge.node[0]);
     aabb_add_point(&eb, x + 3 * edge.node[1]);
-    for (const auto& [fx, f] : by_x) {
-      if (fx > eb.hi[0]) break;
+    near.clear();
+    tree.for_each_overlap(eb, [&](std::int32_t f) { near.push_back(x_rank[f]); });
+    std::sort(near.begin(), near.end());
+    for (const std::size_t r : near) {
+      const std::size_t f = by_x[r].second;
       const Primitive& face = faces_[f];
-      if (!aabbs_overlap(eb, face_box[f])) continue;
       bool shared = false;
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 3; ++b) shared = shared || edge.node[a] == face.node[b];
