@@ -29,10 +29,11 @@ import csv
 import os
 import re
 import resource
-import subprocess
 import sys
 import tempfile
 import time
+
+from run_dipc import run_dipc
 
 FIELDS = ["elements", "ranks", "partitioner", "source", "first_iteration_s", "partition_s", "setup_s", "slices_s",
           "faces_s", "partitioner_s", "quality_s", "elements_s", "nodes_s", "surface_s", "edge_cut", "interior_faces",
@@ -101,15 +102,11 @@ def run_one(args, n, ranks, partitioner, source, workdir):
     scene = os.path.join(workdir, "setup_%d_%s.json" % (n, source))
     with open(scene, "w") as f:
         f.write(scene_text(n, mesh_file))
-    cmd = ["mpirun", "-n", str(ranks), args.dipc, scene, "-dipc_setup_only", "-dipc_no_output",
-           "-dipc_partitioner", partitioner] + args.extra
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.time()
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
-        text, status = p.stdout + p.stderr, p.returncode
-    except subprocess.TimeoutExpired:
-        text, status = "", "timeout"
+    text, status, cmd = run_dipc(args.dipc, ranks, [scene, "-dipc_setup_only", "-dipc_no_output",
+                                                    "-dipc_partitioner", partitioner] + args.extra,
+                                 timeout=args.timeout)
     wall = time.time() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     row = {"elements": n ** 3, "ranks": ranks, "partitioner": partitioner, "source": source, "status": status,
