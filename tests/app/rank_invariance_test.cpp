@@ -99,8 +99,11 @@ TEST(RankInvariance, MeanDilatationBeamMatchesOneRank) {
 // short of the deflection here (1 rank; the step failed on 2) when it was given -ksp_rtol as
 // it is; at -ksp_rtol x kUnpreconditionedRtolFactor (0.01) it agrees to 6e-6 with a tight
 // solve, CG to 7e-6 and MINRES to 6e-5.
-// Run on every rank of the test's communicator.
-double static_beam_tip(const char* mixed_solve) {
+// The reference is the same mixed solve at -ksp_rtol 1e-10 (its du equals the primal du,
+// *MixedSolve* tests): CG on the full Hessian fails this static step on 4 ranks, at loose and
+// at tight tolerances alike (found while merging, not yet investigated). Run on every rank of
+// the test's communicator.
+double static_beam_tip(const char* mixed_solve, const char* ksp_rtol) {
   const Scene scene = parse_scene_text(R"({
     "materials": [{"name": "m", "E": 1e8, "nu": 0.4999, "rho": 1000, "volumetric": "mean_dilatation"}],
     "geometry": [{"name": "beam", "box": {"size": [1, 0.1, 0.1], "resolution": [10, 1, 1], "origin": [0, 0, 0]},
@@ -108,7 +111,7 @@ double static_beam_tip(const char* mixed_solve) {
     "boundary_conditions": {"gravity": [0, 0, -9.81], "dirichlet": [{"selection": "beam.xmin", "type": "fixed"}]},
     "time": {"integrator": "static", "dt": 1, "steps": 1}})",
                                        "<static beam>", "");
-  PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-4");
+  PetscOptionsSetValue(nullptr, "-ksp_rtol", ksp_rtol);
   PetscOptionsSetValue(nullptr, "-dipc_mixed_solve", mixed_solve);
   RunOptions options;
   options.write_output = false;
@@ -130,10 +133,10 @@ double static_beam_tip(const char* mixed_solve) {
   return tip;
 }
 
-TEST(RankInvariance, MixedSolveAtLooseToleranceEndsWhereCgDoes) {
-  const double mixed = static_beam_tip("1"), primal = static_beam_tip("0");
-  EXPECT_GT(primal, 1e-3) << "the beam did not bend: the comparison would be vacuous";
-  EXPECT_LT(std::abs(mixed - primal) / primal, 1e-4) << "mixed " << mixed << " m, CG on H " << primal << " m";
+TEST(RankInvariance, MixedSolveAtLooseToleranceEndsWhereATightSolveDoes) {
+  const double loose = static_beam_tip("1", "1e-4"), tight = static_beam_tip("1", "1e-10");
+  EXPECT_GT(tight, 1e-3) << "the beam did not bend: the comparison would be vacuous";
+  EXPECT_LT(std::abs(loose - tight) / tight, 1e-4) << "loose " << loose << " m, tight " << tight << " m";
 }
 
 // Two clamped beams 0.3 m apart (no contact), the first neo-Hookean, the second of `model`.
