@@ -101,6 +101,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       flag("-dipc_pc_reuse"),                      // read in nonlinear/preconditioner_reuse.cpp
       positive_real("-dipc_pc_reuse_setup_cost"),  // the same
       flag("-dipc_mixed_solve"),                   // read in nonlinear/mixed_linear_solve.cpp
+      flag("-dipc_direct_matrix"),                 // read in nonlinear/incremental_potential.cpp
       one_of("-dipc_mixed_schur", "mass selfp"),      // the same
       one_of("-dipc_mixed_schur_fact", "diag upper"),        // the same
       positive_real("-dipc_dt_min"),

@@ -14,7 +14,7 @@ namespace {
 // PETSc log events (registered once per process) and a scope timer that feeds both them and
 // the EvaluationTimes counters.
 struct Events {
-  PetscLogEvent energy, gradient, hessian, validity, coo_reduction;
+  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, direct_matrix;
 };
 const Events& events() {
   static Events e = [] {
@@ -26,6 +26,7 @@ const Events& events() {
     PetscLogEventRegister("dipcHessian", id, &r.hessian);
     PetscLogEventRegister("dipcValidity", id, &r.validity);
     PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
+    PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
     return r;
   }();
   return e;
@@ -45,6 +46,13 @@ class ScopedEvent {
   double* seconds_;
   double start_;
 };
+// -dipc_direct_matrix (default on): matrices of the types DirectMatrix serves are made from the
+// entries; off, every matrix goes through PETSc's COO preallocation (for comparison).
+bool use_direct_matrix() {
+  PetscBool direct = PETSC_TRUE;
+  PetscCallAbort(PETSC_COMM_SELF, PetscOptionsGetBool(nullptr, nullptr, "-dipc_direct_matrix", &direct, nullptr));
+  return direct == PETSC_TRUE;
+}
 }  // namespace
 
 EvaluationTimes operator-(const EvaluationTimes& a, const EvaluationTimes& b) {
@@ -180,11 +188,15 @@ PetscErrorCode IncrementalPotential::build_element_blocks() {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode IncrementalPotential::rebuild_pattern() {
+PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
   PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
   device_matrix_ = any_device_ && matrix_on_device(J_);
+  // Host AIJ, and hypre on the device when the values are summed there, are made from the
+  // entries directly (direct_matrix.hpp); -dipc_direct_matrix 0 keeps PETSc's COO path.
+  direct_kind_ = use_direct_matrix() ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
+  if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
     PetscCall(build_element_blocks());
     blocks_built_ = true;
@@ -322,8 +334,25 @@ PetscErrorCode IncrementalPotential::rebuild_pattern() {
     d_one_entries_.upload(one_entries_);
   }
   PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
-  // PETSc may reorder the index arrays it is given and keeps its own copy.
-  PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(num_unique_), unique_rows.data(), unique_cols.data()));
+  if (direct_kind_ == DirectMatrix::Kind::coo) {
+    // PETSc may reorder the index arrays it is given and keeps its own copy.
+    PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(num_unique_), unique_rows.data(), unique_cols.data()));
+  } else {
+    // A new matrix of the entries; it replaces the template create_matrix() made, or the
+    // contents of the matrix in use (whose handle the solvers hold).
+    PetscCall(PetscLogEventBegin(events().direct_matrix, 0, 0, 0, 0));
+    Mat fresh;
+    PetscCall(direct_.create(J_, direct_kind_, unique_rows.data(), unique_cols.data(), num_unique_, &fresh));
+    std::vector<PetscInt>().swap(unique_rows);
+    std::vector<PetscInt>().swap(unique_cols);
+    if (template_matrix) {
+      PetscCall(MatDestroy(&J_));
+      J_ = fresh;
+    } else {
+      PetscCall(MatHeaderReplace(J_, &fresh));
+    }
+    PetscCall(PetscLogEventEnd(events().direct_matrix, 0, 0, 0, 0));
+  }
   times_.preallocation += MPI_Wtime() - start;
   ++times_.preallocations;
   PetscFunctionReturn(0);
@@ -339,7 +368,8 @@ PetscErrorCode IncrementalPotential::create_matrix(Mat* J) {
   PetscCall(MatSetType(*J, MATAIJ));
   PetscCall(MatSetFromOptions(*J));
   J_ = *J;
-  PetscCall(rebuild_pattern());
+  PetscCall(rebuild_pattern(true));
+  *J = J_;  // a direct matrix replaced the template
   PetscCall(MatSetOption(*J, MAT_SPD, PETSC_TRUE));
   times_.preallocation = before + (MPI_Wtime() - start);
   PetscFunctionReturn(0);
@@ -479,7 +509,7 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
     for (auto& form : forms_) form->update_pattern(x_views_.in(MemorySpace::host));
     int changed = pattern_changed() ? 1 : 0, any = 0;
     PetscCallMPI(MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, comm_));
-    if (any) PetscCall(rebuild_pattern());
+    if (any) PetscCall(rebuild_pattern(false));
   }
   // Values go to the device only where both the matrix and some forms are there.
   const bool on_device = matrix_on_device(J) && any_device_;
@@ -490,7 +520,10 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
   PetscCheck(ok, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Hessian requested at an inverted state");
   const double insert_start = MPI_Wtime();
   double* const unique = sum_values(on_device);
-  PetscCall(MatSetValuesCOO(J, unique, INSERT_VALUES));
+  if (direct_kind_ == DirectMatrix::Kind::coo)
+    PetscCall(MatSetValuesCOO(J, unique, INSERT_VALUES));
+  else
+    PetscCall(direct_.set_values(J, unique));
   times_.coo_insert += MPI_Wtime() - insert_start;
   PetscFunctionReturn(0);
 }

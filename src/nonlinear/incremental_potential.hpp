@@ -33,6 +33,7 @@
 
 #include "device/device_runtime.hpp"
 #include "nonlinear/coo_reduction.hpp"
+#include "nonlinear/direct_matrix.hpp"
 #include "nonlinear/form.hpp"
 #include "nonlinear/local_views.hpp"
 #include "nonlinear/node_block_reduction.hpp"
@@ -153,7 +154,9 @@ class IncrementalPotential {
   PetscErrorCode build_element_blocks();
   // The other forms' COO pattern, the matrix's entries, the Dirichlet elimination and the
   // preallocation of J_ (set by create_matrix before the first call).
-  PetscErrorCode rebuild_pattern();
+  // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
+  // it), else the matrix in use (a direct matrix takes over its contents).
+  PetscErrorCode rebuild_pattern(bool template_matrix);
   bool pattern_changed() const;
 
   MPI_Comm comm_ = MPI_COMM_NULL;
@@ -191,6 +194,8 @@ class IncrementalPotential {
   bool blocks_built_ = false;
   NodeBlockReduction blocks_;
   std::size_t num_block_entries_ = 0;          // the matrix's entries held by node blocks (its first)
+  DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
+  DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
   CooReduction reduction_;                     // the other forms' raw values (and the Dirichlet diagonal)
   std::vector<std::size_t> scalar_target_;     // reduction_'s unique entry -> the matrix's entry
   std::vector<double> scalar_sums_;

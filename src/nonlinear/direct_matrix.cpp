@@ -1,0 +1,386 @@
+#include "nonlinear/direct_matrix.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+#include "partition/mpi_exchange.hpp"
+
+// PetscObjectStateIncrease: PETSc's objects count their changes in a state that the solvers
+// compare (a preconditioner is set up again when its matrix's state moved); values written
+// into the arrays directly must move it too. PETSc declares it with its object internals.
+#include <petsc/private/petscimpl.h>
+
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+#include <petscmathypre.h>
+#include <_hypre_parcsr_mv.h>
+#endif
+
+namespace dipc {
+
+namespace {
+// A provisional position in the off-diagonal block, made final once the diagonal block's size
+// is known (positions stay below 2^31: a rank's nonzeros fit PetscInt, checked by the caller).
+constexpr std::uint32_t kOffdFlag = 0x80000000u;
+// In a row's list of sources: entries of this rank are their index, received ones carry this bit.
+constexpr std::uint64_t kReceived = std::uint64_t{1} << 63;
+
+struct Pair {
+  PetscInt row, col;
+};
+}  // namespace
+
+namespace {
+// The arrays a host AIJ matrix uses without copying them; owned by the Mat (composed on it), so
+// that an older matrix keeps its own while a newer one is in use.
+struct HostArrays {
+  std::vector<PetscInt> diag_i, diag_j, offd_i, offd_j;
+  std::vector<double> diag_a, offd_a;
+};
+
+PetscErrorCode destroy_host_arrays(void* ctx) {
+  delete static_cast<HostArrays*>(ctx);
+  return 0;
+}
+}  // namespace
+
+DirectMatrix::~DirectMatrix() { PetscSFDestroy(&sf_); }
+
+DirectMatrix::Kind DirectMatrix::kind_of(Mat J) {
+  PetscBool aij = PETSC_FALSE, hypre = PETSC_FALSE;
+  const auto object = reinterpret_cast<PetscObject>(J);
+  PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompareAny(object, &aij, MATSEQAIJ, MATMPIAIJ, ""));
+  PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompare(object, MATHYPRE, &hypre));
+  if (aij) return Kind::host_aij;
+  if (hypre && PetscDefined(HAVE_HYPRE_DEVICE) && device::built_with_cuda()) return Kind::device_hypre;
+  return Kind::coo;
+}
+
+PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n,
+                                    Mat* J) {
+  PetscFunctionBeginUser;
+  PetscCheck(kind != Kind::coo, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DirectMatrix::create needs a direct kind");
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
+  kind_ = kind;
+  num_entries_ = n;
+  PetscInt m, begin = 0;
+  PetscCall(MatGetLocalSize(like, &m, nullptr));
+  PetscCallMPI(MPI_Exscan(&m, &begin, 1, MPIU_INT, MPI_SUM, comm));
+  int rank;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) begin = 0;  // MPI_Exscan leaves rank 0's result undefined
+  PetscCall(build_pattern(comm, begin, m, begin, begin + m, rows, cols, n, kind == Kind::device_hypre));
+  if (kind == Kind::host_aij)
+    PetscCall(make_host_aij(like, J));
+  else
+    PetscCall(make_device_hypre(like, J));
+  if (kind == Kind::device_hypre) {
+    d_position_.upload(position_);
+    d_slot_position_.upload(slot_position_);
+    d_slot_keep_.upload(slot_keep_);
+    d_slot_sums_.resize(slot_position_.size());
+    std::vector<std::uint32_t>().swap(position_);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, PetscInt num_rows, PetscInt col_begin,
+                                           PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n,
+                                           bool diagonal_first) {
+  PetscFunctionBeginUser;
+  int size;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<PetscInt> starts(size + 1, 0);
+  PetscCallMPI(MPI_Allgather(&num_rows, 1, MPIU_INT, starts.data() + 1, 1, MPIU_INT, comm));
+  for (int r = 0; r < size; ++r) starts[r + 1] += starts[r];
+  const PetscInt row_end = row_begin + num_rows;
+
+  // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
+  // back in the order sent.
+  position_.assign(n, kRemote);
+  std::vector<std::vector<Pair>> to(size);
+  std::vector<std::vector<PetscInt>> remote_entry(size);
+  std::vector<std::size_t> row_count(static_cast<std::size_t>(num_rows) + 1, 0);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (rows[k] >= row_begin && rows[k] < row_end) {
+      ++row_count[rows[k] - row_begin + 1];
+      continue;
+    }
+    const int owner = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), rows[k]) - starts.begin()) - 1;
+    to[owner].push_back({rows[k], cols[k]});
+    remote_entry[owner].push_back(static_cast<PetscInt>(k));
+  }
+  std::vector<int> from;
+  const std::vector<Pair> received = exchange_records(to, comm, &from);
+  to = std::vector<std::vector<Pair>>();
+  for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
+  for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
+
+  // Each row's sources (own entries by index, received ones flagged) by counting sort.
+  std::vector<std::uint64_t> source(row_count[num_rows]);
+  {
+    std::vector<std::size_t> next(row_count.begin(), row_count.end() - 1);
+    for (std::size_t k = 0; k < n; ++k)
+      if (rows[k] >= row_begin && rows[k] < row_end) source[next[rows[k] - row_begin]++] = k;
+    for (std::size_t k = 0; k < received.size(); ++k) source[next[received[k].row - row_begin]++] = kReceived | k;
+  }
+
+  // Per row: its distinct columns in the kind's order, each given the next position of its
+  // block; an own entry takes that position, received ones a slot there.
+  diag_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
+  offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
+  diag_j_.clear();
+  offd_j_.clear();
+  diag_j_.reserve(row_count[num_rows]);
+  slot_position_.clear();
+  slot_keep_.clear();
+  std::vector<std::uint32_t> received_slot(received.size());
+  std::vector<std::pair<PetscInt, std::uint64_t>> line;
+  std::uint32_t num_diag = 0, num_offd = 0;
+  for (PetscInt r = 0; r < num_rows; ++r) {
+    line.clear();
+    for (std::size_t s = row_count[r]; s < row_count[r + 1]; ++s) {
+      const std::uint64_t src = source[s];
+      line.emplace_back(src & kReceived ? received[src & ~kReceived].col : cols[src], src);
+    }
+    // By column; own entries, then received ones in arrival order. The element blocks give
+    // most rows already sorted.
+    if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
+    if (diagonal_first)
+      std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row_begin + r; });
+    for (std::size_t a = 0; a < line.size();) {
+      std::size_t b = a + 1;
+      while (b < line.size() && line[b].first == line[a].first) ++b;
+      const PetscInt col = line[a].first;
+      std::uint32_t p;
+      if (col >= col_begin && col < col_end) {
+        p = num_diag++;
+        diag_j_.push_back(col - col_begin);
+      } else {
+        p = kOffdFlag | num_offd++;
+        offd_j_.push_back(col);
+      }
+      const bool own = !(line[a].second & kReceived);
+      if (own) position_[line[a].second] = p;
+      if (b > a + (own ? 1 : 0)) {
+        for (std::size_t c = a + (own ? 1 : 0); c < b; ++c)
+          received_slot[line[c].second & ~kReceived] = static_cast<std::uint32_t>(slot_position_.size());
+        slot_position_.push_back(p);
+        slot_keep_.push_back(own ? 1 : 0);
+      }
+      a = b;
+    }
+    diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
+    offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
+  }
+  std::vector<std::uint64_t>().swap(source);
+  num_diag_ = num_diag;
+  num_offd_ = num_offd;
+  const auto finish = [&](std::uint32_t& p) {
+    if (p != kRemote && (p & kOffdFlag)) p = num_diag + (p & ~kOffdFlag);
+  };
+  for (std::uint32_t& p : position_) finish(p);
+  for (std::uint32_t& p : slot_position_) finish(p);
+
+  // Answers to the senders, and the star forest their values travel by.
+  std::vector<std::vector<std::uint32_t>> answers(size);
+  for (std::size_t k = 0; k < received.size(); ++k) answers[from[k]].push_back(received_slot[k]);
+  const std::vector<std::uint32_t> slots = exchange_records(answers, comm);
+  long long num_remote = static_cast<long long>(slots.size()), any_remote = 0;
+  PetscCallMPI(MPI_Allreduce(&num_remote, &any_remote, 1, MPI_LONG_LONG, MPI_SUM, comm));
+  PetscCall(PetscSFDestroy(&sf_));
+  if (any_remote > 0) {
+    std::vector<PetscInt> leaves;
+    std::vector<PetscSFNode> roots;
+    leaves.reserve(slots.size());
+    roots.reserve(slots.size());
+    std::size_t next = 0;
+    for (int r = 0; r < size; ++r)
+      for (PetscInt k : remote_entry[r]) {
+        leaves.push_back(k);
+        roots.push_back({r, static_cast<PetscInt>(slots[next++])});
+      }
+    PetscCall(PetscSFCreate(comm, &sf_));
+    PetscCall(PetscSFSetGraph(sf_, static_cast<PetscInt>(slot_position_.size()), static_cast<PetscInt>(leaves.size()),
+                              leaves.data(), PETSC_COPY_VALUES, roots.data(), PETSC_COPY_VALUES));
+    PetscCall(PetscSFSetUp(sf_));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
+  PetscFunctionBeginUser;
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
+  PetscInt m, M, bs;
+  PetscCall(MatGetLocalSize(like, &m, nullptr));
+  PetscCall(MatGetSize(like, &M, nullptr));
+  PetscCall(MatGetBlockSize(like, &bs));
+  PetscBool seq;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(like), MATSEQAIJ, &seq));
+  const std::vector<PetscInt> offd_columns(offd_j_);
+  auto arrays = std::make_unique<HostArrays>();
+  arrays->diag_i = std::move(diag_i_);
+  arrays->diag_j = std::move(diag_j_);
+  arrays->diag_a.assign(num_diag_, 0.0);
+  if (seq) {
+    PetscCall(MatCreateSeqAIJWithArrays(comm, m, m, arrays->diag_i.data(), arrays->diag_j.data(),
+                                        arrays->diag_a.data(), J));
+  } else {
+    arrays->offd_i = std::move(offd_i_);
+    arrays->offd_j = std::move(offd_j_);
+    arrays->offd_a.assign(std::max<std::size_t>(num_offd_, 1), 0.0);
+    if (arrays->offd_j.empty()) arrays->offd_j.push_back(0);  // a valid pointer for an empty block
+    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, m, m, M, M, arrays->diag_i.data(), arrays->diag_j.data(),
+                                             arrays->diag_a.data(), arrays->offd_i.data(), arrays->offd_j.data(),
+                                             arrays->offd_a.data(), J));
+  }
+  PetscCall(MatSetBlockSize(*J, bs));
+  const char* prefix = nullptr;
+  PetscCall(MatGetOptionsPrefix(like, &prefix));
+  PetscCall(MatSetOptionsPrefix(*J, prefix));
+  PetscContainer container;
+  PetscCall(PetscContainerCreate(comm, &container));
+  PetscCall(PetscContainerSetPointer(container, arrays.release()));
+  PetscCall(PetscContainerSetUserDestroy(container, destroy_host_arrays));
+  PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*J), "dipc_direct_arrays", reinterpret_cast<PetscObject>(container)));
+  PetscCall(PetscContainerDestroy(&container));
+  PetscCall(check_host_pattern(*J, offd_columns));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const {
+  PetscFunctionBeginUser;
+  Mat A = J, B = nullptr;
+  const PetscInt* garray = nullptr;
+  PetscBool mpi;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATMPIAIJ, &mpi));
+  if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(J, &A, &B, &garray));
+  const PetscInt *ai, *aj, *bi = nullptr, *bj = nullptr;
+  PetscScalar* unused;
+  PetscCall(MatSeqAIJGetCSRAndMemType(A, &ai, &aj, &unused, nullptr));
+  PetscInt m;
+  PetscCall(MatGetLocalSize(A, &m, nullptr));
+  bool same = static_cast<std::size_t>(ai[m]) == num_diag_;
+  if (B) {
+    PetscCall(MatSeqAIJGetCSRAndMemType(B, &bi, &bj, &unused, nullptr));
+    same = same && static_cast<std::size_t>(bi[m]) == num_offd_;
+    for (std::size_t k = 0; same && k < num_offd_; ++k) same = garray[bj[k]] == offd_columns[k];
+  }
+  PetscCheck(same, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "PETSc changed the pattern of the matrix made from dipc's arrays: the value positions do not hold");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
+  PetscFunctionBeginUser;
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
+  PetscInt m, M, bs, begin = 0;
+  PetscCall(MatGetLocalSize(like, &m, nullptr));
+  PetscCall(MatGetSize(like, &M, nullptr));
+  PetscCall(MatGetBlockSize(like, &bs));
+  PetscCallMPI(MPI_Exscan(&m, &begin, 1, MPIU_INT, MPI_SUM, comm));
+  int rank;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) begin = 0;
+  // The off-diagonal block's columns through its map: the distinct global columns, ascending.
+  std::vector<PetscInt> col_map(offd_j_);
+  std::sort(col_map.begin(), col_map.end());
+  col_map.erase(std::unique(col_map.begin(), col_map.end()), col_map.end());
+  std::vector<HYPRE_Int> offd_local(offd_j_.size());
+  for (std::size_t k = 0; k < offd_j_.size(); ++k)
+    offd_local[k] = static_cast<HYPRE_Int>(std::lower_bound(col_map.begin(), col_map.end(), offd_j_[k]) - col_map.begin());
+  HYPRE_BigInt starts[2] = {static_cast<HYPRE_BigInt>(begin), static_cast<HYPRE_BigInt>(begin + m)};
+  hypre_ParCSRMatrix* A = hypre_ParCSRMatrixCreate(comm, M, M, starts, starts, static_cast<HYPRE_Int>(col_map.size()),
+                                                   static_cast<HYPRE_Int>(num_diag_), static_cast<HYPRE_Int>(num_offd_));
+  hypre_ParCSRMatrixInitialize_v2(A, HYPRE_MEMORY_DEVICE);
+  hypre_CSRMatrix* diag = hypre_ParCSRMatrixDiag(A);
+  hypre_CSRMatrix* offd = hypre_ParCSRMatrixOffd(A);
+  const auto to_hypre = [](const std::vector<PetscInt>& v) { return std::vector<HYPRE_Int>(v.begin(), v.end()); };
+  const auto upload = [](HYPRE_Int* dst, const std::vector<HYPRE_Int>& v) {
+    if (!v.empty()) device::copy_to_device(dst, v.data(), v.size() * sizeof(HYPRE_Int));
+  };
+  upload(hypre_CSRMatrixI(diag), to_hypre(diag_i_));
+  upload(hypre_CSRMatrixJ(diag), to_hypre(diag_j_));
+  upload(hypre_CSRMatrixI(offd), to_hypre(offd_i_));
+  upload(hypre_CSRMatrixJ(offd), offd_local);
+  if (num_diag_) device::zero(hypre_CSRMatrixData(diag), num_diag_ * sizeof(double));
+  if (num_offd_) device::zero(hypre_CSRMatrixData(offd), num_offd_ * sizeof(double));
+  HYPRE_BigInt* map = hypre_ParCSRMatrixColMapOffd(A);
+  for (std::size_t k = 0; k < col_map.size(); ++k) map[k] = static_cast<HYPRE_BigInt>(col_map[k]);
+  hypre_ParCSRMatrixCopyColMapOffdToDevice(A);
+  hypre_MatvecCommPkgCreate(A);
+  std::vector<PetscInt>().swap(diag_i_), std::vector<PetscInt>().swap(diag_j_);
+  std::vector<PetscInt>().swap(offd_i_), std::vector<PetscInt>().swap(offd_j_);
+  PetscCall(MatCreateFromParCSR(A, MATHYPRE, PETSC_OWN_POINTER, J));
+  PetscCall(MatSetBlockSize(*J, bs));
+  const char* prefix = nullptr;
+  PetscCall(MatGetOptionsPrefix(like, &prefix));
+  PetscCall(MatSetOptionsPrefix(*J, prefix));
+#else
+  (void)like, (void)J;
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "a device hypre matrix needs a PETSc whose hypre runs on the GPU");
+#endif
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd) const {
+  PetscFunctionBeginUser;
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+  hypre_ParCSRMatrix* A = nullptr;
+  PetscCall(MatHYPREGetParCSR(J, &A));
+  *diag = hypre_CSRMatrixData(hypre_ParCSRMatrixDiag(A));
+  *offd = hypre_CSRMatrixData(hypre_ParCSRMatrixOffd(A));
+#else
+  (void)J, (void)diag, (void)offd;
+#endif
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
+  PetscFunctionBeginUser;
+  const std::size_t nd = num_diag_, ns = slot_position_.size();
+  if (kind_ == Kind::device_hypre) {
+    double *diag = nullptr, *offd = nullptr;
+    PetscCall(hypre_values(J, &diag, &offd));
+    device::scatter_split(values, d_position_.data(), num_entries_, diag, nd, offd);
+    if (sf_) {
+      // PETSc's SF runs on its own stream: the values must be complete before it reads them.
+      device::synchronize();
+      d_slot_sums_.set_zero();
+      PetscCall(PetscSFReduceWithMemTypeBegin(sf_, MPIU_SCALAR, PETSC_MEMTYPE_DEVICE, values, PETSC_MEMTYPE_DEVICE,
+                                              d_slot_sums_.data(), MPI_SUM));
+      PetscCall(PetscSFReduceEnd(sf_, MPIU_SCALAR, values, d_slot_sums_.data(), MPI_SUM));
+      device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
+    }
+    device::synchronize();
+  } else {
+    // The blocks' value arrays as PETSc holds them (the ones given at creation).
+    Mat A = J, B = nullptr;
+    PetscBool mpi;
+    PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATMPIAIJ, &mpi));
+    if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(J, &A, &B, nullptr));
+    PetscScalar *diag, *offd = nullptr;
+    PetscCall(MatSeqAIJGetArray(A, &diag));
+    if (B) PetscCall(MatSeqAIJGetArray(B, &offd));
+    const auto at = [&](std::uint32_t p) -> double& { return p < nd ? diag[p] : offd[p - nd]; };
+    for (std::size_t k = 0; k < num_entries_; ++k)
+      if (position_[k] != kRemote) at(position_[k]) = values[k];
+    if (sf_) {
+      slot_sums_.assign(ns, 0.0);
+      PetscCall(PetscSFReduceBegin(sf_, MPIU_SCALAR, values, slot_sums_.data(), MPI_SUM));
+      PetscCall(PetscSFReduceEnd(sf_, MPIU_SCALAR, values, slot_sums_.data(), MPI_SUM));
+      for (std::size_t s = 0; s < ns; ++s) {
+        double& v = at(slot_position_[s]);
+        v = (slot_keep_[s] ? v : 0.0) + slot_sums_[s];
+      }
+    }
+    PetscCall(MatSeqAIJRestoreArray(A, &diag));
+    if (B) PetscCall(MatSeqAIJRestoreArray(B, &offd));
+  }
+  // The values changed behind PETSc's back: a new state, so that preconditioners set up again.
+  PetscCall(PetscObjectStateIncrease(reinterpret_cast<PetscObject>(J)));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace dipc

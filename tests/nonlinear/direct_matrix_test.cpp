@@ -1,0 +1,192 @@
+// DirectMatrix against PETSc's COO path on the same entries: every rank gives entries of its own
+// rows and of other ranks' rows (some pairs given by several ranks, some rows' diagonals only by
+// another rank), with small integer values so that every sum is exact whatever its order. The
+// two matrices must hold the same pattern and values, after a second assembly too, and a
+// preconditioner must see the new values (the matrix's state moves). The device hypre matrix is
+// checked the same way where a GPU and a device hypre are present (the GPU build's
+// direct_matrix_gpu_tests), else skipped.
+#include <gtest/gtest.h>
+#include <petscksp.h>
+#include <petsc/private/petscimpl.h>  // PetscObjectStateGet: the state preconditioners compare
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "device/device_runtime.hpp"
+#include "nonlinear/direct_matrix.hpp"
+
+namespace dipc {
+namespace {
+
+constexpr PetscInt kRowsPerRank = 60;
+
+struct Entries {
+  std::vector<PetscInt> rows, cols;
+};
+
+// Entries of a banded pattern around each row plus scattered ones, rows of every rank; rank r
+// repeats part of rank r-1's choice so that owners receive the same pair from several ranks.
+Entries make_entries(int rank, int size) {
+  const PetscInt n = kRowsPerRank * size;
+  std::set<std::pair<PetscInt, PetscInt>> pairs;
+  for (int source : {rank, rank - 1}) {
+    if (source < 0) continue;
+    std::mt19937 rng(1000 + source);
+    std::uniform_int_distribution<PetscInt> any(0, n - 1), band(-4, 4);
+    for (int k = 0; k < 400; ++k) {
+      const PetscInt r = source == rank ? any(rng) : any(rng);
+      const PetscInt c = std::clamp<PetscInt>(r + band(rng), 0, n - 1);
+      if (source == rank || k % 3 == 0) pairs.insert({r, c});
+      if (source == rank && k % 7 == 0) pairs.insert({r, any(rng)});
+    }
+  }
+  // Every owned diagonal somewhere: most by the owner, those of every fifth row by the next rank.
+  for (PetscInt r = 0; r < n; ++r) {
+    const int owner = static_cast<int>(r / kRowsPerRank);
+    const bool by_next = r % 5 == 0 && size > 1;
+    if ((!by_next && owner == rank) || (by_next && (owner + 1) % size == rank)) pairs.insert({r, r});
+  }
+  Entries e;
+  for (const auto& [r, c] : pairs) e.rows.push_back(r), e.cols.push_back(c);
+  // Not sorted: the element blocks interleave rows, the contact entries come last.
+  std::mt19937 shuffle(7 + rank);
+  std::vector<std::size_t> order(e.rows.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::shuffle(order.begin(), order.end(), shuffle);
+  Entries out;
+  for (std::size_t k : order) out.rows.push_back(e.rows[k]), out.cols.push_back(e.cols[k]);
+  return out;
+}
+
+std::vector<double> make_values(const Entries& e, int rank, int round) {
+  std::vector<double> v(e.rows.size());
+  for (std::size_t k = 0; k < v.size(); ++k)
+    v[k] = static_cast<double>((e.rows[k] * 7 + e.cols[k] * 3 + rank * 11 + round * 5) % 17 + 1);
+  return v;
+}
+
+Mat template_matrix(MatType type) {
+  Mat J;
+  PetscCallAbort(PETSC_COMM_WORLD, MatCreate(PETSC_COMM_WORLD, &J));
+  PetscCallAbort(PETSC_COMM_WORLD, MatSetSizes(J, kRowsPerRank, kRowsPerRank, PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCallAbort(PETSC_COMM_WORLD, MatSetBlockSize(J, 3));
+  PetscCallAbort(PETSC_COMM_WORLD, MatSetType(J, type));
+  return J;
+}
+
+// The difference of the two matrices' products with a vector of distinct entries, and their
+// numbers of nonzeros (global).
+void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, PetscInt* nnz_coo) {
+  Vec x, y, z;
+  PetscCallAbort(PETSC_COMM_WORLD, MatCreateVecs(coo, &x, &y));
+  PetscCallAbort(PETSC_COMM_WORLD, VecDuplicate(y, &z));
+  PetscInt lo, hi;
+  PetscCallAbort(PETSC_COMM_WORLD, VecGetOwnershipRange(x, &lo, &hi));
+  for (PetscInt i = lo; i < hi; ++i) PetscCallAbort(PETSC_COMM_WORLD, VecSetValue(x, i, 1.0 + (i % 13) * 0.125, INSERT_VALUES));
+  PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyBegin(x));
+  PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyEnd(x));
+  Vec xd, zd;
+  PetscCallAbort(PETSC_COMM_WORLD, MatCreateVecs(direct, &xd, &zd));
+  PetscCallAbort(PETSC_COMM_WORLD, VecCopy(x, xd));
+  PetscCallAbort(PETSC_COMM_WORLD, MatMult(direct, xd, zd));
+  PetscCallAbort(PETSC_COMM_WORLD, VecCopy(zd, z));
+  PetscCallAbort(PETSC_COMM_WORLD, MatMult(coo, x, y));
+  PetscCallAbort(PETSC_COMM_WORLD, VecAXPY(z, -1.0, y));
+  PetscReal norm;
+  PetscCallAbort(PETSC_COMM_WORLD, VecNorm(z, NORM_INFINITY, &norm));
+  *difference = norm;
+  MatInfo info;
+  PetscCallAbort(PETSC_COMM_WORLD, MatGetInfo(coo, MAT_GLOBAL_SUM, &info));
+  *nnz_coo = static_cast<PetscInt>(info.nz_used);
+  PetscBool hypre;
+  PetscCallAbort(PETSC_COMM_WORLD, PetscObjectTypeCompare(reinterpret_cast<PetscObject>(direct), MATHYPRE, &hypre));
+  *nnz_direct = *nnz_coo;
+  if (!hypre) {
+    PetscCallAbort(PETSC_COMM_WORLD, MatGetInfo(direct, MAT_GLOBAL_SUM, &info));
+    *nnz_direct = static_cast<PetscInt>(info.nz_used);
+  }
+  for (Vec* v : {&x, &y, &z, &xd, &zd}) PetscCallAbort(PETSC_COMM_WORLD, VecDestroy(v));
+}
+
+void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device) {
+  int rank, size;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const Entries e = make_entries(rank, size);
+  Mat coo = template_matrix(MATAIJ);
+  Entries copy = e;  // PETSc may reorder the lists it is given
+  PetscCallAbort(PETSC_COMM_WORLD, MatSetPreallocationCOO(coo, static_cast<PetscCount>(copy.rows.size()),
+                                                         copy.rows.data(), copy.cols.data()));
+  Mat like = template_matrix(type);
+  ASSERT_EQ(DirectMatrix::kind_of(like), kind);
+  DirectMatrix direct;
+  Mat J;
+  PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, e.rows.data(), e.cols.data(), e.rows.size(), &J));
+  PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&like));
+  PetscInt bs;
+  PetscCallAbort(PETSC_COMM_WORLD, MatGetBlockSize(J, &bs));
+  EXPECT_EQ(bs, 3);
+  device::Array<double> d_values("test values");
+  PetscObjectState before, after;
+  PetscCallAbort(PETSC_COMM_WORLD, PetscObjectStateGet(reinterpret_cast<PetscObject>(J), &before));
+  for (int round = 0; round < 2; ++round) {
+    const std::vector<double> v = make_values(e, rank, round);
+    PetscCallAbort(PETSC_COMM_WORLD, MatSetValuesCOO(coo, v.data(), INSERT_VALUES));
+    if (values_on_device) {
+      d_values.upload(v);
+      PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(J, d_values.data()));
+    } else {
+      PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(J, v.data()));
+    }
+    double difference;
+    PetscInt nnz_direct, nnz_coo;
+    compare(J, coo, &difference, &nnz_direct, &nnz_coo);
+    EXPECT_EQ(difference, 0.0) << "round " << round;
+    EXPECT_EQ(nnz_direct, nnz_coo);
+  }
+  PetscCallAbort(PETSC_COMM_WORLD, PetscObjectStateGet(reinterpret_cast<PetscObject>(J), &after));
+  EXPECT_GT(after, before) << "a preconditioner would not see the new values";
+  PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&J));
+  PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&coo));
+}
+
+TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false); }
+
+TEST(DirectMatrix, MpiAijOnAnyRankCountEqualsCooMatrix) {
+  check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false);
+}
+
+// An older matrix keeps working (its arrays are its own) after a newer one is made, as when
+// Newton replaces the matrix on a new contact pattern before destroying the old one.
+TEST(DirectMatrix, OlderMatrixOutlivesTheNextCreate) {
+  int rank, size;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const Entries e = make_entries(rank, size);
+  DirectMatrix direct;
+  Mat like = template_matrix(MATAIJ), first, second;
+  PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, DirectMatrix::Kind::host_aij, e.rows.data(), e.cols.data(),
+                                                e.rows.size(), &first));
+  const std::vector<double> v = make_values(e, rank, 0);
+  PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(first, v.data()));
+  PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, DirectMatrix::Kind::host_aij, e.rows.data(), e.cols.data(),
+                                                e.rows.size(), &second));
+  PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(second, v.data()));
+  double difference;
+  PetscInt a, b;
+  compare(first, second, &difference, &a, &b);
+  EXPECT_EQ(difference, 0.0);
+  for (Mat* m : {&like, &first, &second}) PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(m));
+}
+
+TEST(DirectMatrix, DeviceHypreEqualsCooMatrix) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true);
+}
+
+}  // namespace
+}  // namespace dipc
