@@ -20,6 +20,9 @@
 #   bench/gpu_runs.sh strong       CPU strong scaling of whole steps on 1, 2, 4, 8, 16 ranks (STRONG_RANKS), 64,000
 #                                  and 512,000 elements (STRONG_SIZES), with STRONG_THREADS OpenMP threads per rank
 #                                  (default 1, dipc's setting; the cores' count is what the libraries take unset)
+#   bench/gpu_runs.sh setup        time to the first Newton iteration (bench/setup.py), device-resident, on 1 GPU and,
+#                                  where the machine has more, 4M elements on 4 ranks (CUDA PETSc build; SETUP_SIZES,
+#                                  default 1000000,4000000; SETUP_BASE: another dipc, e.g. before a change, run too)
 #   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
 #                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
 #                                  300000; AMG_VARIANTS picks variants by name)
@@ -68,6 +71,17 @@ case "${1:-}" in
       run mpirun -n $n "$bin/app_gpu_trajectory_tests" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "relative|FAIL|PASSED|SKIP|another rank"
       echo "app_gpu_trajectory_tests on $n ranks: exit ${PIPESTATUS[0]}"
+    done ;;
+  setup)
+    device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0)
+    for d in ${SETUP_BASE:-} "$bin/dipc"; do
+      tag=h100_$( [[ $d == "$bin/dipc" ]] && echo new || echo base )
+      run python3 bench/setup.py --dipc "$d" --elements ${SETUP_SIZES:-1000000,4000000} --ranks 1 --partitioners metis \
+        --tag "$tag" --out "$out" --timeout 300 -- "${device_opts[@]}"
+      if ((gpus >= 4)); then
+        run python3 bench/setup.py --dipc "$d" --elements 4000000 --ranks 4 --partitioners metis \
+          --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
+      fi
     done ;;
   assembly)
     run mpirun -n 16 "$bin/bench_assembly_throughput" -sizes 10000,100000,1000000,4000000 -repeat 5 \

@@ -193,10 +193,9 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   const double start = MPI_Wtime();
   PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
   device_matrix_ = any_device_ && matrix_on_device(J_);
-  // Host AIJ, and hypre on the device when the values are summed there, are made from the
-  // entries directly (direct_matrix.hpp); -dipc_direct_matrix 0 keeps PETSc's COO path.
+  // Host AIJ matrices are made from the entries directly (direct_matrix.hpp); other types and
+  // -dipc_direct_matrix 0 take PETSc's COO path.
   direct_kind_ = use_direct_matrix() ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
-  if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
     PetscCall(build_element_blocks());
     blocks_built_ = true;
