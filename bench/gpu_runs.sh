@@ -75,7 +75,8 @@ case "${1:-}" in
   setup)
     device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0)
     for d in ${SETUP_BASE:-} "$bin/dipc"; do
-      tag=h100_$( [[ $d == "$bin/dipc" ]] && echo new || echo base )
+      card=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1 | awk '{print tolower($2)}')
+      tag=${card}_$( [[ $d == "$bin/dipc" ]] && echo new || echo base )
       run python3 bench/setup.py --dipc "$d" --elements ${SETUP_SIZES:-1000000,4000000} --ranks 1 --partitioners metis \
         --tag "$tag" --out "$out" --timeout 300 -- "${device_opts[@]}"
       if ((gpus >= 4)); then
