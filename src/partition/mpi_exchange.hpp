@@ -42,10 +42,19 @@ std::int64_t exclusive_prefix(std::int64_t value, MPI_Comm comm, std::int64_t* t
 
 // ----- implementation of the template -----
 namespace detail {
-// Exchanges counts and runs MPI_Alltoallv on one contiguous datatype of `record_bytes`, so that
-// the counts are in records (not bytes) and stay inside MPI's int range longer.
-std::vector<char> exchange_bytes(const std::vector<const char*>& send, const std::vector<std::size_t>& counts,
-                                 std::size_t record_bytes, MPI_Comm comm, std::vector<int>* recv_counts);
+// Counts and displacements of one exchange, in records (not bytes), so that they stay inside
+// MPI's int range longer.
+struct ExchangePlan {
+  std::vector<int> send_counts, send_displs, recv_counts, recv_displs;
+  std::size_t total_recv = 0;
+};
+// Collective: exchanges the counts (counts[r] records to rank r).
+ExchangePlan plan_exchange(const std::vector<std::size_t>& counts, MPI_Comm comm);
+// Collective: sends send[r] (plan.send_counts[r] records of `record_bytes`) to rank r and
+// receives into `out` (plan.total_recv records). This rank's own records are copied straight
+// into `out`, past MPI: with a balanced numbering most records of the setup stay on their rank.
+void exchange_bytes(const std::vector<const char*>& send, const ExchangePlan& plan, std::size_t record_bytes, char* out,
+                    MPI_Comm comm);
 }  // namespace detail
 
 template <class T>
@@ -58,14 +67,14 @@ std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Com
     data[r] = reinterpret_cast<const char*>(send[r].data());
     counts[r] = send[r].size();
   }
-  std::vector<int> recv_counts;
-  const std::vector<char> bytes = detail::exchange_bytes(data, counts, sizeof(T), comm, &recv_counts);
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), bytes.data(), bytes.size());
+  const detail::ExchangePlan plan = detail::plan_exchange(counts, comm);
+  std::vector<T> out(plan.total_recv);
+  detail::exchange_bytes(data, plan, sizeof(T), reinterpret_cast<char*>(out.data()), comm);
   if (from_rank) {
     from_rank->clear();
     from_rank->reserve(out.size());
-    for (std::size_t r = 0; r < recv_counts.size(); ++r) from_rank->insert(from_rank->end(), recv_counts[r], static_cast<int>(r));
+    for (std::size_t r = 0; r < plan.recv_counts.size(); ++r)
+      from_rank->insert(from_rank->end(), plan.recv_counts[r], static_cast<int>(r));
   }
   return out;
 }
