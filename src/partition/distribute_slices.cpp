@@ -15,6 +15,7 @@
 #include <array>
 #include <bitset>
 #include <string>
+#include <utility>
 
 #include "mesh/boundary_faces.hpp"
 #include "mesh/surface_mesh.hpp"
@@ -178,11 +179,9 @@ void build_owned_surface(DistributedMesh& part, const std::vector<std::int64_t>&
       ++q;
     }
   }
-  std::vector<EdgeRecord> edge_records = exchange_records(edges, part.comm);
-  edges = std::vector<std::vector<EdgeRecord>>();
+  std::vector<EdgeRecord> edge_records = exchange_records(std::move(edges), part.comm);
   std::sort(edge_records.begin(), edge_records.end());
-  std::vector<VertexRecord> vertex_records = exchange_records(vertices, part.comm);
-  vertices = std::vector<std::vector<VertexRecord>>();
+  std::vector<VertexRecord> vertex_records = exchange_records(std::move(vertices), part.comm);
   std::sort(vertex_records.begin(), vertex_records.end());
 
   // Unique edges at this home, numbered after those of the lower homes (whose node ids are smaller).
@@ -213,8 +212,8 @@ void build_owned_surface(DistributedMesh& part, const std::vector<std::int64_t>&
   }
   edge_records = std::vector<EdgeRecord>();
   vertex_records = std::vector<VertexRecord>();
-  std::vector<OwnedPrimitive> my_edges = exchange_records(owned_edges, part.comm);
-  std::vector<OwnedPrimitive> my_vertices = exchange_records(owned_vertices, part.comm);
+  std::vector<OwnedPrimitive> my_edges = exchange_records(std::move(owned_edges), part.comm);
+  std::vector<OwnedPrimitive> my_vertices = exchange_records(std::move(owned_vertices), part.comm);
   auto by_gid = [](const OwnedPrimitive& x, const OwnedPrimitive& y) { return x.gid < y.gid; };
   std::sort(my_edges.begin(), my_edges.end(), by_gid);
   std::sort(my_vertices.begin(), my_vertices.end(), by_gid);
@@ -277,6 +276,11 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
 
   // Elements to their parts.
   std::vector<std::vector<ElementRecord>> outgoing(size);
+  {
+    std::vector<std::size_t> count(size, 0);
+    for (int p : element_part) ++count[p];
+    for (int p = 0; p < size; ++p) outgoing[p].reserve(count[p]);
+  }
   for (std::size_t e = 0; e < slice.hexes.size(); ++e) {
     ElementRecord r{};
     r.input = slice.element_begin + static_cast<std::int64_t>(e);
@@ -288,9 +292,9 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
     outgoing[element_part[e]].push_back(r);
   }
   faces = FaceMatching();
-  std::vector<ElementRecord> mine = exchange_records(outgoing, comm);
-  outgoing = std::vector<std::vector<ElementRecord>>();
-  std::sort(mine.begin(), mine.end(), [](const ElementRecord& a, const ElementRecord& b) { return a.input < b.input; });
+  std::vector<ElementRecord> mine = exchange_records(std::move(outgoing), comm);
+  // `mine` is sorted by input id without a sort: records arrive by sending rank, ranks hold
+  // increasing blocks of input ids and each sends its own in increasing order.
 
   DistributedMesh part;
   part.comm = comm;
@@ -308,8 +312,7 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   std::vector<std::vector<std::int64_t>> asks(size);
   for (std::int64_t n : touched) asks[block_of(n, nn_input, size)].push_back(n);
   std::vector<int> asker;
-  const std::vector<std::int64_t> asked = exchange_records(asks, comm, &asker);
-  asks = std::vector<std::vector<std::int64_t>>();
+  const std::vector<std::int64_t> asked = exchange_records(std::move(asks), comm, &asker);
   // Home arrays over this rank's node block.
   const std::int64_t home_begin = slice.node_begin;
   const std::size_t home_size = slice.nodes.size();
@@ -321,8 +324,7 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   std::vector<std::vector<std::int32_t>> owner_replies(size);
   for (std::size_t k = 0; k < asked.size(); ++k)
     owner_replies[asker[k]].push_back(home_owner[static_cast<std::size_t>(asked[k] - home_begin)]);
-  const std::vector<std::int32_t> owner = exchange_records(owner_replies, comm);
-  owner_replies = std::vector<std::vector<std::int32_t>>();
+  const std::vector<std::int32_t> owner = exchange_records(std::move(owner_replies), comm);
 
   // Owned nodes, numbered by increasing input id after the lower parts' nodes.
   std::int64_t num_owned = 0;
@@ -340,8 +342,8 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
       }
   }
   std::vector<std::int64_t> home_gid(home_size, -1);
-  for (const OwnedGid& g : exchange_records(gids_home, comm)) home_gid[static_cast<std::size_t>(g.input - home_begin)] = g.gid;
-  gids_home = std::vector<std::vector<OwnedGid>>();
+  for (const OwnedGid& g : exchange_records(std::move(gids_home), comm))
+    home_gid[static_cast<std::size_t>(g.input - home_begin)] = g.gid;
 
   // Home -> every toucher: global id, coordinates and node-set memberships, in the order asked.
   std::vector<std::string> set_names;
@@ -362,10 +364,9 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   }
   home_owner = std::vector<std::int32_t>();
   home_gid = std::vector<std::int64_t>();
-  const std::vector<NodeReply> replies = exchange_records(node_replies, comm);
-  node_replies = std::vector<std::vector<NodeReply>>();
+  const std::vector<NodeReply> replies = exchange_records(std::move(node_replies), comm);
   std::vector<int> membership_home;
-  const std::vector<Membership> my_memberships = exchange_records(memberships, comm, &membership_home);
+  const std::vector<Membership> my_memberships = exchange_records(std::move(memberships), comm, &membership_home);
   // A membership's `request` counts the asks sent to its home; touched nodes are sorted and
   // homes hold increasing blocks, so the asks to home h start at the first touched id in h.
   std::vector<std::int64_t> first_ask(size + 1, 0);

@@ -134,13 +134,12 @@ FaceMatching match_faces(const MeshSlice& slice) {
   MPI_Comm_size(slice.comm, &size);
   const std::int64_t nn = slice.num_global_nodes, ne = slice.num_global_elements;
   std::vector<std::vector<FaceRecord>> to_home = faces_to_homes(slice, size);
-  std::vector<FaceRecord> faces = exchange_records(to_home, slice.comm);
-  to_home = std::vector<std::vector<FaceRecord>>();
+  std::vector<FaceRecord> faces = exchange_records(std::move(to_home), slice.comm);
   std::string error;
-  const std::vector<std::vector<FaceAnswer>> answers =
+  std::vector<std::vector<FaceAnswer>> answers =
       answer_faces(std::move(faces), block_begin(nn, size, rank), block_begin(nn, size, rank + 1), ne, size, error);
   agree_on_error(slice.comm, error);
-  const std::vector<FaceAnswer> mine = exchange_records(answers, slice.comm);
+  const std::vector<FaceAnswer> mine = exchange_records(std::move(answers), slice.comm);
   FaceMatching m;
   const std::size_t n = slice.hexes.size();
   m.boundary_mask.assign(n, 0);

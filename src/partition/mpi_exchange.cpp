@@ -65,12 +65,12 @@ ExchangePlan plan_exchange(const std::vector<std::size_t>& counts, MPI_Comm comm
 }
 
 void exchange_bytes(const std::vector<const char*>& send, const ExchangePlan& plan, std::size_t record_bytes, char* out,
-                    MPI_Comm comm) {
+                    bool copy_own, MPI_Comm comm) {
   int rank = 0, size = 0;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const auto bytes = [record_bytes](int records) { return static_cast<std::size_t>(records) * record_bytes; };
-  if (plan.send_counts[rank]) std::memcpy(out + bytes(plan.recv_displs[rank]), send[rank], bytes(plan.send_counts[rank]));
+  if (copy_own && plan.send_counts[rank]) std::memcpy(out + bytes(plan.recv_displs[rank]), send[rank], bytes(plan.send_counts[rank]));
   if (size == 1) return;
   // The other ranks' send lists live in separate vectors: pack them into one buffer for
   // MPI_Alltoallv, which moves nothing to or from this rank itself.
@@ -85,6 +85,20 @@ void exchange_bytes(const std::vector<const char*>& send, const ExchangePlan& pl
   MPI_Alltoallv(packed.data(), send_counts.data(), plan.send_displs.data(), record, out, recv_counts.data(),
                 plan.recv_displs.data(), record, comm);
   MPI_Type_free(&record);
+}
+
+void fill_from_rank(const ExchangePlan& plan, std::vector<int>* from_rank) {
+  if (!from_rank) return;
+  from_rank->clear();
+  from_rank->reserve(plan.total_recv);
+  for (std::size_t r = 0; r < plan.recv_counts.size(); ++r)
+    from_rank->insert(from_rank->end(), plan.recv_counts[r], static_cast<int>(r));
+}
+
+bool receives_own_only(const ExchangePlan& plan, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return plan.total_recv == static_cast<std::size_t>(plan.recv_counts[rank]);
 }
 
 }  // namespace detail

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <utility>
 
 #include "partition/metis_partition.hpp"
 #include "partition/mpi_exchange.hpp"
@@ -109,7 +110,7 @@ std::vector<int> neighbour_parts(const MeshSlice& slice, const FaceMatching& gra
   const std::vector<std::int64_t> asked = exchange_records(asks, slice.comm, &asker);
   std::vector<std::vector<std::int32_t>> replies(size);
   for (std::size_t k = 0; k < asked.size(); ++k) replies[asker[k]].push_back(part[asked[k] - begin]);
-  const std::vector<std::int32_t> answered = exchange_records(replies, slice.comm);
+  const std::vector<std::int32_t> answered = exchange_records(std::move(replies), slice.comm);
   // The replies of home r start after those of the lower homes.
   std::vector<std::size_t> next(size, 0);
   for (int r = 1; r < size; ++r) next[r] = next[r - 1] + asks[r - 1].size();
