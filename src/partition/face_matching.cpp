@@ -43,65 +43,93 @@ struct FaceAnswer {
   std::int64_t other;
 };
 
-// The face's node ids in increasing order, by a sorting network (std::sort's call costs more
-// than the work for 4 values, 6 times per element).
+// The face's node ids in increasing order, by a sorting network of branch-free min/max pairs
+// (std::sort's call, and the branches' mispredictions on ids in no particular order, cost more
+// than the work for 4 values, 3 times per face).
 std::array<std::int64_t, 4> sorted_face_nodes(const Hex& hex, int face) {
   const std::array<int, 4> corners = hex_face_nodes(face);
   std::array<std::int64_t, 4> n{hex[corners[0]], hex[corners[1]], hex[corners[2]], hex[corners[3]]};
   auto order = [&n](int i, int j) {
-    if (n[j] < n[i]) std::swap(n[i], n[j]);
+    const std::int64_t low = std::min(n[i], n[j]), high = std::max(n[i], n[j]);
+    n[i] = low, n[j] = high;
   };
   order(0, 1), order(2, 3), order(0, 2), order(1, 3), order(1, 2);
   return n;
 }
 
-// The face records for the faces' home ranks (to rank r: the result's r-th list). Counted
-// first, so that every list is allocated once.
-std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, int size) {
-  const std::int64_t nn = slice.num_global_nodes;
-  std::vector<std::size_t> count(size, 0);
-  for (const Hex& hex : slice.hexes)
-    for (int f = 0; f < kHexFaces; ++f) ++count[block_of(sorted_face_nodes(hex, f)[0], nn, size)];
-  std::vector<std::vector<FaceRecord>> to_home(size);
-  for (int r = 0; r < size; ++r) to_home[r].reserve(count[r]);
-  for (std::size_t e = 0; e < slice.hexes.size(); ++e)
-    for (int f = 0; f < kHexFaces; ++f) {
-      const std::array<std::int64_t, 4> nodes = sorted_face_nodes(slice.hexes[e], f);
-      const std::int64_t element = slice.element_begin + static_cast<std::int64_t>(e);
-      to_home[block_of(nodes[0], nn, size)].push_back({nodes, kHexFaces * element + f});
-    }
+// Calls visit(sorted node ids, 6 * element + face) for every face of the slice's elements.
+template <class Visit>
+void for_each_face(const MeshSlice& slice, Visit visit) {
+  for (std::size_t e = 0; e < slice.hexes.size(); ++e) {
+    const std::int64_t element = slice.element_begin + static_cast<std::int64_t>(e);
+    for (int f = 0; f < kHexFaces; ++f) visit(sorted_face_nodes(slice.hexes[e], f), kHexFaces * element + f);
+  }
+}
+
+// Where the faces meet: the home rank of a face is that of its smallest node.
+struct FaceHomes {
+  std::int64_t num_nodes;
+  int size, rank;
+  int of(const std::array<std::int64_t, 4>& nodes) const { return block_of(nodes[0], num_nodes, size); }
+  bool here(const std::array<std::int64_t, 4>& nodes) const { return of(nodes) == rank; }
+};
+
+// The face records for the other ranks (to rank r: the result's r-th list; this rank's own
+// faces go straight to group_faces, without a record). Counted first, so that every list is
+// allocated once.
+std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, const FaceHomes& homes) {
+  std::vector<std::size_t> count(homes.size, 0);
+  for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t) { ++count[homes.of(nodes)]; });
+  count[homes.rank] = 0;
+  std::vector<std::vector<FaceRecord>> to_home(homes.size);
+  for (int r = 0; r < homes.size; ++r) to_home[r].reserve(count[r]);
+  for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t element_face) {
+    if (!homes.here(nodes)) to_home[homes.of(nodes)].push_back({nodes, element_face});
+  });
   return to_home;
 }
 
-// The faces at this home grouped by their smallest node, which lies in the home's node block
-// [begin, end) for every face sent here: a counting sort, linear in the faces. Group n is
-// faces[first[n] .. first[n + 1]), sorted by (nodes, element, face); groups are small (a node
-// of a structured hex grid is the corner of 12 faces, each met twice). The order is that of a
-// sort of all faces, which took 2.2-3.3 s with std::sort for the 6M faces of a 1M-hex cube on
-// one rank.
-std::vector<HomeFace> group_faces(const std::vector<FaceRecord>& faces, std::int64_t begin, std::int64_t end,
+// The faces at this home (the slice's own and those `received`) grouped by their smallest
+// node, which lies in the home's node block [begin, end): a counting sort, linear in the faces.
+// Group n is faces[first[n] .. first[n + 1]), sorted by (nodes, element, face); groups are
+// small (a node of a structured hex grid is the corner of 12 faces, each met twice). The order
+// is that of a sort of all faces, which took 2.2-3.3 s with std::sort for the 6M faces of a
+// 1M-hex cube on one rank.
+std::vector<HomeFace> group_faces(const MeshSlice& slice, const FaceHomes& homes, const std::vector<FaceRecord>& received,
                                   std::vector<std::size_t>& first) {
+  const std::int64_t begin = block_begin(homes.num_nodes, homes.size, homes.rank);
+  const std::int64_t end = block_begin(homes.num_nodes, homes.size, homes.rank + 1);
+  auto group_of = [begin](const std::array<std::int64_t, 4>& nodes) { return static_cast<std::size_t>(nodes[0] - begin); };
   first.assign(static_cast<std::size_t>(end - begin) + 1, 0);
-  for (const FaceRecord& f : faces) ++first[static_cast<std::size_t>(f.nodes[0] - begin) + 1];
+  for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t) {
+    if (homes.here(nodes)) ++first[group_of(nodes) + 1];
+  });
+  for (const FaceRecord& f : received) ++first[group_of(f.nodes) + 1];
   for (std::size_t n = 1; n < first.size(); ++n) first[n] += first[n - 1];
-  std::vector<HomeFace> grouped(faces.size());
+  std::vector<HomeFace> grouped(first.back());
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
-  for (const FaceRecord& f : faces)
-    grouped[next[static_cast<std::size_t>(f.nodes[0] - begin)]++] = {f.nodes[1], f.nodes[2], f.nodes[3], f.element_face};
+  auto place = [&](const std::array<std::int64_t, 4>& nodes, std::int64_t element_face) {
+    grouped[next[group_of(nodes)]++] = {nodes[1], nodes[2], nodes[3], element_face};
+  };
+  for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t element_face) {
+    if (homes.here(nodes)) place(nodes, element_face);
+  });
+  for (const FaceRecord& f : received) place(f.nodes, f.element_face);
   for (std::size_t n = 0; n + 1 < first.size(); ++n)
     if (first[n + 1] - first[n] > 1) std::sort(grouped.begin() + first[n], grouped.begin() + first[n + 1]);
   return grouped;
 }
 
-// The answers for the elements' home ranks (to rank r: answers[r]) about the faces at this home,
-// whose smallest nodes lie in [begin, end); `error` names the first face (in sorted order) of
-// more than two elements. Takes the faces by value so that they are freed before the answers
-// travel.
-std::vector<std::vector<FaceAnswer>> answer_faces(std::vector<FaceRecord> faces, std::int64_t begin, std::int64_t end,
-                                                  std::int64_t ne, int size, std::string& error) {
+// The answers for the elements' home ranks (to rank r: answers[r]) about the faces at this home;
+// `error` names the first face (in sorted order) of more than two elements. Takes the received
+// faces by value so that they are freed before the answers travel.
+std::vector<std::vector<FaceAnswer>> answer_faces(const MeshSlice& slice, const FaceHomes& homes,
+                                                  std::vector<FaceRecord> received, std::string& error) {
   std::vector<std::size_t> first;
-  const std::vector<HomeFace> grouped = group_faces(faces, begin, end, first);
-  faces = std::vector<FaceRecord>();
+  const std::vector<HomeFace> grouped = group_faces(slice, homes, received, first);
+  received = std::vector<FaceRecord>();
+  const std::int64_t ne = slice.num_global_elements;
+  const int size = homes.size;
   auto element_of = [](const HomeFace& f) { return f.element_face / kHexFaces; };
   auto home_of = [&](const HomeFace& f) { return block_of(element_of(f), ne, size); };
   std::vector<std::vector<FaceAnswer>> answers(size);
@@ -132,12 +160,10 @@ FaceMatching match_faces(const MeshSlice& slice) {
   int rank = 0, size = 1;
   MPI_Comm_rank(slice.comm, &rank);
   MPI_Comm_size(slice.comm, &size);
-  const std::int64_t nn = slice.num_global_nodes, ne = slice.num_global_elements;
-  std::vector<std::vector<FaceRecord>> to_home = faces_to_homes(slice, size);
-  std::vector<FaceRecord> faces = exchange_records(std::move(to_home), slice.comm);
+  const FaceHomes homes{slice.num_global_nodes, size, rank};
+  std::vector<FaceRecord> received = exchange_records(faces_to_homes(slice, homes), slice.comm);
   std::string error;
-  std::vector<std::vector<FaceAnswer>> answers =
-      answer_faces(std::move(faces), block_begin(nn, size, rank), block_begin(nn, size, rank + 1), ne, size, error);
+  std::vector<std::vector<FaceAnswer>> answers = answer_faces(slice, homes, std::move(received), error);
   agree_on_error(slice.comm, error);
   const std::vector<FaceAnswer> mine = exchange_records(std::move(answers), slice.comm);
   FaceMatching m;
