@@ -1,6 +1,7 @@
 // match_faces (see face_matching.hpp): one all-to-all of face records to the faces' home ranks,
 // a linear-time ordering there (by smallest node, then within each node's few faces), and one
-// all-to-all of the answers back to the elements' home ranks.
+// all-to-all of the answers back to the elements' home ranks. A rank's own faces and answers
+// (all of them on one rank, most of them with a balanced numbering) skip the records.
 #include "partition/face_matching.hpp"
 
 #include <algorithm>
@@ -120,30 +121,38 @@ std::vector<HomeFace> group_faces(const MeshSlice& slice, const FaceHomes& homes
   return grouped;
 }
 
-// The answers for the elements' home ranks (to rank r: answers[r]) about the faces at this home;
-// `error` names the first face (in sorted order) of more than two elements. Takes the received
-// faces by value so that they are freed before the answers travel.
+// The answers about the faces at this home: those for this rank's own elements written into
+// `across` (across[6 * slice element + face] = the element across the face, -1 on the boundary),
+// those for other ranks returned (to rank r: the result's r-th list). `error` names the first
+// face (in sorted order) of more than two elements. Takes the received faces by value so that
+// they are freed before the answers travel.
 std::vector<std::vector<FaceAnswer>> answer_faces(const MeshSlice& slice, const FaceHomes& homes,
-                                                  std::vector<FaceRecord> received, std::string& error) {
+                                                  std::vector<FaceRecord> received, std::vector<std::int64_t>& across,
+                                                  std::string& error) {
   std::vector<std::size_t> first;
   const std::vector<HomeFace> grouped = group_faces(slice, homes, received, first);
   received = std::vector<FaceRecord>();
-  const std::int64_t ne = slice.num_global_elements;
-  const int size = homes.size;
+  const std::int64_t ne = slice.num_global_elements, own_begin = kHexFaces * slice.element_begin;
   auto element_of = [](const HomeFace& f) { return f.element_face / kHexFaces; };
-  auto home_of = [&](const HomeFace& f) { return block_of(element_of(f), ne, size); };
-  std::vector<std::vector<FaceAnswer>> answers(size);
+  std::vector<std::vector<FaceAnswer>> answers(homes.size);
+  auto answer = [&](const HomeFace& f, std::int64_t other) {
+    const int home = block_of(element_of(f), ne, homes.size);
+    if (home == homes.rank)
+      across[static_cast<std::size_t>(f.element_face - own_begin)] = other;
+    else
+      answers[home].push_back({f.element_face, other});
+  };
   for (std::size_t n = 0; n + 1 < first.size(); ++n)
     for (std::size_t i = first[n]; i < first[n + 1];) {
       const HomeFace& a = grouped[i];
       std::size_t j = i + 1;
       while (j < first[n + 1] && grouped[j].same_face(a)) ++j;
       if (j - i == 1) {
-        answers[home_of(a)].push_back({a.element_face, -1});
+        answer(a, -1);
       } else if (j - i == 2) {
         const HomeFace& b = grouped[i + 1];
-        answers[home_of(a)].push_back({a.element_face, element_of(b)});
-        answers[home_of(b)].push_back({b.element_face, element_of(a)});
+        answer(a, element_of(b));
+        answer(b, element_of(a));
       } else if (error.empty()) {
         error = std::to_string(j - i) + " elements share one face (elements " + std::to_string(element_of(a)) + ", " +
                 std::to_string(element_of(grouped[i + 1])) + ", " + std::to_string(element_of(grouped[i + 2])) +
@@ -154,6 +163,31 @@ std::vector<std::vector<FaceAnswer>> answer_faces(const MeshSlice& slice, const 
   return answers;
 }
 
+// The boundary masks and dual graph rows of the slice's elements from `across` (answer_faces).
+FaceMatching graph_of(const std::vector<std::int64_t>& across) {
+  const std::size_t n = across.size() / kHexFaces;
+  FaceMatching m;
+  m.boundary_mask.assign(n, 0);
+  m.offsets.assign(n + 1, 0);
+  for (std::size_t e = 0; e < n; ++e)
+    for (int f = 0; f < kHexFaces; ++f) {
+      if (across[kHexFaces * e + f] < 0)
+        m.boundary_mask[e] = static_cast<std::uint8_t>(m.boundary_mask[e] | (1u << f));
+      else
+        ++m.offsets[e + 1];
+    }
+  for (std::size_t e = 0; e < n; ++e) m.offsets[e + 1] += m.offsets[e];
+  m.neighbours.resize(static_cast<std::size_t>(m.offsets[n]));
+  for (std::size_t e = 0; e < n; ++e) {
+    const auto row = m.neighbours.begin() + m.offsets[e];
+    auto next = row;
+    for (int f = 0; f < kHexFaces; ++f)
+      if (across[kHexFaces * e + f] >= 0) *next++ = across[kHexFaces * e + f];
+    std::sort(row, next);
+  }
+  return m;
+}
+
 }  // namespace
 
 FaceMatching match_faces(const MeshSlice& slice) {
@@ -162,31 +196,14 @@ FaceMatching match_faces(const MeshSlice& slice) {
   MPI_Comm_size(slice.comm, &size);
   const FaceHomes homes{slice.num_global_nodes, size, rank};
   std::vector<FaceRecord> received = exchange_records(faces_to_homes(slice, homes), slice.comm);
+  // Every face of a valid mesh gets its answer, so -1 (boundary) is only a default.
+  std::vector<std::int64_t> across(kHexFaces * slice.hexes.size(), -1);
   std::string error;
-  std::vector<std::vector<FaceAnswer>> answers = answer_faces(slice, homes, std::move(received), error);
+  std::vector<std::vector<FaceAnswer>> answers = answer_faces(slice, homes, std::move(received), across, error);
   agree_on_error(slice.comm, error);
-  const std::vector<FaceAnswer> mine = exchange_records(std::move(answers), slice.comm);
-  FaceMatching m;
-  const std::size_t n = slice.hexes.size();
-  m.boundary_mask.assign(n, 0);
-  m.offsets.assign(n + 1, 0);
-  auto local = [&slice](const FaceAnswer& a) {
-    return static_cast<std::size_t>(a.element_face / kHexFaces - slice.element_begin);
-  };
-  for (const FaceAnswer& a : mine) {
-    const std::size_t e = local(a);
-    if (a.other < 0)
-      m.boundary_mask[e] = static_cast<std::uint8_t>(m.boundary_mask[e] | (1u << (a.element_face % kHexFaces)));
-    else
-      ++m.offsets[e + 1];
-  }
-  for (std::size_t e = 0; e < n; ++e) m.offsets[e + 1] += m.offsets[e];
-  m.neighbours.resize(static_cast<std::size_t>(m.offsets[n]));
-  std::vector<std::int64_t> next(m.offsets.begin(), m.offsets.end() - 1);
-  for (const FaceAnswer& a : mine)
-    if (a.other >= 0) m.neighbours[next[local(a)]++] = a.other;
-  for (std::size_t e = 0; e < n; ++e) std::sort(m.neighbours.begin() + m.offsets[e], m.neighbours.begin() + m.offsets[e + 1]);
-  return m;
+  for (const FaceAnswer& a : exchange_records(std::move(answers), slice.comm))
+    across[static_cast<std::size_t>(a.element_face - kHexFaces * slice.element_begin)] = a.other;
+  return graph_of(across);
 }
 
 }  // namespace dipc
