@@ -397,14 +397,21 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   {
     std::vector<std::vector<std::int32_t>*> by_index;
     for (const std::string& name : set_names) by_index.push_back(&part.node_sets[name]);
+    std::vector<std::size_t> members(set_names.size(), 0);
+    for (const Membership& m : my_memberships) ++members[m.set];
+    for (std::size_t set = 0; set < members.size(); ++set) by_index[set]->reserve(members[set]);
     for (std::size_t k = 0; k < my_memberships.size(); ++k) {
       const Membership& m = my_memberships[k];
       by_index[m.set]->push_back(local_of_touched[first_ask[membership_home[k]] + m.request]);
     }
-    for (auto* ids : by_index) std::sort(ids->begin(), ids->end());
+    // Members arrive by increasing input id, so a set of owned nodes only (every set on one
+    // rank) is sorted already, and std::sort does not notice (20 ms for a 1M-node set).
+    for (auto* ids : by_index)
+      if (!std::is_sorted(ids->begin(), ids->end())) std::sort(ids->begin(), ids->end());
   }
 
-  std::vector<std::int64_t> first_quad;
+  std::vector<std::int64_t> first_quad(with_surface ? mine.size() : 0);
+  part.boundary_face_mask.resize(with_surface ? mine.size() : 0);
   part.elements.resize(mine.size());
   part.element_body.resize(mine.size());
   part.element_input_id.resize(mine.size());
@@ -414,8 +421,8 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
     part.element_body[e] = mine[e].body;
     part.element_input_id[e] = mine[e].input;
     if (with_surface) {
-      part.boundary_face_mask.push_back(mine[e].mask);
-      first_quad.push_back(mine[e].first_quad);
+      part.boundary_face_mask[e] = mine[e].mask;
+      first_quad[e] = mine[e].first_quad;
     }
   }
   mine = std::vector<ElementRecord>();

@@ -83,6 +83,7 @@ std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, cons
   for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t) { ++count[homes.of(nodes)]; });
   count[homes.rank] = 0;
   std::vector<std::vector<FaceRecord>> to_home(homes.size);
+  if (std::all_of(count.begin(), count.end(), [](std::size_t c) { return c == 0; })) return to_home;  // all own
   for (int r = 0; r < homes.size; ++r) to_home[r].reserve(count[r]);
   for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t element_face) {
     if (!homes.here(nodes)) to_home[homes.of(nodes)].push_back({nodes, element_face});
