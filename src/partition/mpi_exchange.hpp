@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace dipc {
@@ -20,6 +21,7 @@ inline std::int64_t block_begin(std::int64_t n, int parts, int p) {
 }
 // The block holding id (0 <= id < n): the inverse of block_begin.
 inline int block_of(std::int64_t id, std::int64_t n, int parts) {
+  if (parts == 1) return 0;  // saves a 64-bit division per call: ~10% of the one-rank partition
   const std::int64_t base = n / parts, extra = n % parts;
   const std::int64_t long_end = extra * (base + 1);
   if (id < long_end) return static_cast<int>(id / (base + 1));
@@ -36,37 +38,78 @@ void agree_on_error(MPI_Comm comm, const std::string& local_error);
 template <class T>
 std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
                                 std::vector<int>* from_rank = nullptr);
+// The same, consuming `send` (empty on return): when this rank receives only its own records
+// (always on one rank), the result is send[rank] itself, moved instead of copied (at 1M hexes
+// on one rank the copies touched ~0.5 GB of fresh pages).
+template <class T>
+std::vector<T> exchange_records(std::vector<std::vector<T>>&& send, MPI_Comm comm,
+                                std::vector<int>* from_rank = nullptr);
 
 // Collective: the sum of `value` over the ranks before this one (0 on rank 0), and the total.
 std::int64_t exclusive_prefix(std::int64_t value, MPI_Comm comm, std::int64_t* total = nullptr);
 
 // ----- implementation of the template -----
 namespace detail {
-// Exchanges counts and runs MPI_Alltoallv on one contiguous datatype of `record_bytes`, so that
-// the counts are in records (not bytes) and stay inside MPI's int range longer.
-std::vector<char> exchange_bytes(const std::vector<const char*>& send, const std::vector<std::size_t>& counts,
-                                 std::size_t record_bytes, MPI_Comm comm, std::vector<int>* recv_counts);
-}  // namespace detail
+// Counts and displacements of one exchange, in records (not bytes), so that they stay inside
+// MPI's int range longer.
+struct ExchangePlan {
+  std::vector<int> send_counts, send_displs, recv_counts, recv_displs;
+  std::size_t total_recv = 0;
+};
+// Collective: exchanges the counts (counts[r] records to rank r).
+ExchangePlan plan_exchange(const std::vector<std::size_t>& counts, MPI_Comm comm);
+// Collective: sends send[r] (plan.send_counts[r] records of `record_bytes`) to rank r and
+// receives into `out` (plan.total_recv records). This rank's own records are copied straight
+// into `out`, past MPI (with a balanced numbering most records of the setup stay on their
+// rank), unless copy_own is false.
+void exchange_bytes(const std::vector<const char*>& send, const ExchangePlan& plan, std::size_t record_bytes, char* out,
+                    bool copy_own, MPI_Comm comm);
+// The source rank of every received record.
+void fill_from_rank(const ExchangePlan& plan, std::vector<int>* from_rank);
+// Whether every record this rank receives is its own.
+bool receives_own_only(const ExchangePlan& plan, MPI_Comm comm);
 
 template <class T>
-std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
-                                std::vector<int>* from_rank) {
+ExchangePlan plan_records(const std::vector<std::vector<T>>& send, MPI_Comm comm, std::vector<const char*>& data) {
   static_assert(std::is_trivially_copyable<T>::value, "exchange_records sends raw bytes");
-  std::vector<const char*> data(send.size());
+  data.resize(send.size());
   std::vector<std::size_t> counts(send.size());
   for (std::size_t r = 0; r < send.size(); ++r) {
     data[r] = reinterpret_cast<const char*>(send[r].data());
     counts[r] = send[r].size();
   }
-  std::vector<int> recv_counts;
-  const std::vector<char> bytes = detail::exchange_bytes(data, counts, sizeof(T), comm, &recv_counts);
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), bytes.data(), bytes.size());
-  if (from_rank) {
-    from_rank->clear();
-    from_rank->reserve(out.size());
-    for (std::size_t r = 0; r < recv_counts.size(); ++r) from_rank->insert(from_rank->end(), recv_counts[r], static_cast<int>(r));
+  return plan_exchange(counts, comm);
+}
+}  // namespace detail
+
+template <class T>
+std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
+                                std::vector<int>* from_rank) {
+  std::vector<const char*> data;
+  const detail::ExchangePlan plan = detail::plan_records(send, comm, data);
+  std::vector<T> out(plan.total_recv);
+  detail::exchange_bytes(data, plan, sizeof(T), reinterpret_cast<char*>(out.data()), true, comm);
+  detail::fill_from_rank(plan, from_rank);
+  return out;
+}
+
+template <class T>
+std::vector<T> exchange_records(std::vector<std::vector<T>>&& send, MPI_Comm comm,
+                                std::vector<int>* from_rank) {
+  std::vector<const char*> data;
+  const detail::ExchangePlan plan = detail::plan_records(send, comm, data);
+  std::vector<T> out;
+  if (detail::receives_own_only(plan, comm)) {
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    detail::exchange_bytes(data, plan, sizeof(T), nullptr, false, comm);
+    out = std::move(send[rank]);
+  } else {
+    out.resize(plan.total_recv);
+    detail::exchange_bytes(data, plan, sizeof(T), reinterpret_cast<char*>(out.data()), true, comm);
   }
+  send = std::vector<std::vector<T>>();  // consumed: freed here, as the callers did after copying
+  detail::fill_from_rank(plan, from_rank);
   return out;
 }
 

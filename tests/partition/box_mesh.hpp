@@ -2,7 +2,10 @@
 // layer): an nx x ny x nz box of unit cubes with face node sets, and the concatenation of two
 // meshes into one multi-body mesh.
 #pragma once
+#include <algorithm>
 #include <cstdint>
+#include <numeric>
+#include <random>
 #include <string>
 
 #include "mesh/hex_mesh.hpp"
@@ -61,6 +64,30 @@ inline HexMesh concatenate(HexMesh a, const HexMesh& b) {
 inline HexMesh two_body_mesh() {
   return concatenate(structured_box(6, 4, 3, {0, 0, 0}, 0, "lower"),
                      structured_box(3, 2, 2, {1, 1, 4}, 1, "upper"));
+}
+
+// `mesh` with its nodes renumbered as a mesh file may number them: node i gets id
+// stride * p(i) for a shuffled permutation p, and the ids in between belong to nodes no element
+// touches (at the origin). With a stride of 10 or more the ids of every part are scattered over
+// a range much wider than its elements, as distribute_slices' sorting path for node ids needs.
+inline HexMesh scattered_node_ids(const HexMesh& mesh, int stride) {
+  std::vector<std::int64_t> p(mesh.nodes.size());
+  std::iota(p.begin(), p.end(), 0);
+  std::shuffle(p.begin(), p.end(), std::mt19937(42));
+  for (std::int64_t& id : p) id *= stride;
+  HexMesh out;
+  out.nodes.assign(mesh.nodes.size() * stride, Vec3{0, 0, 0});
+  for (std::size_t i = 0; i < p.size(); ++i) out.nodes[p[i]] = mesh.nodes[i];
+  out.hexes = mesh.hexes;
+  for (Hex& hex : out.hexes)
+    for (std::int64_t& node : hex) node = p[node];
+  out.body = mesh.body;
+  for (const auto& [name, nodes] : mesh.node_sets) {
+    auto& set = out.node_sets[name];
+    for (std::int64_t node : nodes) set.push_back(p[node]);
+    std::sort(set.begin(), set.end());
+  }
+  return out;
 }
 
 }  // namespace dipc::test

@@ -37,7 +37,9 @@ TEST(DistributeSlices, SlicesRoundTrip) {
 }
 
 TEST(DistributeSlices, MetisGivesTheRootDistribution) {
-  for (const HexMesh& mesh : {test::structured_box(6, 4, 3), test::two_body_mesh(), mesh_with_orphan_node()}) {
+  for (const HexMesh& mesh : {test::structured_box(6, 4, 3), test::two_body_mesh(), mesh_with_orphan_node(),
+                              test::scattered_node_ids(test::two_body_mesh(), 3),
+                              test::scattered_node_ids(test::two_body_mesh(), 20)}) {
     for (bool with_surface : {true, false}) {
       const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
       const DistributedMesh expected = distribute_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD, with_surface);
