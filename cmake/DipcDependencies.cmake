@@ -15,6 +15,15 @@ endif()
 pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET PETSc>=3.18)
 add_library(dipc::petsc ALIAS PkgConfig::PETSC)
 message(STATUS "dipc: PETSc ${PETSC_VERSION} from ${PETSC_PREFIX}")
+# hypre itself, beside PETSc: the device hypre matrix (src/nonlinear/direct_matrix.cpp) calls
+# hypre's ParCSR functions directly, which PETSc's pkg-config does not list.
+find_library(DIPC_HYPRE_LIBRARY NAMES HYPRE HINTS ${PETSC_LIBRARY_DIRS} ${PETSC_PREFIX}/lib NO_DEFAULT_PATH)
+if(NOT DIPC_HYPRE_LIBRARY)
+  find_library(DIPC_HYPRE_LIBRARY NAMES HYPRE)
+endif()
+if(DIPC_HYPRE_LIBRARY)
+  target_link_libraries(PkgConfig::PETSC INTERFACE "${DIPC_HYPRE_LIBRARY}")
+endif()
 
 # --- METIS 5 -----------------------------------------------------------------
 find_path(METIS_INCLUDE_DIR metis.h PATH_SUFFIXES metis HINTS ENV METIS_DIR PATH_SUFFIXES include)

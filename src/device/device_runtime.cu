@@ -110,6 +110,25 @@ __global__ void add_at_kernel(double* values, const std::size_t* index, const do
   values[u] = (u < fresh_from ? values[u] : 0.0) + add[k];
 }
 
+__device__ inline double& split_at(double* diag, std::size_t num_diag, double* offd, std::size_t p) {
+  return p < num_diag ? diag[p] : offd[p - num_diag];
+}
+
+__global__ void scatter_split_kernel(const double* values, const std::uint32_t* pos, std::size_t n, double* diag,
+                                     std::size_t num_diag, double* offd) {
+  const std::size_t u = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (u >= n || pos[u] == 0xffffffffu) return;
+  split_at(diag, num_diag, offd, pos[u]) = values[u];
+}
+
+__global__ void add_split_kernel(const double* add, const std::uint32_t* pos, const std::uint8_t* keep, std::size_t n,
+                                 double* diag, std::size_t num_diag, double* offd) {
+  const std::size_t s = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (s >= n) return;
+  double& v = split_at(diag, num_diag, offd, pos[s]);
+  v = (keep[s] ? v : 0.0) + add[s];
+}
+
 // One thread per unique entry: an entry sums few raw ones (the element blocks sharing it, at
 // most 8, and the inertia and contact terms), so the serial sum is short, in the map's order.
 __global__ void reduce_coo_kernel(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
@@ -212,6 +231,20 @@ void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, co
 void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from) {
   if (!n) return;
   add_at_kernel<<<blocks_for(n, 256), 256>>>(values, index, add, n, fresh_from);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n, double* diag, std::size_t num_diag,
+                   double* offd) {
+  if (!n) return;
+  scatter_split_kernel<<<blocks_for(n, 256), 256>>>(values, pos, n, diag, num_diag, offd);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* keep, std::size_t n, double* diag,
+               std::size_t num_diag, double* offd) {
+  if (!n) return;
+  add_split_kernel<<<blocks_for(n, 256), 256>>>(add, pos, keep, n, diag, num_diag, offd);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

@@ -127,6 +127,14 @@ void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, co
 // values[index[k]] = (index[k] < fresh_from ? values[index[k]] : 0) + add[k] for k < n, the
 // indices distinct: sums of other terms added onto entries, those from fresh_from on new ones.
 void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from);
+// A matrix's values split in two arrays (a diagonal and an off-diagonal block, as AIJ and
+// hypre's ParCSR keep them): position p < num_diag is diag[p], else offd[p - num_diag].
+// store[pos[u]] = values[u] for u < n, skipping pos[u] == 0xffffffff (entries another rank holds).
+void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n, double* diag, std::size_t num_diag,
+                   double* offd);
+// store[pos[s]] = (keep[s] ? store[pos[s]] : 0) + add[s] for s < n, the positions distinct.
+void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* keep, std::size_t n, double* diag,
+               std::size_t num_diag, double* offd);
 // unique[u] = sum of raw[sources[j]] for j in [offsets[u], offsets[u+1]), added from 0 in that
 // order: CooReduction::reduce on device arrays, bit for bit the same.
 void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,

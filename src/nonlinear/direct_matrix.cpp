@@ -11,6 +11,12 @@
 // into the arrays directly must move it too. PETSc declares it with its object internals.
 #include <petsc/private/petscimpl.h>
 
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+#include <petscmathypre.h>
+#include <_hypre_parcsr_mv.h>
+#include <petsc/private/petschypre.h>  // PetscHYPREInitialize: hypre's device state, as PETSc starts it
+#endif
+
 namespace dipc {
 
 namespace {
@@ -42,10 +48,13 @@ PetscErrorCode destroy_host_arrays(void* ctx) {
 DirectMatrix::~DirectMatrix() { PetscSFDestroy(&sf_); }
 
 DirectMatrix::Kind DirectMatrix::kind_of(Mat J) {
-  PetscBool aij = PETSC_FALSE;
+  PetscBool aij = PETSC_FALSE, hypre = PETSC_FALSE;
   const auto object = reinterpret_cast<PetscObject>(J);
   PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompareAny(object, &aij, MATSEQAIJ, MATMPIAIJ, ""));
-  return aij ? Kind::host_aij : Kind::coo;
+  PetscCallAbort(PetscObjectComm(object), PetscObjectTypeCompare(object, MATHYPRE, &hypre));
+  if (aij) return Kind::host_aij;
+  if (hypre && PetscDefined(HAVE_HYPRE_DEVICE) && device::built_with_cuda()) return Kind::device_hypre;
+  return Kind::coo;
 }
 
 PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n,
@@ -61,13 +70,24 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, c
   int rank;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0) begin = 0;  // MPI_Exscan leaves rank 0's result undefined
-  PetscCall(build_pattern(comm, begin, m, begin, begin + m, rows, cols, n));
-  PetscCall(make_host_aij(like, J));
+  PetscCall(build_pattern(comm, begin, m, begin, begin + m, rows, cols, n, kind == Kind::device_hypre));
+  if (kind == Kind::host_aij)
+    PetscCall(make_host_aij(like, J));
+  else
+    PetscCall(make_device_hypre(like, J));
+  if (kind == Kind::device_hypre) {
+    d_position_.upload(position_);
+    d_slot_position_.upload(slot_position_);
+    d_slot_keep_.upload(slot_keep_);
+    d_slot_sums_.resize(slot_position_.size());
+    std::vector<std::uint32_t>().swap(position_);
+  }
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, PetscInt num_rows, PetscInt col_begin,
-                                           PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n) {
+                                           PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n,
+                                           bool diagonal_first) {
   PetscFunctionBeginUser;
   int size;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -127,6 +147,8 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
     // By column; own entries, then received ones in arrival order. The element blocks give
     // most rows already sorted.
     if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
+    if (diagonal_first)
+      std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row_begin + r; });
     for (std::size_t a = 0; a < line.size();) {
       std::size_t b = a + 1;
       while (b < line.size() && line[b].first == line[a].first) ++b;
@@ -190,9 +212,8 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
 PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
   PetscFunctionBeginUser;
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
-  PetscInt m, M, bs;
+  PetscInt m, bs;
   PetscCall(MatGetLocalSize(like, &m, nullptr));
-  PetscCall(MatGetSize(like, &M, nullptr));
   PetscCall(MatGetBlockSize(like, &bs));
   PetscBool seq;
   PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(like), MATSEQAIJ, &seq));
@@ -209,9 +230,9 @@ PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
     arrays->offd_j = std::move(offd_j_);
     arrays->offd_a.assign(std::max<std::size_t>(num_offd_, 1), 0.0);
     if (arrays->offd_j.empty()) arrays->offd_j.push_back(0);  // a valid pointer for an empty block
-    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, m, m, M, M, arrays->diag_i.data(), arrays->diag_j.data(),
-                                             arrays->diag_a.data(), arrays->offd_i.data(), arrays->offd_j.data(),
-                                             arrays->offd_a.data(), J));
+    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, m, m, PETSC_DETERMINE, PETSC_DETERMINE, arrays->diag_i.data(),
+                                             arrays->diag_j.data(), arrays->diag_a.data(), arrays->offd_i.data(),
+                                             arrays->offd_j.data(), arrays->offd_a.data(), J));
   }
   PetscCall(MatSetBlockSize(*J, bs));
   const char* prefix = nullptr;
@@ -250,10 +271,94 @@ PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscIn
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
+  PetscFunctionBeginUser;
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
+  // The global size from the local ones: the template's layout is not set up yet (its global
+  // size may still read PETSC_DETERMINE).
+  PetscInt m, M = 0, bs, begin = 0;
+  PetscCall(MatGetLocalSize(like, &m, nullptr));
+  PetscCall(MatGetBlockSize(like, &bs));
+  PetscCallMPI(MPI_Allreduce(&m, &M, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCallMPI(MPI_Exscan(&m, &begin, 1, MPIU_INT, MPI_SUM, comm));
+  int rank;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) begin = 0;
+  // The off-diagonal block's columns through its map: the distinct global columns, ascending.
+  std::vector<PetscInt> col_map(offd_j_);
+  std::sort(col_map.begin(), col_map.end());
+  col_map.erase(std::unique(col_map.begin(), col_map.end()), col_map.end());
+  std::vector<HYPRE_Int> offd_local(offd_j_.size());
+  for (std::size_t k = 0; k < offd_j_.size(); ++k)
+    offd_local[k] = static_cast<HYPRE_Int>(std::lower_bound(col_map.begin(), col_map.end(), offd_j_[k]) - col_map.begin());
+  PetscHYPREInitialize();
+  PetscCallExternal(HYPRE_SetMemoryLocation, HYPRE_MEMORY_DEVICE);
+  HYPRE_BigInt starts[2] = {static_cast<HYPRE_BigInt>(begin), static_cast<HYPRE_BigInt>(begin + m)};
+  hypre_ParCSRMatrix* A = hypre_ParCSRMatrixCreate(comm, M, M, starts, starts, static_cast<HYPRE_Int>(col_map.size()),
+                                                   static_cast<HYPRE_Int>(num_diag_), static_cast<HYPRE_Int>(num_offd_));
+  hypre_ParCSRMatrixInitialize_v2(A, HYPRE_MEMORY_DEVICE);
+  hypre_CSRMatrix* diag = hypre_ParCSRMatrixDiag(A);
+  hypre_CSRMatrix* offd = hypre_ParCSRMatrixOffd(A);
+  const auto to_hypre = [](const std::vector<PetscInt>& v) { return std::vector<HYPRE_Int>(v.begin(), v.end()); };
+  const auto upload = [](HYPRE_Int* dst, const std::vector<HYPRE_Int>& v) {
+    if (!v.empty()) device::copy_to_device(dst, v.data(), v.size() * sizeof(HYPRE_Int));
+  };
+  upload(hypre_CSRMatrixI(diag), to_hypre(diag_i_));
+  upload(hypre_CSRMatrixJ(diag), to_hypre(diag_j_));
+  upload(hypre_CSRMatrixI(offd), to_hypre(offd_i_));
+  upload(hypre_CSRMatrixJ(offd), offd_local);
+  if (num_diag_) device::zero(hypre_CSRMatrixData(diag), num_diag_ * sizeof(double));
+  if (num_offd_) device::zero(hypre_CSRMatrixData(offd), num_offd_ * sizeof(double));
+  HYPRE_BigInt* map = hypre_ParCSRMatrixColMapOffd(A);
+  for (std::size_t k = 0; k < col_map.size(); ++k) map[k] = static_cast<HYPRE_BigInt>(col_map[k]);
+  hypre_ParCSRMatrixCopyColMapOffdToDevice(A);
+  hypre_MatvecCommPkgCreate(A);
+  std::vector<PetscInt>().swap(diag_i_), std::vector<PetscInt>().swap(diag_j_);
+  std::vector<PetscInt>().swap(offd_i_), std::vector<PetscInt>().swap(offd_j_);
+  PetscCall(MatCreateFromParCSR(A, MATHYPRE, PETSC_OWN_POINTER, J));
+  PetscCall(MatSetBlockSize(*J, bs));
+  const char* prefix = nullptr;
+  PetscCall(MatGetOptionsPrefix(like, &prefix));
+  PetscCall(MatSetOptionsPrefix(*J, prefix));
+#else
+  (void)like, (void)J;
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "a device hypre matrix needs a PETSc whose hypre runs on the GPU");
+#endif
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd) const {
+  PetscFunctionBeginUser;
+#if PetscDefined(HAVE_HYPRE_DEVICE)
+  hypre_ParCSRMatrix* A = nullptr;
+  PetscCall(MatHYPREGetParCSR(J, &A));
+  *diag = hypre_CSRMatrixData(hypre_ParCSRMatrixDiag(A));
+  *offd = hypre_CSRMatrixData(hypre_ParCSRMatrixOffd(A));
+#else
+  (void)J, (void)diag, (void)offd;
+#endif
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
   PetscFunctionBeginUser;
   const std::size_t nd = num_diag_, ns = slot_position_.size();
-  {
+  if (kind_ == Kind::device_hypre) {
+    double *diag = nullptr, *offd = nullptr;
+    PetscCall(hypre_values(J, &diag, &offd));
+    device::scatter_split(values, d_position_.data(), num_entries_, diag, nd, offd);
+    if (sf_) {
+      // PETSc's SF runs on its own stream: the values must be complete before it reads them.
+      device::synchronize();
+      d_slot_sums_.set_zero();
+      PetscCall(PetscSFReduceWithMemTypeBegin(sf_, MPIU_SCALAR, PETSC_MEMTYPE_DEVICE, values, PETSC_MEMTYPE_DEVICE,
+                                              d_slot_sums_.data(), MPI_SUM));
+      PetscCall(PetscSFReduceEnd(sf_, MPIU_SCALAR, values, d_slot_sums_.data(), MPI_SUM));
+      device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
+    }
+    device::synchronize();
+  } else {
     // The blocks' value arrays as PETSc holds them (the ones given at creation).
     Mat A = J, B = nullptr;
     PetscBool mpi;

@@ -5,17 +5,22 @@
 // keeps a permutation and offsets (16 B) per entry beside the matrix. At 125,000 hexes on one
 // rank it was 78 % of the setup (3.6 of 4.6 s) and at 1M hexes on one H100 most of the 28 s
 // (docs/performance.md, "Setup"). Here each rank sorts only its rows' short column lists once,
-// hands PETSc arrays it does not copy, and keeps one 4 B position per entry.
+// hands PETSc (or hypre) arrays it does not copy, and keeps one 4 B position per entry.
 //
 // Entries of rows another rank owns (the ghost rows of a rank's elements) go to their owner
 // once at creation, which adds them to its pattern; at every assembly their values travel
 // through a PetscSF and are added to the owner's (owner's value first, then the other ranks' in
 // rank order: a fixed order, so runs on the same ranks give the same bits).
 //
-// The host AIJ types are built this way: MATSEQAIJ (MatCreateSeqAIJWithArrays) and MATMPIAIJ
-// (MatCreateMPIAIJWithSplitArrays), columns ascending in each row; every other type (the
-// device matrices `hypre` and `aijcusparse` among them) keeps the COO path. Values are given on
-// the host, in the entry order of create().
+// Two kinds of matrix are built this way (every other type keeps the COO path):
+//   host_aij      MATSEQAIJ (MatCreateSeqAIJWithArrays) or MATMPIAIJ
+//                 (MatCreateMPIAIJWithSplitArrays): columns ascending in each row;
+//   device_hypre  MATHYPRE whose hypre runs on the GPU: a hypre ParCSR matrix made on the
+//                 device (MatCreateFromParCSR), the diagonal first in each row of its diagonal
+//                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
+//                 through its ascending column map.
+// Values are given in the entry order of create(): host memory for host_aij, device memory for
+// device_hypre.
 #pragma once
 #include <petscmat.h>
 #include <petscsf.h>
@@ -25,12 +30,13 @@
 #include <memory>
 #include <vector>
 
+#include "device/device_runtime.hpp"
 
 namespace dipc {
 
 class DirectMatrix {
  public:
-  enum class Kind { coo, host_aij };
+  enum class Kind { coo, host_aij, device_hypre };
   // The kind that serves J (type set, not yet preallocated); coo where none does.
   static Kind kind_of(Mat J);
 
@@ -44,16 +50,20 @@ class DirectMatrix {
   // dof ids, no pair twice on a rank, rows of any rank. Replaces what an earlier create() set
   // up; the arrays of an earlier matrix live as long as that matrix.
   PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J);
-  // Collective. J's values from values[k] (host memory) for the entries k of create(). J must be
-  // the matrix create() made last.
+  // Collective. J's values from values[k] for the entries k of create() (on the host for
+  // host_aij, on the device for device_hypre). J must be the matrix create() made last.
   PetscErrorCode set_values(Mat J, const double* values);
 
   Kind kind() const { return kind_; }
 
  private:
   PetscErrorCode build_pattern(MPI_Comm comm, PetscInt row_begin, PetscInt num_rows, PetscInt col_begin,
-                               PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n);
+                               PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n,
+                               bool diagonal_first);
   PetscErrorCode make_host_aij(Mat like, Mat* J);
+  PetscErrorCode make_device_hypre(Mat like, Mat* J);
+  // device_hypre: J's value arrays on the device.
+  PetscErrorCode hypre_values(Mat J, double** diag, double** offd) const;
   // host_aij: checks that PETSc kept the pattern as given (the positions depend on it).
   PetscErrorCode check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const;
 
@@ -73,6 +83,9 @@ class DirectMatrix {
   PetscSF sf_ = nullptr;  // leaves: this rank's remote entries; roots: the owners' slots
   std::size_t num_diag_ = 0, num_offd_ = 0;
   std::vector<double> slot_sums_;
+  device::Array<std::uint32_t> d_position_{"matrix positions"}, d_slot_position_{"matrix slot positions"};
+  device::Array<std::uint8_t> d_slot_keep_{"matrix slot flags"};
+  device::Array<double> d_slot_sums_{"matrix slot sums"};
 };
 
 }  // namespace dipc

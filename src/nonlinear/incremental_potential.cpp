@@ -48,10 +48,17 @@ class ScopedEvent {
 };
 // -dipc_direct_matrix (default on): matrices of the types DirectMatrix serves are made from the
 // entries; off, every matrix goes through PETSc's COO preallocation (for comparison).
-bool use_direct_matrix() {
-  PetscBool direct = PETSC_TRUE;
-  PetscCallAbort(PETSC_COMM_SELF, PetscOptionsGetBool(nullptr, nullptr, "-dipc_direct_matrix", &direct, nullptr));
-  return direct == PETSC_TRUE;
+PetscErrorCode read_direct_matrix(MPI_Comm comm, bool* direct) {
+  PetscFunctionBeginUser;
+  PetscBool flag = PETSC_TRUE;
+  PetscOptionsBegin(comm, nullptr, "dipc Hessian matrix", "Mat");
+  PetscCall(PetscOptionsBool("-dipc_direct_matrix",
+                             "Make host AIJ (and device hypre) Hessians from dipc's own pattern instead of PETSc's "
+                             "COO preallocation",
+                             "DirectMatrix", flag, &flag, nullptr));
+  PetscOptionsEnd();
+  *direct = flag == PETSC_TRUE;
+  PetscFunctionReturn(0);
 }
 }  // namespace
 
@@ -193,9 +200,13 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   const double start = MPI_Wtime();
   PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
   device_matrix_ = any_device_ && matrix_on_device(J_);
-  // Host AIJ matrices are made from the entries directly (direct_matrix.hpp); other types and
-  // -dipc_direct_matrix 0 take PETSc's COO path.
-  direct_kind_ = use_direct_matrix() ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
+  // Host AIJ, and hypre on the device when the values are summed there, are made from the
+  // entries directly (direct_matrix.hpp); other types and -dipc_direct_matrix 0 take PETSc's
+  // COO path.
+  bool direct = true;
+  PetscCall(read_direct_matrix(comm_, &direct));
+  direct_kind_ = direct ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
+  if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
     PetscCall(build_element_blocks());
     blocks_built_ = true;

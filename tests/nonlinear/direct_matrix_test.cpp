@@ -2,7 +2,9 @@
 // rows and of other ranks' rows (some pairs given by several ranks, some rows' diagonals only by
 // another rank), with small integer values so that every sum is exact whatever its order. The
 // two matrices must hold the same pattern and values, after a second assembly too, and a
-// preconditioner must see the new values (the matrix's state moves).
+// preconditioner must see the new values (the matrix's state moves). The device hypre matrix is
+// checked the same way where a GPU and a device hypre are present (the GPU build's
+// direct_matrix_gpu_tests), else skipped.
 #include <gtest/gtest.h>
 #include <petscksp.h>
 #include <petsc/private/petscimpl.h>  // PetscObjectStateGet: the state preconditioners compare
@@ -13,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "device/device_runtime.hpp"
 #include "nonlinear/direct_matrix.hpp"
 
 namespace dipc {
@@ -108,7 +111,7 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
   for (Vec* v : {&x, &y, &z, &xd, &zd}) PetscCallAbort(PETSC_COMM_WORLD, VecDestroy(v));
 }
 
-void check_against_coo(MatType type, DirectMatrix::Kind kind) {
+void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device) {
   int rank, size;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
@@ -126,12 +129,18 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind) {
   PetscInt bs;
   PetscCallAbort(PETSC_COMM_WORLD, MatGetBlockSize(J, &bs));
   EXPECT_EQ(bs, 3);
+  device::Array<double> d_values("test values");
   PetscObjectState before, after;
   PetscCallAbort(PETSC_COMM_WORLD, PetscObjectStateGet(reinterpret_cast<PetscObject>(J), &before));
   for (int round = 0; round < 2; ++round) {
     const std::vector<double> v = make_values(e, rank, round);
     PetscCallAbort(PETSC_COMM_WORLD, MatSetValuesCOO(coo, v.data(), INSERT_VALUES));
-    PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(J, v.data()));
+    if (values_on_device) {
+      d_values.upload(v);
+      PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(J, d_values.data()));
+    } else {
+      PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(J, v.data()));
+    }
     double difference;
     PetscInt nnz_direct, nnz_coo;
     compare(J, coo, &difference, &nnz_direct, &nnz_coo);
@@ -144,10 +153,10 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind) {
   PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&coo));
 }
 
-TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij); }
+TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false); }
 
 TEST(DirectMatrix, MpiAijOnAnyRankCountEqualsCooMatrix) {
-  check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij);
+  check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false);
 }
 
 // An older matrix keeps working (its arrays are its own) after a newer one is made, as when
@@ -171,6 +180,12 @@ TEST(DirectMatrix, OlderMatrixOutlivesTheNextCreate) {
   compare(first, second, &difference, &a, &b);
   EXPECT_EQ(difference, 0.0);
   for (Mat* m : {&like, &first, &second}) PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(m));
+}
+
+TEST(DirectMatrix, DeviceHypreEqualsCooMatrix) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true);
 }
 
 }  // namespace
