@@ -62,7 +62,7 @@ gpus=$(nvidia-smi -L | wc -l)
 case "${1:-}" in
   tests)
     # Full output goes to $out/gpu_tests.log; the summary lines and exit codes to the screen.
-    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests; do
+    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests direct_matrix_tests; do
       run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
       echo "$t: exit ${PIPESTATUS[0]}"
