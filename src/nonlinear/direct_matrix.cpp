@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "partition/mpi_exchange.hpp"
@@ -23,8 +24,6 @@ namespace {
 // A provisional position in the off-diagonal block, made final once the diagonal block's size
 // is known (positions stay below 2^31: a rank's nonzeros fit PetscInt, checked by the caller).
 constexpr std::uint32_t kOffdFlag = 0x80000000u;
-// In a row's list of sources: entries of this rank are their index, received ones carry this bit.
-constexpr std::uint64_t kReceived = std::uint64_t{1} << 63;
 
 struct Pair {
   PetscInt row, col;
@@ -117,13 +116,19 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
   for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
   for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
 
-  // Each row's sources (own entries by index, received ones flagged) by counting sort.
-  std::vector<std::uint64_t> source(row_count[num_rows]);
+  // Each row's sources by counting sort, in 4 B: an own entry k as k, received entry k as n + k
+  // (so that own entries sort first, then the received ones in arrival order).
+  PetscCheck(n + received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "%zu matrix entries on one rank, more than the matrix's 32-bit positions hold: run on more ranks",
+             n + received.size());
+  const auto is_received = [n](std::uint32_t src) { return src >= n; };
+  std::vector<std::uint32_t> source(row_count[num_rows]);
   {
     std::vector<std::size_t> next(row_count.begin(), row_count.end() - 1);
     for (std::size_t k = 0; k < n; ++k)
-      if (rows[k] >= row_begin && rows[k] < row_end) source[next[rows[k] - row_begin]++] = k;
-    for (std::size_t k = 0; k < received.size(); ++k) source[next[received[k].row - row_begin]++] = kReceived | k;
+      if (rows[k] >= row_begin && rows[k] < row_end) source[next[rows[k] - row_begin]++] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < received.size(); ++k)
+      source[next[received[k].row - row_begin]++] = static_cast<std::uint32_t>(n + k);
   }
 
   // Per row: its distinct columns in the kind's order, each given the next position of its
@@ -136,13 +141,13 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
   slot_position_.clear();
   slot_keep_.clear();
   std::vector<std::uint32_t> received_slot(received.size());
-  std::vector<std::pair<PetscInt, std::uint64_t>> line;
+  std::vector<std::pair<PetscInt, std::uint32_t>> line;
   std::uint32_t num_diag = 0, num_offd = 0;
   for (PetscInt r = 0; r < num_rows; ++r) {
     line.clear();
     for (std::size_t s = row_count[r]; s < row_count[r + 1]; ++s) {
-      const std::uint64_t src = source[s];
-      line.emplace_back(src & kReceived ? received[src & ~kReceived].col : cols[src], src);
+      const std::uint32_t src = source[s];
+      line.emplace_back(is_received(src) ? received[src - n].col : cols[src], src);
     }
     // By column; own entries, then received ones in arrival order. The element blocks give
     // most rows already sorted.
@@ -161,11 +166,11 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
         p = kOffdFlag | num_offd++;
         offd_j_.push_back(col);
       }
-      const bool own = !(line[a].second & kReceived);
+      const bool own = !is_received(line[a].second);
       if (own) position_[line[a].second] = p;
       if (b > a + (own ? 1 : 0)) {
         for (std::size_t c = a + (own ? 1 : 0); c < b; ++c)
-          received_slot[line[c].second & ~kReceived] = static_cast<std::uint32_t>(slot_position_.size());
+          received_slot[line[c].second - n] = static_cast<std::uint32_t>(slot_position_.size());
         slot_position_.push_back(p);
         slot_keep_.push_back(own ? 1 : 0);
       }
@@ -174,14 +179,16 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
     diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
     offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
   }
-  std::vector<std::uint64_t>().swap(source);
+  std::vector<std::uint32_t>().swap(source);
   num_diag_ = num_diag;
   num_offd_ = num_offd;
   const auto finish = [&](std::uint32_t& p) {
     if (p != kRemote && (p & kOffdFlag)) p = num_diag + (p & ~kOffdFlag);
   };
-  for (std::uint32_t& p : position_) finish(p);
-  for (std::uint32_t& p : slot_position_) finish(p);
+  if (num_offd > 0) {
+    for (std::uint32_t& p : position_) finish(p);
+    for (std::uint32_t& p : slot_position_) finish(p);
+  }
 
   // Answers to the senders, and the star forest their values travel by.
   std::vector<std::vector<std::uint32_t>> answers(size);
@@ -300,13 +307,19 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
   hypre_ParCSRMatrixInitialize_v2(A, HYPRE_MEMORY_DEVICE);
   hypre_CSRMatrix* diag = hypre_ParCSRMatrixDiag(A);
   hypre_CSRMatrix* offd = hypre_ParCSRMatrixOffd(A);
-  const auto to_hypre = [](const std::vector<PetscInt>& v) { return std::vector<HYPRE_Int>(v.begin(), v.end()); };
-  const auto upload = [](HYPRE_Int* dst, const std::vector<HYPRE_Int>& v) {
-    if (!v.empty()) device::copy_to_device(dst, v.data(), v.size() * sizeof(HYPRE_Int));
+  // hypre's index type is PetscInt's in both PETSc builds dipc meets; converted where not.
+  const auto upload = [](HYPRE_Int* dst, const auto& v) {
+    if (v.empty()) return;
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, HYPRE_Int>) {
+      device::copy_to_device(dst, v.data(), v.size() * sizeof(HYPRE_Int));
+    } else {
+      const std::vector<HYPRE_Int> converted(v.begin(), v.end());
+      device::copy_to_device(dst, converted.data(), converted.size() * sizeof(HYPRE_Int));
+    }
   };
-  upload(hypre_CSRMatrixI(diag), to_hypre(diag_i_));
-  upload(hypre_CSRMatrixJ(diag), to_hypre(diag_j_));
-  upload(hypre_CSRMatrixI(offd), to_hypre(offd_i_));
+  upload(hypre_CSRMatrixI(diag), diag_i_);
+  upload(hypre_CSRMatrixJ(diag), diag_j_);
+  upload(hypre_CSRMatrixI(offd), offd_i_);
   upload(hypre_CSRMatrixJ(offd), offd_local);
   if (num_diag_) device::zero(hypre_CSRMatrixData(diag), num_diag_ * sizeof(double));
   if (num_offd_) device::zero(hypre_CSRMatrixData(offd), num_offd_ * sizeof(double));
