@@ -29,7 +29,7 @@ struct Entries {
 
 // Entries of a banded pattern around each row plus scattered ones, rows of every rank; rank r
 // repeats part of rank r-1's choice so that owners receive the same pair from several ranks.
-Entries make_entries(int rank, int size) {
+Entries make_entries(int rank, int size, bool grouped = false) {
   const PetscInt n = kRowsPerRank * size;
   std::set<std::pair<PetscInt, PetscInt>> pairs;
   for (int source : {rank, rank - 1}) {
@@ -51,11 +51,16 @@ Entries make_entries(int rank, int size) {
   }
   Entries e;
   for (const auto& [r, c] : pairs) e.rows.push_back(r), e.cols.push_back(c);
-  // Not sorted: the element blocks interleave rows, the contact entries come last.
+  // Not sorted: shuffled, or (grouped) as the node blocks give them: the rows of each group of
+  // three interleaved, group after group, with the last fifth (the other forms') shuffled after.
   std::mt19937 shuffle(7 + rank);
   std::vector<std::size_t> order(e.rows.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::shuffle(order.begin(), order.end(), shuffle);
+  if (grouped) {
+    const auto tail = order.begin() + static_cast<std::ptrdiff_t>(4 * order.size() / 5);
+    std::stable_sort(order.begin(), tail, [&](std::size_t a, std::size_t b) { return e.rows[a] / 3 < e.rows[b] / 3; });
+  }
   Entries out;
   for (std::size_t k : order) out.rows.push_back(e.rows[k]), out.cols.push_back(e.cols[k]);
   return out;
@@ -111,11 +116,11 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
   for (Vec* v : {&x, &y, &z, &xd, &zd}) PetscCallAbort(PETSC_COMM_WORLD, VecDestroy(v));
 }
 
-void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device) {
+void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool grouped = false) {
   int rank, size;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const Entries e = make_entries(rank, size);
+  const Entries e = make_entries(rank, size, grouped);
   Mat coo = template_matrix(MATAIJ);
   Entries copy = e;  // PETSc may reorder the lists it is given
   PetscCallAbort(PETSC_COMM_WORLD, MatSetPreallocationCOO(coo, static_cast<PetscCount>(copy.rows.size()),
@@ -154,6 +159,11 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
 }
 
 TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false); }
+
+// Entries grouped by node as the element blocks give them take the fast path over the groups.
+TEST(DirectMatrix, GroupedEntriesEqualCooMatrix) {
+  check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true);
+}
 
 TEST(DirectMatrix, MpiAijOnAnyRankCountEqualsCooMatrix) {
   check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false);
