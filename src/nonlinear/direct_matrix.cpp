@@ -1,7 +1,7 @@
 #include "nonlinear/direct_matrix.hpp"
 
 #include <algorithm>
-#include <cstring>
+#include <memory>
 #include <type_traits>
 #include <utility>
 
@@ -28,9 +28,7 @@ constexpr std::uint32_t kOffdFlag = 0x80000000u;
 struct Pair {
   PetscInt row, col;
 };
-}  // namespace
 
-namespace {
 // The arrays a host AIJ matrix uses without copying them; owned by the Mat (composed on it), so
 // that an older matrix keeps its own while a newer one is in use.
 struct HostArrays {
@@ -63,13 +61,18 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, c
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
   kind_ = kind;
   num_entries_ = n;
-  PetscInt m, begin = 0;
-  PetscCall(MatGetLocalSize(like, &m, nullptr));
-  PetscCallMPI(MPI_Exscan(&m, &begin, 1, MPIU_INT, MPI_SUM, comm));
-  int rank;
+  // Every rank's first row, from the local sizes: the template's layout is not set up yet (its
+  // global size may still read PETSC_DETERMINE).
+  int rank, size;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) begin = 0;  // MPI_Exscan leaves rank 0's result undefined
-  PetscCall(build_pattern(comm, begin, m, begin, begin + m, rows, cols, n, kind == Kind::device_hypre));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscInt m;
+  PetscCall(MatGetLocalSize(like, &m, nullptr));
+  row_starts_.assign(size + 1, 0);
+  PetscCallMPI(MPI_Allgather(&m, 1, MPIU_INT, row_starts_.data() + 1, 1, MPIU_INT, comm));
+  for (int r = 0; r < size; ++r) row_starts_[r + 1] += row_starts_[r];
+  row_begin_ = row_starts_[rank];
+  PetscCall(build_pattern(comm, m, rows, cols, n, kind == Kind::device_hypre));
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
@@ -84,16 +87,14 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, c
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, PetscInt num_rows, PetscInt col_begin,
-                                           PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n,
-                                           bool diagonal_first) {
+PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const PetscInt* rows, const PetscInt* cols,
+                                           std::size_t n, bool diagonal_first) {
   PetscFunctionBeginUser;
-  int size;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  std::vector<PetscInt> starts(size + 1, 0);
-  PetscCallMPI(MPI_Allgather(&num_rows, 1, MPIU_INT, starts.data() + 1, 1, MPIU_INT, comm));
-  for (int r = 0; r < size; ++r) starts[r + 1] += starts[r];
-  const PetscInt row_end = row_begin + num_rows;
+  const int size = static_cast<int>(row_starts_.size()) - 1;
+  const std::vector<PetscInt>& starts = row_starts_;
+  // The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
+  const PetscInt row_begin = row_begin_, row_end = row_begin + num_rows;
+  const PetscInt col_begin = row_begin, col_end = row_end;
 
   // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
   // back in the order sent.
@@ -112,8 +113,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
     remote_entry[owner].push_back(static_cast<PetscInt>(k));
   }
   std::vector<int> from;
-  const std::vector<Pair> received = exchange_records(to, comm, &from);
-  to = std::vector<std::vector<Pair>>();
+  const std::vector<Pair> received = exchange_records(std::move(to), comm, &from);
   PetscCheck(n + received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "%zu matrix entries on one rank, more than the matrix's 32-bit positions hold: run on more ranks",
              n + received.size());
@@ -219,7 +219,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt row_begin, Pe
   // Answers to the senders, and the star forest their values travel by.
   std::vector<std::vector<std::uint32_t>> answers(size);
   for (std::size_t k = 0; k < received.size(); ++k) answers[from[k]].push_back(received_slot[k]);
-  const std::vector<std::uint32_t> slots = exchange_records(answers, comm);
+  const std::vector<std::uint32_t> slots = exchange_records(std::move(answers), comm);
   long long num_remote = static_cast<long long>(slots.size()), any_remote = 0;
   PetscCallMPI(MPI_Allreduce(&num_remote, &any_remote, 1, MPI_LONG_LONG, MPI_SUM, comm));
   PetscCall(PetscSFDestroy(&sf_));
@@ -281,13 +281,21 @@ PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const {
+PetscErrorCode DirectMatrix::aij_blocks(Mat J, Mat* diag, Mat* offd, const PetscInt** garray) {
   PetscFunctionBeginUser;
-  Mat A = J, B = nullptr;
-  const PetscInt* garray = nullptr;
   PetscBool mpi;
   PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATMPIAIJ, &mpi));
-  if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(J, &A, &B, &garray));
+  *diag = J, *offd = nullptr;
+  if (garray) *garray = nullptr;
+  if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(J, diag, offd, garray));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const {
+  PetscFunctionBeginUser;
+  Mat A, B;
+  const PetscInt* garray;
+  PetscCall(aij_blocks(J, &A, &B, &garray));
   const PetscInt *ai, *aj, *bi = nullptr, *bj = nullptr;
   PetscScalar* unused;
   PetscCall(MatSeqAIJGetCSRAndMemType(A, &ai, &aj, &unused, nullptr));
@@ -308,16 +316,10 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
   PetscFunctionBeginUser;
 #if PetscDefined(HAVE_HYPRE_DEVICE)
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
-  // The global size from the local ones: the template's layout is not set up yet (its global
-  // size may still read PETSC_DETERMINE).
-  PetscInt m, M = 0, bs, begin = 0;
+  PetscInt m, bs;
   PetscCall(MatGetLocalSize(like, &m, nullptr));
   PetscCall(MatGetBlockSize(like, &bs));
-  PetscCallMPI(MPI_Allreduce(&m, &M, 1, MPIU_INT, MPI_SUM, comm));
-  PetscCallMPI(MPI_Exscan(&m, &begin, 1, MPIU_INT, MPI_SUM, comm));
-  int rank;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) begin = 0;
+  const PetscInt M = row_starts_.back(), begin = row_begin_;
   // The off-diagonal block's columns through its map: the distinct global columns, ascending.
   std::vector<PetscInt> col_map(offd_j_);
   std::sort(col_map.begin(), col_map.end());
@@ -399,10 +401,8 @@ PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
     device::synchronize();
   } else {
     // The blocks' value arrays as PETSc holds them (the ones given at creation).
-    Mat A = J, B = nullptr;
-    PetscBool mpi;
-    PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(J), MATMPIAIJ, &mpi));
-    if (mpi) PetscCall(MatMPIAIJGetSeqAIJ(J, &A, &B, nullptr));
+    Mat A, B;
+    PetscCall(aij_blocks(J, &A, &B, nullptr));
     PetscScalar *diag, *offd = nullptr;
     PetscCall(MatSeqAIJGetArray(A, &diag));
     if (B) PetscCall(MatSeqAIJGetArray(B, &offd));

@@ -27,7 +27,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "device/device_runtime.hpp"
@@ -54,21 +53,25 @@ class DirectMatrix {
   // host_aij, on the device for device_hypre). J must be the matrix create() made last.
   PetscErrorCode set_values(Mat J, const double* values);
 
-  Kind kind() const { return kind_; }
-
  private:
-  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt row_begin, PetscInt num_rows, PetscInt col_begin,
-                               PetscInt col_end, const PetscInt* rows, const PetscInt* cols, std::size_t n,
-                               bool diagonal_first);
+  // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
+  // of other ranks' rows.
+  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const PetscInt* rows, const PetscInt* cols,
+                               std::size_t n, bool diagonal_first);
   PetscErrorCode make_host_aij(Mat like, Mat* J);
   PetscErrorCode make_device_hypre(Mat like, Mat* J);
   // device_hypre: J's value arrays on the device.
   PetscErrorCode hypre_values(Mat J, double** diag, double** offd) const;
+  // host_aij: J's diagonal and off-diagonal blocks (offd null on a SEQAIJ) and the latter's
+  // global columns.
+  static PetscErrorCode aij_blocks(Mat J, Mat* diag, Mat* offd, const PetscInt** garray);
   // host_aij: checks that PETSc kept the pattern as given (the positions depend on it).
   PetscErrorCode check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const;
 
   Kind kind_ = Kind::coo;
   std::size_t num_entries_ = 0;
+  std::vector<PetscInt> row_starts_;  // every rank's first row, and the number of rows at the end
+  PetscInt row_begin_ = 0;
   // The pattern of this rank's rows (CSR): the diagonal block's columns relative to the first
   // owned column, the off-diagonal block's as global ids, each row's in the kind's order.
   std::vector<PetscInt> diag_i_, diag_j_, offd_i_, offd_j_;

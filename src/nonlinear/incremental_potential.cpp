@@ -108,6 +108,7 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
              static_cast<int>(8 * sizeof(PetscInt)));
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
+  PetscCall(read_direct_matrix(comm_, &direct_matrix_allowed_));
   local_to_global_ = mesh.local_to_global;
   PetscCall(exchange_.setup(mesh, 3));
   // Prescribed dofs as a distributed field, so that the flags of extra nodes can be gathered.
@@ -203,9 +204,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   // Host AIJ, and hypre on the device when the values are summed there, are made from the
   // entries directly (direct_matrix.hpp); other types and -dipc_direct_matrix 0 take PETSc's
   // COO path.
-  bool direct = true;
-  PetscCall(read_direct_matrix(comm_, &direct));
-  direct_kind_ = direct ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
+  direct_kind_ = direct_matrix_allowed_ ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
   if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
     PetscCall(build_element_blocks());

@@ -196,6 +196,7 @@ class IncrementalPotential {
   std::size_t num_block_entries_ = 0;          // the matrix's entries held by node blocks (its first)
   DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
   DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
+  bool direct_matrix_allowed_ = true;          // -dipc_direct_matrix, read at setup
   CooReduction reduction_;                     // the other forms' raw values (and the Dirichlet diagonal)
   std::vector<std::size_t> scalar_target_;     // reduction_'s unique entry -> the matrix's entry
   std::vector<double> scalar_sums_;
