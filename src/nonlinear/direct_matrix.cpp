@@ -54,13 +54,13 @@ DirectMatrix::Kind DirectMatrix::kind_of(Mat J) {
   return Kind::coo;
 }
 
-PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n,
-                                    Mat* J) {
+PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReduction* blocks, const PetscInt* rows,
+                                    const PetscInt* cols, std::size_t n, Mat* J) {
   PetscFunctionBeginUser;
   PetscCheck(kind != Kind::coo, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DirectMatrix::create needs a direct kind");
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
   kind_ = kind;
-  num_entries_ = n;
+  num_entries_ = (blocks ? blocks->num_entries() : 0) + n;
   // Every rank's first row, from the local sizes: the template's layout is not set up yet (its
   // global size may still read PETSC_DETERMINE).
   int rank, size;
@@ -72,7 +72,7 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, c
   PetscCallMPI(MPI_Allgather(&m, 1, MPIU_INT, row_starts_.data() + 1, 1, MPIU_INT, comm));
   for (int r = 0; r < size; ++r) row_starts_[r + 1] += row_starts_[r];
   row_begin_ = row_starts_[rank];
-  PetscCall(build_pattern(comm, m, rows, cols, n, kind == Kind::device_hypre));
+  PetscCall(build_pattern(comm, m, blocks, rows, cols, n, kind == Kind::device_hypre));
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
@@ -87,71 +87,86 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const PetscInt* rows, c
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const PetscInt* rows, const PetscInt* cols,
-                                           std::size_t n, bool diagonal_first) {
+PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
+                                           const PetscInt* rows, const PetscInt* cols, std::size_t n,
+                                           bool diagonal_first) {
   PetscFunctionBeginUser;
   const int size = static_cast<int>(row_starts_.size()) - 1;
   const std::vector<PetscInt>& starts = row_starts_;
   // The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
   const PetscInt row_begin = row_begin_, row_end = row_begin + num_rows;
   const PetscInt col_begin = row_begin, col_end = row_end;
+  // Entries are numbered: the blocks' first (nb of them), then the list's (nb + k); entries
+  // received from other ranks are numbered on after them (total + k) while the rows are built.
+  const std::size_t nb = blocks ? blocks->num_entries() : 0, total = nb + n;
+  PetscCheck(!blocks || (row_begin % 3 == 0 && num_rows % 3 == 0), PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
+             "node blocks need the rank's rows to start and end at a node (rows %" PetscInt_FMT " .. %" PetscInt_FMT
+             ")",
+             row_begin, row_end);
+  const auto owner_of = [&](PetscInt row) {
+    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), row) - starts.begin()) - 1;
+  };
+  const auto own_row = [&](PetscInt row) { return row >= row_begin && row < row_end; };
 
   // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
-  // back in the order sent.
-  position_.assign(n, kRemote);
+  // back in the order sent. An own node's block row is read in place below; a ghost node's
+  // (the few on the partition's boundary) is expanded to its entries here.
+  position_.assign(total, kRemote);
   std::vector<std::vector<Pair>> to(size);
   std::vector<std::vector<PetscInt>> remote_entry(size);
-  const auto own_row = [&](std::size_t k) { return rows[k] >= row_begin && rows[k] < row_end; };
-  std::size_t num_own = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (own_row(k)) {
-      ++num_own;
-      continue;
+  const PetscInt first_node = row_begin / 3;
+  std::vector<std::int64_t> block_row_of_node(blocks ? static_cast<std::size_t>(num_rows / 3) : 0, -1);
+  if (blocks) {
+    for (std::size_t s = 0; s < blocks->row_nodes.size(); ++s) {
+      const std::int64_t node = blocks->row_nodes[s];
+      if (own_row(static_cast<PetscInt>(3 * node))) {
+        block_row_of_node[static_cast<std::size_t>(node - first_node)] = static_cast<std::int64_t>(s);
+        continue;
+      }
+      const int owner = owner_of(static_cast<PetscInt>(3 * node));
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+        std::size_t entry = blocks->block_start[k];
+        for (int bit = 0; bit < 9; ++bit)
+          if (blocks->block_mask[k] >> bit & 1u) {
+            to[owner].push_back({static_cast<PetscInt>(3 * node + bit / 3),
+                                 static_cast<PetscInt>(3 * blocks->block_col[k] + bit % 3)});
+            remote_entry[owner].push_back(static_cast<PetscInt>(entry++));
+          }
+      }
     }
-    const int owner = static_cast<int>(std::upper_bound(starts.begin(), starts.end(), rows[k]) - starts.begin()) - 1;
-    to[owner].push_back({rows[k], cols[k]});
-    remote_entry[owner].push_back(static_cast<PetscInt>(k));
   }
+  for (std::size_t k = 0; k < n; ++k)
+    if (!own_row(rows[k])) {
+      const int owner = owner_of(rows[k]);
+      to[owner].push_back({rows[k], cols[k]});
+      remote_entry[owner].push_back(static_cast<PetscInt>(nb + k));
+    }
   std::vector<int> from;
   const std::vector<Pair> received = exchange_records(std::move(to), comm, &from);
-  PetscCheck(n + received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
+  PetscCheck(total + received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "%zu matrix entries on one rank, more than the matrix's 32-bit positions hold: run on more ranks",
-             n + received.size());
+             total + received.size());
 
-  // Own entries usually come grouped: the node blocks give all entries of a node's three rows
-  // (the group of rows 3g .. 3g + 2) together, node after node. The longest prefix of the
-  // entries whose own rows' groups never decrease is read group by group where it lies (each
-  // group's stretch once per row); only the own entries after it (the other forms') and the
-  // received ones are bucketed by row. Any order is correct, this one is fast.
-  constexpr PetscInt kGroup = 3;
-  const PetscInt first_group = row_begin / kGroup;
-  const std::size_t num_groups = num_rows > 0 ? static_cast<std::size_t>((row_end - 1) / kGroup - first_group + 1) : 0;
-  std::vector<std::size_t> group_first(num_groups, 0), group_last(num_groups, 0);
-  std::size_t prefix = 0;
-  for (std::ptrdiff_t current = -1; prefix < n; ++prefix) {
-    if (!own_row(prefix)) continue;
-    const auto g = static_cast<std::ptrdiff_t>(rows[prefix] / kGroup - first_group);
-    if (g < current) break;
-    if (g != current) group_first[g] = prefix, current = g;
-    group_last[g] = prefix + 1;
-  }
-
-  // The rest by counting sort, in 4 B: an own entry k as k, received entry k as n + k (so that
-  // own entries sort first, then the received ones in arrival order).
-  const auto is_received = [n](std::uint32_t src) { return src >= n; };
+  // The list's own entries and the received ones, bucketed by row (counting sort, in 4 B): the
+  // list's entry k as nb + k, received entry k as total + k, so that own entries sort first,
+  // then the received ones in arrival order.
+  const auto is_received = [total](std::uint32_t src) { return src >= total; };
   std::vector<std::size_t> row_count(static_cast<std::size_t>(num_rows) + 1, 0);
-  for (std::size_t k = prefix; k < n; ++k)
-    if (own_row(k)) ++row_count[rows[k] - row_begin + 1];
+  for (std::size_t k = 0; k < n; ++k)
+    if (own_row(rows[k])) ++row_count[rows[k] - row_begin + 1];
   for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
   for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
   std::vector<std::uint32_t> source(row_count[num_rows]);
   {
     std::vector<std::size_t> next(row_count.begin(), row_count.end() - 1);
-    for (std::size_t k = prefix; k < n; ++k)
-      if (own_row(k)) source[next[rows[k] - row_begin]++] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < n; ++k)
+      if (own_row(rows[k])) source[next[rows[k] - row_begin]++] = static_cast<std::uint32_t>(nb + k);
     for (std::size_t k = 0; k < received.size(); ++k)
-      source[next[received[k].row - row_begin]++] = static_cast<std::uint32_t>(n + k);
+      source[next[received[k].row - row_begin]++] = static_cast<std::uint32_t>(total + k);
   }
+  const auto column_of = [&](std::uint32_t src) {
+    return is_received(src) ? received[src - total].col : cols[src - nb];
+  };
 
   // Per row: its distinct columns in the kind's order, each given the next position of its
   // block; an own entry takes that position, received ones a slot there.
@@ -159,7 +174,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   diag_j_.clear();
   offd_j_.clear();
-  diag_j_.reserve(num_own);
+  diag_j_.reserve(total + received.size());  // at most; the few remote entries and repeats fewer
   slot_position_.clear();
   slot_keep_.clear();
   std::vector<std::uint32_t> received_slot(received.size());
@@ -168,18 +183,26 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   for (PetscInt r = 0; r < num_rows; ++r) {
     line.clear();
     const PetscInt row = row_begin + r;
-    const auto g = static_cast<std::size_t>(row / kGroup - first_group);
-    for (std::size_t k = group_first[g]; k < group_last[g]; ++k)
-      if (rows[k] == row) line.emplace_back(cols[k], static_cast<std::uint32_t>(k));
-    for (std::size_t s = row_count[r]; s < row_count[r + 1]; ++s) {
-      const std::uint32_t src = source[s];
-      line.emplace_back(is_received(src) ? received[src - n].col : cols[src], src);
+    // Row 3 node + i of a node block row: the i-th row of each of its blocks, columns ascending.
+    const std::int64_t s = blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1;
+    if (s >= 0) {
+      const int i = static_cast<int>(r % 3);
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+        const unsigned mask = blocks->block_mask[k];
+        for (int j = 0; j < 3; ++j) {
+          const int bit = 3 * i + j;
+          if (mask >> bit & 1u)
+            line.emplace_back(static_cast<PetscInt>(3 * blocks->block_col[k] + j),
+                              static_cast<std::uint32_t>(blocks->block_start[k] + entry_in_block(mask, bit)));
+        }
+      }
     }
+    for (std::size_t k = row_count[r]; k < row_count[r + 1]; ++k) line.emplace_back(column_of(source[k]), source[k]);
     // By column; own entries, then received ones in arrival order. The element blocks give
     // most rows already sorted.
     if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
     if (diagonal_first)
-      std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row_begin + r; });
+      std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row; });
     for (std::size_t a = 0; a < line.size();) {
       std::size_t b = a + 1;
       while (b < line.size() && line[b].first == line[a].first) ++b;
@@ -196,7 +219,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
       if (own) position_[line[a].second] = p;
       if (b > a + (own ? 1 : 0)) {
         for (std::size_t c = a + (own ? 1 : 0); c < b; ++c)
-          received_slot[line[c].second - n] = static_cast<std::uint32_t>(slot_position_.size());
+          received_slot[line[c].second - total] = static_cast<std::uint32_t>(slot_position_.size());
         slot_position_.push_back(p);
         slot_keep_.push_back(own ? 1 : 0);
       }

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "device/device_runtime.hpp"
+#include "nonlinear/node_block_reduction.hpp"
 
 namespace dipc {
 
@@ -45,10 +46,17 @@ class DirectMatrix {
   ~DirectMatrix();
 
   // Collective. A new matrix *J of `kind` (not coo) over the rows and columns of `like` (sizes,
-  // block size, options prefix), holding the rank's entries (rows[k], cols[k]), k < n: global
-  // dof ids, no pair twice on a rank, rows of any rank. Replaces what an earlier create() set
-  // up; the arrays of an earlier matrix live as long as that matrix.
-  PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J);
+  // block size, options prefix), holding the rank's entries: those of the node blocks of
+  // `blocks` (may be null) in its entry order (dof 3 node + component; the rank's rows then
+  // must start and end at a node), then (rows[k], cols[k]), k < n. Global dof ids, no pair
+  // twice on a rank, rows of any rank. The blocks are read as given, never expanded into
+  // (row, col) lists: at 1M hexes those lists alone were 2 GB. Replaces what an earlier
+  // create() set up; the arrays of an earlier matrix live as long as that matrix.
+  PetscErrorCode create(Mat like, Kind kind, const NodeBlockReduction* blocks, const PetscInt* rows,
+                        const PetscInt* cols, std::size_t n, Mat* J);
+  PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J) {
+    return create(like, kind, nullptr, rows, cols, n, J);
+  }
   // Collective. J's values from values[k] for the entries k of create() (on the host for
   // host_aij, on the device for device_hypre). J must be the matrix create() made last.
   PetscErrorCode set_values(Mat J, const double* values);
@@ -56,8 +64,8 @@ class DirectMatrix {
  private:
   // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
   // of other ranks' rows.
-  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const PetscInt* rows, const PetscInt* cols,
-                               std::size_t n, bool diagonal_first);
+  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
+                               const PetscInt* rows, const PetscInt* cols, std::size_t n, bool diagonal_first);
   PetscErrorCode make_host_aij(Mat like, Mat* J);
   PetscErrorCode make_device_hypre(Mat like, Mat* J);
   // device_hypre: J's value arrays on the device.

@@ -253,14 +253,10 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   std::vector<PetscInt>().swap(cols);
 
   // The matrix's entries: the element blocks', then those of the other forms that no block
-  // holds. scalar_target_[v] is where the other forms' unique entry v is added.
-  std::vector<PetscInt> unique_rows, unique_cols;
-  try {
-    blocks_.entries(&unique_rows, &unique_cols);
-  } catch (const std::overflow_error& e) {
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
-  }
-  num_block_entries_ = unique_rows.size();
+  // holds (extra_rows/extra_cols). scalar_target_[v] is where the other forms' unique entry v is
+  // added.
+  num_block_entries_ = blocks_.num_entries();
+  std::vector<PetscInt> extra_rows, extra_cols;
   const std::size_t num_scalar = reduction_.num_unique();
   scalar_target_.resize(num_scalar);
   for (std::size_t v = 0; v < num_scalar; ++v) {
@@ -268,45 +264,20 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
     if (k >= 0) {
       scalar_target_[v] = static_cast<std::size_t>(k);
     } else {
-      scalar_target_[v] = unique_rows.size();
-      unique_rows.push_back(reduction_.rows[v]);
-      unique_cols.push_back(reduction_.cols[v]);
+      scalar_target_[v] = num_block_entries_ + extra_rows.size();
+      extra_rows.push_back(reduction_.rows[v]);
+      extra_cols.push_back(reduction_.cols[v]);
     }
   }
   std::vector<PetscInt>().swap(reduction_.rows);
   std::vector<PetscInt>().swap(reduction_.cols);
-  num_unique_ = unique_rows.size();
+  num_unique_ = num_block_entries_ + extra_rows.size();
   // PETSc's AIJ matrices count a rank's nonzeros in PetscInt (row offsets).
   PetscCheck(num_unique_ <= static_cast<std::size_t>(PETSC_MAX_INT), PETSC_COMM_SELF, PETSC_ERR_SUP,
              "this rank's Hessian has %zu nonzeros, more than PETSc's %d-bit PetscInt holds: run on more ranks, or "
              "use a PETSc configured with --with-64-bit-indices",
              num_unique_, static_cast<int>(8 * sizeof(PetscInt)));
-
-  // Dirichlet elimination on the matrix's entries: zero in a prescribed row or column, one on
-  // an owned prescribed diagonal (a ghost row's diagonal is its owner's). Prescribed global dofs
-  // as a bitmap over their id range: the test runs for every entry.
-  PetscInt lo = std::numeric_limits<PetscInt>::max(), hi = -1;
-  for (std::size_t n = 0; n < local_to_global_.size(); ++n)
-    for (int c = 0; c < 3; ++c)
-      if (dirichlet_dof_[3 * n + c]) {
-        const PetscInt dof = static_cast<PetscInt>(3 * local_to_global_[n] + c);
-        lo = std::min(lo, dof), hi = std::max(hi, dof);
-      }
-  zero_entries_.clear();
-  one_entries_.clear();
-  if (hi >= lo) {
-    std::vector<bool> prescribed(static_cast<std::size_t>(hi - lo + 1), false);
-    for (std::size_t n = 0; n < local_to_global_.size(); ++n)
-      for (int c = 0; c < 3; ++c)
-        if (dirichlet_dof_[3 * n + c]) prescribed[static_cast<PetscInt>(3 * local_to_global_[n] + c) - lo] = true;
-    const auto is_prescribed = [&](PetscInt dof) { return dof >= lo && dof <= hi && prescribed[dof - lo]; };
-    for (std::size_t u = 0; u < num_unique_; ++u) {
-      const PetscInt r = unique_rows[u], c = unique_cols[u];
-      if (!is_prescribed(r) && !is_prescribed(c)) continue;
-      const bool owned_diagonal = r == c && r >= owned_begin && r < owned_begin + num_owned_dofs_;
-      (owned_diagonal ? one_entries_ : zero_entries_).push_back(u);
-    }
-  }
+  find_dirichlet_entries(extra_rows, extra_cols);
 
   if (device_matrix_)
     std::vector<PetscScalar>().swap(values_);
@@ -344,16 +315,23 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   }
   PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
   if (direct_kind_ == DirectMatrix::Kind::coo) {
-    // PETSc may reorder the index arrays it is given and keeps its own copy.
+    // PETSc's COO path takes every entry as a (row, col) pair; it may reorder the index arrays it
+    // is given and keeps its own copy.
+    std::vector<PetscInt> unique_rows, unique_cols;
+    try {
+      blocks_.entries(&unique_rows, &unique_cols);
+    } catch (const std::overflow_error& e) {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+    }
+    unique_rows.insert(unique_rows.end(), extra_rows.begin(), extra_rows.end());
+    unique_cols.insert(unique_cols.end(), extra_cols.begin(), extra_cols.end());
     PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(num_unique_), unique_rows.data(), unique_cols.data()));
   } else {
     // A new matrix of the entries; it replaces the template create_matrix() made, or the
     // contents of the matrix in use (whose handle the solvers hold).
     PetscCall(PetscLogEventBegin(events().direct_matrix, 0, 0, 0, 0));
     Mat fresh;
-    PetscCall(direct_.create(J_, direct_kind_, unique_rows.data(), unique_cols.data(), num_unique_, &fresh));
-    std::vector<PetscInt>().swap(unique_rows);
-    std::vector<PetscInt>().swap(unique_cols);
+    PetscCall(direct_.create(J_, direct_kind_, &blocks_, extra_rows.data(), extra_cols.data(), extra_rows.size(), &fresh));
     if (template_matrix) {
       PetscCall(MatDestroy(&J_));
       J_ = fresh;
@@ -365,6 +343,48 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   times_.preallocation += MPI_Wtime() - start;
   ++times_.preallocations;
   PetscFunctionReturn(0);
+}
+
+void IncrementalPotential::find_dirichlet_entries(const std::vector<PetscInt>& extra_rows,
+                                                  const std::vector<PetscInt>& extra_cols) {
+  // Zero in a prescribed row or column, one on an owned prescribed diagonal (a ghost row's
+  // diagonal is its owner's). Prescribed global dofs as a bitmap over their id range; a block
+  // whose two nodes have none is passed over whole.
+  zero_entries_.clear();
+  one_entries_.clear();
+  PetscInt lo = std::numeric_limits<PetscInt>::max(), hi = -1;
+  for (std::size_t n = 0; n < local_to_global_.size(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (dirichlet_dof_[3 * n + c]) {
+        const PetscInt dof = static_cast<PetscInt>(3 * local_to_global_[n] + c);
+        lo = std::min(lo, dof), hi = std::max(hi, dof);
+      }
+  if (hi < lo) return;
+  std::vector<bool> prescribed(static_cast<std::size_t>(hi - lo + 1), false);
+  for (std::size_t n = 0; n < local_to_global_.size(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (dirichlet_dof_[3 * n + c]) prescribed[static_cast<PetscInt>(3 * local_to_global_[n] + c) - lo] = true;
+  const auto is_prescribed = [&](std::int64_t dof) { return dof >= lo && dof <= hi && prescribed[dof - lo]; };
+  const auto node_prescribed = [&](std::int64_t node) {
+    return is_prescribed(3 * node) || is_prescribed(3 * node + 1) || is_prescribed(3 * node + 2);
+  };
+  const PetscInt owned_begin = static_cast<PetscInt>(3 * mesh_->node_offset);
+  const auto classify = [&](std::size_t u, std::int64_t r, std::int64_t c) {
+    if (!is_prescribed(r) && !is_prescribed(c)) return;
+    const bool owned_diagonal = r == c && r >= owned_begin && r < owned_begin + num_owned_dofs_;
+    (owned_diagonal ? one_entries_ : zero_entries_).push_back(u);
+  };
+  for (std::size_t s = 0; s < blocks_.row_nodes.size(); ++s) {
+    const std::int64_t row_node = blocks_.row_nodes[s];
+    const bool row_any = node_prescribed(row_node);
+    for (std::size_t k = blocks_.row_start[s]; k < blocks_.row_start[s + 1]; ++k) {
+      if (!row_any && !node_prescribed(blocks_.block_col[k])) continue;
+      std::size_t u = blocks_.block_start[k];
+      for (int bit = 0; bit < 9; ++bit)
+        if (blocks_.block_mask[k] >> bit & 1u) classify(u++, 3 * row_node + bit / 3, 3 * blocks_.block_col[k] + bit % 3);
+    }
+  }
+  for (std::size_t v = 0; v < extra_rows.size(); ++v) classify(num_block_entries_ + v, extra_rows[v], extra_cols[v]);
 }
 
 PetscErrorCode IncrementalPotential::create_matrix(Mat* J) {

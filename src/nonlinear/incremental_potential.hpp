@@ -157,6 +157,9 @@ class IncrementalPotential {
   // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
   // it), else the matrix in use (a direct matrix takes over its contents).
   PetscErrorCode rebuild_pattern(bool template_matrix);
+  // zero_entries_ and one_entries_ of the Dirichlet elimination, among the blocks' entries and
+  // the extra ones after them (rebuild_pattern()).
+  void find_dirichlet_entries(const std::vector<PetscInt>& extra_rows, const std::vector<PetscInt>& extra_cols);
   bool pattern_changed() const;
 
   MPI_Comm comm_ = MPI_COMM_NULL;

@@ -18,8 +18,6 @@ constexpr int kFormShift = 56;
 constexpr std::uint64_t kSourceMask = (std::uint64_t{1} << 32) - 1;
 // Sources are 64e + 8a + b in 32 bits.
 constexpr std::int64_t kMaxElements = std::int64_t{1} << 26;
-
-int rank_in_mask(unsigned mask, int bit) { return __builtin_popcount(mask & ((1u << bit) - 1u)); }
 }  // namespace
 
 NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
@@ -120,7 +118,7 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
       r.block_col.push_back(run->col);
       r.block_mask.push_back(static_cast<std::uint16_t>(mask));
       r.block_start.push_back(entries);
-      entries += static_cast<std::uint64_t>(__builtin_popcount(mask));
+      entries += static_cast<std::uint64_t>(kBlockMaskBits[mask]);
     }
     r.row_start.push_back(r.block_col.size());
   }
@@ -168,7 +166,7 @@ std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col) const 
   const std::size_t k = static_cast<std::size_t>(c - block_col.begin());
   const int bit = static_cast<int>(3 * (row % 3) + col % 3);
   if (!(block_mask[k] >> bit & 1u)) return -1;
-  return static_cast<std::int64_t>(block_start[k]) + rank_in_mask(block_mask[k], bit);
+  return static_cast<std::int64_t>(block_start[k]) + entry_in_block(block_mask[k], bit);
 }
 
 void NodeBlockReduction::index_elements() {
@@ -198,7 +196,7 @@ void NodeBlockReduction::add_elements(std::size_t m, int first, int count, const
       double* out = unique + block_start[k];
       for (int bit = 0; bit < 9; ++bit)
         if (form_mask >> bit & 1u)
-          out[rank_in_mask(mask, bit)] += v[element_value_offset(form.layout, ab >> 3, bit / 3, ab & 7, bit % 3)];
+          out[entry_in_block(mask, bit)] += v[element_value_offset(form.layout, ab >> 3, bit / 3, ab & 7, bit % 3)];
     }
   }
 }

@@ -13,6 +13,7 @@
 #pragma once
 #include <petscsys.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -20,6 +21,17 @@
 #include "nonlinear/form.hpp"
 
 namespace dipc {
+
+// The number of set bits of each 9-bit block mask. A table, because without -mpopcnt (dipc
+// builds for any x86-64) __builtin_popcount is a library call, and it runs for every entry.
+inline constexpr auto kBlockMaskBits = [] {
+  std::array<std::uint8_t, 512> bits{};
+  for (unsigned m = 0; m < 512; ++m)
+    for (int b = 0; b < 9; ++b) bits[m] = static_cast<std::uint8_t>(bits[m] + (m >> b & 1u));
+  return bits;
+}();
+// Where entry bit (3i + j) of a block with `mask` lies among the block's entries.
+inline int entry_in_block(unsigned mask, int bit) { return kBlockMaskBits[mask & ((1u << bit) - 1u)]; }
 
 class NodeBlockReduction {
  public:

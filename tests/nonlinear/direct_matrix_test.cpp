@@ -10,6 +10,7 @@
 #include <petsc/private/petscimpl.h>  // PetscObjectStateGet: the state preconditioners compare
 
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 #include <set>
 #include <utility>
@@ -29,7 +30,7 @@ struct Entries {
 
 // Entries of a banded pattern around each row plus scattered ones, rows of every rank; rank r
 // repeats part of rank r-1's choice so that owners receive the same pair from several ranks.
-Entries make_entries(int rank, int size, bool grouped = false) {
+Entries make_entries(int rank, int size) {
   const PetscInt n = kRowsPerRank * size;
   std::set<std::pair<PetscInt, PetscInt>> pairs;
   for (int source : {rank, rank - 1}) {
@@ -51,19 +52,57 @@ Entries make_entries(int rank, int size, bool grouped = false) {
   }
   Entries e;
   for (const auto& [r, c] : pairs) e.rows.push_back(r), e.cols.push_back(c);
-  // Not sorted: shuffled, or (grouped) as the node blocks give them: the rows of each group of
-  // three interleaved, group after group, with the last fifth (the other forms') shuffled after.
+  // Not sorted: shuffled.
   std::mt19937 shuffle(7 + rank);
   std::vector<std::size_t> order(e.rows.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::shuffle(order.begin(), order.end(), shuffle);
-  if (grouped) {
-    const auto tail = order.begin() + static_cast<std::ptrdiff_t>(4 * order.size() / 5);
-    std::stable_sort(order.begin(), tail, [&](std::size_t a, std::size_t b) { return e.rows[a] / 3 < e.rows[b] / 3; });
-  }
   Entries out;
   for (std::size_t k : order) out.rows.push_back(e.rows[k]), out.cols.push_back(e.cols[k]);
   return out;
+}
+
+// Node blocks as the element forms give them, then a list. A chain of hexes along x, four nodes
+// per cross-section and five sections per rank (its 60 rows); rank r takes the elements on its
+// sections and the one joining its left neighbour's, so that ghost block rows go to their
+// owners and some blocks come from two ranks. Even elements are elastic (full blocks), odd ones
+// consistent mass (diagonal blocks only), so that some blocks are partial. The list pairs nodes
+// two or more sections apart (in no block), in own rows and in the next rank's.
+struct BlockCase {
+  std::vector<std::int32_t> elastic_nodes, mass_nodes;
+  std::vector<std::int64_t> local_to_global;
+  NodeBlockReduction blocks;
+  Entries extra;
+  Entries all;  // the blocks' entries in their order, then the list: what create() numbers
+};
+
+BlockCase make_block_case(int rank, int size) {
+  constexpr int kSections = kRowsPerRank / 12;
+  const int sections = kSections * size, first = std::max(0, kSections * rank - 1);
+  const int last = std::min(sections - 1, kSections * (rank + 1));  // elements [first, last)
+  BlockCase c;
+  for (std::int64_t g = 4 * first; g < 4 * (last + 1); ++g) c.local_to_global.push_back(g);
+  for (int e = first; e < last; ++e) {
+    auto& nodes = e % 2 == 0 ? c.elastic_nodes : c.mass_nodes;
+    for (int a = 0; a < 8; ++a) nodes.push_back(4 * (e - first + a / 4) + a % 4);
+  }
+  const int num_elastic = static_cast<int>(c.elastic_nodes.size() / 8);
+  const int num_mass = static_cast<int>(c.mass_nodes.size() / 8);
+  c.blocks = NodeBlockReduction::build(
+      {{{num_elastic, c.elastic_nodes.data(), c.local_to_global.data(), ElementLayout::elastic}, 0},
+       {{num_mass, c.mass_nodes.data(), c.local_to_global.data(), ElementLayout::consistent_mass}, 0}},
+      4 * kSections * rank, 4 * kSections * (rank + 1));
+  const std::int64_t nodes = 4 * sections;
+  for (std::int64_t n = 4 * kSections * rank; n < 4 * kSections * (rank + 2) && n < nodes; n += 3) {
+    const std::int64_t m = (n + 13) % nodes;
+    if (std::abs(n / 4 - m / 4) < 2) continue;
+    c.extra.rows.push_back(static_cast<PetscInt>(3 * n + 1));
+    c.extra.cols.push_back(static_cast<PetscInt>(3 * m + 2));
+  }
+  c.blocks.entries(&c.all.rows, &c.all.cols);
+  c.all.rows.insert(c.all.rows.end(), c.extra.rows.begin(), c.extra.rows.end());
+  c.all.cols.insert(c.all.cols.end(), c.extra.cols.begin(), c.extra.cols.end());
+  return c;
 }
 
 std::vector<double> make_values(const Entries& e, int rank, int round) {
@@ -116,11 +155,12 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
   for (Vec* v : {&x, &y, &z, &xd, &zd}) PetscCallAbort(PETSC_COMM_WORLD, VecDestroy(v));
 }
 
-void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool grouped = false) {
+void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool node_blocks = false) {
   int rank, size;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const Entries e = make_entries(rank, size, grouped);
+  const BlockCase blocks = node_blocks ? make_block_case(rank, size) : BlockCase{};
+  const Entries e = node_blocks ? blocks.all : make_entries(rank, size);
   Mat coo = template_matrix(MATAIJ);
   Entries copy = e;  // PETSc may reorder the lists it is given
   PetscCallAbort(PETSC_COMM_WORLD, MatSetPreallocationCOO(coo, static_cast<PetscCount>(copy.rows.size()),
@@ -129,7 +169,11 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
   ASSERT_EQ(DirectMatrix::kind_of(like), kind);
   DirectMatrix direct;
   Mat J;
-  PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, e.rows.data(), e.cols.data(), e.rows.size(), &J));
+  if (node_blocks)
+    PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, &blocks.blocks, blocks.extra.rows.data(),
+                                                  blocks.extra.cols.data(), blocks.extra.rows.size(), &J));
+  else
+    PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, e.rows.data(), e.cols.data(), e.rows.size(), &J));
   PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&like));
   PetscInt bs;
   PetscCallAbort(PETSC_COMM_WORLD, MatGetBlockSize(J, &bs));
@@ -160,10 +204,8 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
 
 TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false); }
 
-// Entries grouped by node as the element blocks give them take the fast path over the groups.
-TEST(DirectMatrix, GroupedEntriesEqualCooMatrix) {
-  check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true);
-}
+// Node blocks, read in place for own rows and expanded for ghost rows, beside a list.
+TEST(DirectMatrix, NodeBlocksEqualCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true); }
 
 TEST(DirectMatrix, MpiAijOnAnyRankCountEqualsCooMatrix) {
   check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false);
@@ -196,6 +238,12 @@ TEST(DirectMatrix, DeviceHypreEqualsCooMatrix) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
   check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true);
+}
+
+TEST(DirectMatrix, DeviceHypreNodeBlocksEqualCooMatrix) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true);
 }
 
 }  // namespace
