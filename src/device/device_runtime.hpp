@@ -69,7 +69,10 @@ class Array {
     resize(n);
     if (n) copy_to_device(data_, host, n * sizeof(T));
   }
-  void upload(const std::vector<T>& host) { upload(host.data(), host.size()); }
+  template <class Allocator>
+  void upload(const std::vector<T, Allocator>& host) {
+    upload(host.data(), host.size());
+  }
   void download(T* host) const {
     if (size_) copy_to_host(host, data_, size_ * sizeof(T));
   }

@@ -32,8 +32,10 @@ struct Pair {
 // The arrays a host AIJ matrix uses without copying them; owned by the Mat (composed on it), so
 // that an older matrix keeps its own while a newer one is in use.
 struct HostArrays {
-  std::vector<PetscInt> diag_i, diag_j, offd_i, offd_j;
-  std::vector<double> diag_a, offd_a;
+  std::vector<PetscInt> diag_i, offd_i, offd_j;
+  LargePageVector<PetscInt> diag_j;
+  LargePageVector<double> diag_a;
+  std::vector<double> offd_a;
 };
 
 PetscErrorCode destroy_host_arrays(void* ctx) {
@@ -82,7 +84,7 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
     d_slot_position_.upload(slot_position_);
     d_slot_keep_.upload(slot_keep_);
     d_slot_sums_.resize(slot_position_.size());
-    std::vector<std::uint32_t>().swap(position_);
+    LargePageVector<std::uint32_t>().swap(position_);
   }
   PetscFunctionReturn(0);
 }
@@ -180,11 +182,47 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   std::vector<std::uint32_t> received_slot(received.size());
   std::vector<std::pair<PetscInt, std::uint32_t>> line;
   std::uint32_t num_diag = 0, num_offd = 0;
+  const auto next_position = [&](PetscInt col) {
+    if (col >= col_begin && col < col_end) {
+      diag_j_.push_back(col - col_begin);
+      return num_diag++;
+    }
+    offd_j_.push_back(col);
+    return kOffdFlag | num_offd++;
+  };
   for (PetscInt r = 0; r < num_rows; ++r) {
     line.clear();
     const PetscInt row = row_begin + r;
     // Row 3 node + i of a node block row: the i-th row of each of its blocks, columns ascending.
     const std::int64_t s = blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1;
+    if (s >= 0 && row_count[r] == row_count[r + 1]) {
+      // The blocks' entries alone (most rows): distinct, ascending, written where they lie, with
+      // the diagonal moved first where the kind wants it; the order the general path below gives.
+      const int i = static_cast<int>(r % 3);
+      const std::size_t first = blocks->row_start[s], last = blocks->row_start[s + 1];
+      const auto entry_at = [&](std::size_t k, int bit) {
+        return static_cast<std::size_t>(blocks->block_start[k]) + static_cast<std::size_t>(entry_in_block(blocks->block_mask[k], bit));
+      };
+      std::size_t diagonal_block = last;
+      if (diagonal_first) {
+        const auto b = blocks->block_col.begin();
+        const std::int64_t node = blocks->row_nodes[s];
+        const auto k = static_cast<std::size_t>(std::lower_bound(b + first, b + last, node) - b);
+        if (k < last && blocks->block_col[k] == node && (blocks->block_mask[k] >> (4 * i) & 1u)) {
+          diagonal_block = k;
+          position_[entry_at(k, 4 * i)] = next_position(row);
+        }
+      }
+      for (std::size_t k = first; k < last; ++k) {
+        const unsigned mask = blocks->block_mask[k];
+        for (int j = 0; j < 3; ++j)
+          if ((mask >> (3 * i + j) & 1u) && !(k == diagonal_block && j == i))
+            position_[entry_at(k, 3 * i + j)] = next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
+      }
+      diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
+      offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
+      continue;
+    }
     if (s >= 0) {
       const int i = static_cast<int>(r % 3);
       for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
@@ -206,15 +244,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     for (std::size_t a = 0; a < line.size();) {
       std::size_t b = a + 1;
       while (b < line.size() && line[b].first == line[a].first) ++b;
-      const PetscInt col = line[a].first;
-      std::uint32_t p;
-      if (col >= col_begin && col < col_end) {
-        p = num_diag++;
-        diag_j_.push_back(col - col_begin);
-      } else {
-        p = kOffdFlag | num_offd++;
-        offd_j_.push_back(col);
-      }
+      const std::uint32_t p = next_position(line[a].first);
       const bool own = !is_received(line[a].second);
       if (own) position_[line[a].second] = p;
       if (b > a + (own ? 1 : 0)) {
@@ -378,7 +408,7 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
   for (std::size_t k = 0; k < col_map.size(); ++k) map[k] = static_cast<HYPRE_BigInt>(col_map[k]);
   hypre_ParCSRMatrixCopyColMapOffdToDevice(A);
   hypre_MatvecCommPkgCreate(A);
-  std::vector<PetscInt>().swap(diag_i_), std::vector<PetscInt>().swap(diag_j_);
+  std::vector<PetscInt>().swap(diag_i_), LargePageVector<PetscInt>().swap(diag_j_);
   std::vector<PetscInt>().swap(offd_i_), std::vector<PetscInt>().swap(offd_j_);
   PetscCall(MatCreateFromParCSR(A, MATHYPRE, PETSC_OWN_POINTER, J));
   PetscCall(MatSetBlockSize(*J, bs));

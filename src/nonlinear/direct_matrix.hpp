@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "device/device_runtime.hpp"
+#include "nonlinear/large_page_vector.hpp"
 #include "nonlinear/node_block_reduction.hpp"
 
 namespace dipc {
@@ -82,11 +83,12 @@ class DirectMatrix {
   PetscInt row_begin_ = 0;
   // The pattern of this rank's rows (CSR): the diagonal block's columns relative to the first
   // owned column, the off-diagonal block's as global ids, each row's in the kind's order.
-  std::vector<PetscInt> diag_i_, diag_j_, offd_i_, offd_j_;
+  std::vector<PetscInt> diag_i_, offd_i_, offd_j_;
+  LargePageVector<PetscInt> diag_j_;
   // Per entry of create(): its position among the values (diagonal block, then off-diagonal
   // block), or kRemote where another rank owns its row.
   static constexpr std::uint32_t kRemote = 0xffffffffu;
-  std::vector<std::uint32_t> position_;
+  LargePageVector<std::uint32_t> position_;
   // Entries other ranks send here: one slot per distinct (row, column), its position, and
   // whether an entry of this rank is there too (then the slot's sum is added to it).
   std::vector<std::uint32_t> slot_position_;

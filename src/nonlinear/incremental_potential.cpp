@@ -14,7 +14,7 @@ namespace {
 // PETSc log events (registered once per process) and a scope timer that feeds both them and
 // the EvaluationTimes counters.
 struct Events {
-  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, direct_matrix;
+  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix;
 };
 const Events& events() {
   static Events e = [] {
@@ -26,6 +26,7 @@ const Events& events() {
     PetscLogEventRegister("dipcHessian", id, &r.hessian);
     PetscLogEventRegister("dipcValidity", id, &r.validity);
     PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
+    PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
     PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
     return r;
   }();
@@ -184,8 +185,25 @@ PetscErrorCode IncrementalPotential::build_element_blocks() {
              "%zu element forms; the node-block reduction takes at most %d", inputs.size(),
              device::kMaxElementBlockMaps);
   num_element_raw_ = raw;
+  const std::int64_t owned_begin = mesh_->node_offset, owned_end = mesh_->node_offset + mesh_->num_owned_nodes;
   try {
-    blocks_ = NodeBlockReduction::build(inputs, mesh_->node_offset, mesh_->node_offset + mesh_->num_owned_nodes);
+    if (device_matrix_ && !inputs.empty()) {
+      // The device sums the values through the maps: they are built there (a radix sort of the
+      // element node pairs) and stay there; the host gets the pattern.
+      device::NodeBlocks on_device;
+      blocks_ = NodeBlockReduction::build_on_device(inputs, owned_begin, owned_end, &on_device);
+      d_block_mask_.resize(on_device.mask.size());
+      device::copy_on_device(d_block_mask_.data(), on_device.mask.data(), on_device.mask.size() * sizeof(std::uint16_t));
+      d_block_start_.resize(on_device.start.size());
+      device::copy_on_device(d_block_start_.data(), on_device.start.data(),
+                             on_device.start.size() * sizeof(std::uint64_t));
+      for (std::size_t m = 0; m < inputs.size(); ++m) {
+        d_block_offsets_.push_back(std::move(on_device.offsets[m]));
+        d_block_sources_.push_back(std::move(on_device.sources[m]));
+      }
+    } else {
+      blocks_ = NodeBlockReduction::build(inputs, owned_begin, owned_end);
+    }
     // A host matrix of host element forms sums their values element chunk by chunk (no array
     // of all their raw values); the device sums them all at once, through the sources.
     chunked_ = !inputs.empty() && all_host && !device_matrix_;
@@ -207,7 +225,9 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   direct_kind_ = direct_matrix_allowed_ ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
   if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
+    PetscCall(PetscLogEventBegin(events().node_blocks, 0, 0, 0, 0));
     PetscCall(build_element_blocks());
+    PetscCall(PetscLogEventEnd(events().node_blocks, 0, 0, 0, 0));
     blocks_built_ = true;
   }
   // The other forms' raw COO lists (contact, friction, the lumped mass: small, or changing with
@@ -280,7 +300,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   find_dirichlet_entries(extra_rows, extra_cols);
 
   if (device_matrix_)
-    std::vector<PetscScalar>().swap(values_);
+    LargePageVector<PetscScalar>().swap(values_);
   else
     values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
   if (any_device_) {
@@ -301,8 +321,8 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
         d_block_offsets_.back().upload(form.offsets);
         d_block_sources_.emplace_back("node-block sources");
         d_block_sources_.back().upload(form.sources);
-        std::vector<std::uint32_t>().swap(form.offsets);
-        std::vector<std::uint32_t>().swap(form.sources);
+        LargePageVector<std::uint32_t>().swap(form.offsets);
+        LargePageVector<std::uint32_t>().swap(form.sources);
       }
     }
     d_reduction_offsets_.upload(reduction_.offsets);

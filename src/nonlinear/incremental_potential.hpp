@@ -35,6 +35,7 @@
 #include "nonlinear/coo_reduction.hpp"
 #include "nonlinear/direct_matrix.hpp"
 #include "nonlinear/form.hpp"
+#include "nonlinear/large_page_vector.hpp"
 #include "nonlinear/local_views.hpp"
 #include "nonlinear/node_block_reduction.hpp"
 #include "partition/ghost_exchange.hpp"
@@ -188,7 +189,8 @@ class IncrementalPotential {
   // The raw values on the host: only for a host matrix, and without the element forms' when
   // chunked_. With a device matrix the host keeps neither these nor the maps, only the block of
   // the largest host form (friction) in host_block_.
-  std::vector<PetscScalar> values_, host_block_;
+  LargePageVector<PetscScalar> values_;
+  std::vector<PetscScalar> host_block_;
   // Raw values -> the matrix's entries. Per hex element (576 raw elastic values, 192 more with a
   // consistent mass; about 27 node blocks, 243 entries): 4 B per element node pair (64 per hex
   // and element form) and, per block, 4 B per element form, 2 B of mask and 8 B of start, where
@@ -205,7 +207,7 @@ class IncrementalPotential {
   std::vector<double> scalar_sums_;
   std::vector<std::size_t> zero_entries_, one_entries_;  // Dirichlet elimination of the matrix's entries
   std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
-  std::vector<PetscScalar> unique_values_;
+  LargePageVector<PetscScalar> unique_values_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
   LocalViews x_views_;

@@ -18,43 +18,68 @@ constexpr int kFormShift = 56;
 constexpr std::uint64_t kSourceMask = (std::uint64_t{1} << 32) - 1;
 // Sources are 64e + 8a + b in 32 bits.
 constexpr std::int64_t kMaxElements = std::int64_t{1} << 26;
-}  // namespace
 
-NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
-                                             std::int64_t owned_end) {
+// Rows are global nodes. The owned ones are contiguous and indexed directly; the others (ghost
+// nodes of this rank's elements) are numbered by their rank among the distinct ones, so that no
+// array spans the global node range (as in CooReduction). Slots follow the global node order:
+// the ghosts below the owned range, the owned range, the ghosts above it.
+struct RowSlots {
+  std::int64_t dense_begin = 0, dense_end = 0;
+  std::vector<std::int64_t> sparse;
+  std::size_t below = 0, dense_size = 0, num_rows = 0;
+
+  bool in_dense(std::int64_t g) const { return g >= dense_begin && g < dense_end; }
+  std::size_t slot_of(std::int64_t g) const {
+    if (in_dense(g)) return below + static_cast<std::size_t>(g - dense_begin);
+    return static_cast<std::size_t>(std::lower_bound(sparse.begin(), sparse.end(), g) - sparse.begin()) +
+           (g >= dense_end ? dense_size : 0);
+  }
+  std::int64_t node_of(std::size_t s) const {
+    return s < below                ? sparse[s]
+           : s < below + dense_size ? dense_begin + static_cast<std::int64_t>(s - below)
+                                    : sparse[s - dense_size];
+  }
+};
+
+void check_limits(const std::vector<NodeBlockReduction::Input>& inputs) {
   if (inputs.size() >= (std::size_t{1} << (64 - kFormShift)))
     throw std::length_error("too many element forms for the node-block reduction");
-  for (const Input& in : inputs)
+  for (const NodeBlockReduction::Input& in : inputs)
     if (in.pattern.num_elements >= kMaxElements)
       throw std::length_error("an element form has " + std::to_string(in.pattern.num_elements) +
                               " elements on one rank; the node-block map holds at most 2^26 - 1 (67,108,863) per "
                               "rank: run on more ranks");
-  const std::int64_t dense_begin = owned_begin, dense_end = std::max(owned_begin, owned_end);
-  const auto in_dense = [&](std::int64_t g) { return g >= dense_begin && g < dense_end; };
+}
 
-  // Rows are global nodes. The owned ones are contiguous and indexed directly; the others (ghost
-  // nodes of this rank's elements) are numbered by their rank among the distinct ones, so that
-  // no array spans the global node range (as in CooReduction).
-  std::vector<std::int64_t> sparse;
-  for (const Input& in : inputs) {
+RowSlots row_slots(const std::vector<NodeBlockReduction::Input>& inputs, std::int64_t owned_begin,
+                   std::int64_t owned_end) {
+  RowSlots r;
+  r.dense_begin = owned_begin;
+  r.dense_end = std::max(owned_begin, owned_end);
+  for (const NodeBlockReduction::Input& in : inputs) {
     const ElementPattern& p = in.pattern;
     for (std::size_t k = 0; k < 8 * static_cast<std::size_t>(p.num_elements); ++k) {
       const std::int64_t g = p.local_to_global[p.nodes[k]];
-      if (!in_dense(g)) sparse.push_back(g);
+      if (!r.in_dense(g)) r.sparse.push_back(g);
     }
   }
-  std::sort(sparse.begin(), sparse.end());
-  sparse.erase(std::unique(sparse.begin(), sparse.end()), sparse.end());
-  sparse.shrink_to_fit();
-  const std::size_t dense_size = static_cast<std::size_t>(dense_end - dense_begin);
-  const std::size_t below =
-      static_cast<std::size_t>(std::lower_bound(sparse.begin(), sparse.end(), dense_begin) - sparse.begin());
-  const std::size_t num_rows = dense_size + sparse.size();
-  const auto slot_of = [&](std::int64_t g) -> std::size_t {
-    if (in_dense(g)) return below + static_cast<std::size_t>(g - dense_begin);
-    return static_cast<std::size_t>(std::lower_bound(sparse.begin(), sparse.end(), g) - sparse.begin()) +
-           (g >= dense_end ? dense_size : 0);
-  };
+  std::sort(r.sparse.begin(), r.sparse.end());
+  r.sparse.erase(std::unique(r.sparse.begin(), r.sparse.end()), r.sparse.end());
+  r.sparse.shrink_to_fit();
+  r.dense_size = static_cast<std::size_t>(r.dense_end - r.dense_begin);
+  r.below = static_cast<std::size_t>(std::lower_bound(r.sparse.begin(), r.sparse.end(), r.dense_begin) -
+                                     r.sparse.begin());
+  r.num_rows = r.dense_size + r.sparse.size();
+  return r;
+}
+}  // namespace
+
+NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
+                                             std::int64_t owned_end) {
+  check_limits(inputs);
+  RowSlots slots = row_slots(inputs, owned_begin, owned_end);
+  const std::size_t num_rows = slots.num_rows;
+  const auto slot_of = [&slots](std::int64_t g) { return slots.slot_of(g); };
 
   // Counting sort of the element node pairs by row node: 8 per element node, filled in the
   // order form, element, row node, column node, so that each row's items come in key order.
@@ -65,7 +90,7 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
       start[slot_of(p.local_to_global[p.nodes[k]]) + 1] += 8;
   }
   for (std::size_t s = 0; s < num_rows; ++s) start[s + 1] += start[s];
-  std::vector<Item> items(start[num_rows]);
+  LargePageVector<Item> items(start[num_rows]);
   {
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
     for (std::size_t f = 0; f < inputs.size(); ++f) {
@@ -86,11 +111,8 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
 
   NodeBlockReduction r;
   r.row_nodes.resize(num_rows);
-  for (std::size_t s = 0; s < num_rows; ++s)
-    r.row_nodes[s] = s < below ? sparse[s]
-                     : s < below + dense_size ? dense_begin + static_cast<std::int64_t>(s - below)
-                                              : sparse[s - dense_size];
-  std::vector<std::int64_t>().swap(sparse);
+  for (std::size_t s = 0; s < num_rows; ++s) r.row_nodes[s] = slots.node_of(s);
+  std::vector<std::int64_t>().swap(slots.sparse);
   r.forms.resize(inputs.size());
   for (std::size_t f = 0; f < inputs.size(); ++f) {
     r.forms[f].layout = inputs[f].pattern.layout;
@@ -128,6 +150,49 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
   r.block_mask.shrink_to_fit();
   r.block_start.shrink_to_fit();
   for (auto& form : r.forms) form.offsets.shrink_to_fit();
+  return r;
+}
+
+NodeBlockReduction NodeBlockReduction::build_on_device(const std::vector<Input>& inputs, std::int64_t owned_begin,
+                                                       std::int64_t owned_end, device::NodeBlocks* on_device) {
+  check_limits(inputs);
+  const RowSlots slots = row_slots(inputs, owned_begin, owned_end);
+  NodeBlockReduction r;
+  r.row_nodes.resize(slots.num_rows);
+  for (std::size_t s = 0; s < slots.num_rows; ++s) r.row_nodes[s] = slots.node_of(s);
+  // Each form's element nodes as row slots, on the device.
+  std::vector<device::Array<std::uint32_t>> d_slots;
+  for (const Input& in : inputs) {
+    const ElementPattern& p = in.pattern;
+    std::vector<std::uint32_t> element_slots(8 * static_cast<std::size_t>(p.num_elements));
+    for (std::size_t k = 0; k < element_slots.size(); ++k)
+      element_slots[k] = static_cast<std::uint32_t>(slots.slot_of(p.local_to_global[p.nodes[k]]));
+    d_slots.emplace_back("element node slots");
+    d_slots.back().upload(element_slots);
+  }
+  std::vector<device::NodeBlockForm> forms;
+  for (std::size_t f = 0; f < inputs.size(); ++f)
+    forms.push_back({d_slots[f].data(), static_cast<std::size_t>(inputs[f].pattern.num_elements),
+                     inputs[f].pattern.layout});
+  device::Array<std::int64_t> d_row_nodes("node-block row nodes");
+  d_row_nodes.upload(r.row_nodes);
+  device::build_node_blocks(forms.data(), static_cast<int>(forms.size()), slots.num_rows, d_row_nodes.data(),
+                            on_device);
+  // The pattern comes back to the host; the forms' maps stay on the device.
+  static_assert(sizeof(std::size_t) == sizeof(std::uint64_t), "row starts are downloaded as 64-bit");
+  r.row_start.resize(slots.num_rows + 1);
+  on_device->row_start.download(reinterpret_cast<std::uint64_t*>(r.row_start.data()));
+  r.block_col.resize(on_device->num_blocks);
+  r.block_mask.resize(on_device->num_blocks);
+  r.block_start.resize(on_device->num_blocks + 1);
+  on_device->col.download(r.block_col.data());
+  on_device->mask.download(r.block_mask.data());
+  on_device->start.download(r.block_start.data());
+  r.forms.resize(inputs.size());
+  for (std::size_t f = 0; f < inputs.size(); ++f) {
+    r.forms[f].layout = inputs[f].pattern.layout;
+    r.forms[f].raw_begin = inputs[f].raw_begin;
+  }
   return r;
 }
 
@@ -177,8 +242,8 @@ void NodeBlockReduction::index_elements() {
     for (std::size_t k = 0; k + 1 < form.offsets.size(); ++k)
       for (std::uint32_t j = form.offsets[k]; j < form.offsets[k + 1]; ++j)
         form.block_of[form.sources[j]] = static_cast<std::uint32_t>(k);
-    std::vector<std::uint32_t>().swap(form.offsets);
-    std::vector<std::uint32_t>().swap(form.sources);
+    LargePageVector<std::uint32_t>().swap(form.offsets);
+    LargePageVector<std::uint32_t>().swap(form.sources);
   }
 }
 

@@ -18,7 +18,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "assembly/cuda/node_block_pattern.hpp"
 #include "nonlinear/form.hpp"
+#include "nonlinear/large_page_vector.hpp"
 
 namespace dipc {
 
@@ -45,8 +47,8 @@ class NodeBlockReduction {
   struct FormMap {
     ElementLayout layout = ElementLayout::elastic;
     std::size_t raw_begin = 0;
-    std::vector<std::uint32_t> offsets, sources;
-    std::vector<std::uint32_t> block_of;  // after index_elements(): the block of 64e + 8a + b
+    LargePageVector<std::uint32_t> offsets, sources;
+    LargePageVector<std::uint32_t> block_of;  // after index_elements(): the block of 64e + 8a + b
   };
 
   // The distinct blocks of the forms' patterns on a rank that owns the global nodes
@@ -54,6 +56,12 @@ class NodeBlockReduction {
   // after sorting them. Throws std::length_error when a form has 2^26 elements or more (its
   // sources would not fit 32 bits; run on more ranks).
   static NodeBlockReduction build(const std::vector<Input>& forms, std::int64_t owned_begin, std::int64_t owned_end);
+  // build() on the device (device::build_node_blocks), the same result bit for bit: the pattern
+  // (row_nodes .. block_start) on the host, and in *on_device the block masks and starts and the
+  // forms' offsets and sources, of which the host keeps none (forms[f].offsets and .sources stay
+  // empty). Throws device::DeviceError where the build or the machine has no CUDA.
+  static NodeBlockReduction build_on_device(const std::vector<Input>& forms, std::int64_t owned_begin,
+                                            std::int64_t owned_end, device::NodeBlocks* on_device);
 
   std::size_t num_blocks() const { return block_col.size(); }
   // Scalar entries of all blocks; entries are numbered block by block, bits 3i + j ascending.
@@ -78,9 +86,9 @@ class NodeBlockReduction {
 
   std::vector<std::int64_t> row_nodes;     // global node of each block row, ascending
   std::vector<std::size_t> row_start;      // blocks of row r: [row_start[r], row_start[r+1])
-  std::vector<std::int64_t> block_col;     // global column node of each block, ascending in a row
-  std::vector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)
-  std::vector<std::uint64_t> block_start;  // first entry of each block; num_blocks() + 1
+  LargePageVector<std::int64_t> block_col;     // global column node of each block, ascending in a row
+  LargePageVector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)
+  LargePageVector<std::uint64_t> block_start;  // first entry of each block; num_blocks() + 1
   std::vector<FormMap> forms;              // in the order of build()'s inputs
 };
 

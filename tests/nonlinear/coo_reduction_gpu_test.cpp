@@ -1,6 +1,7 @@
 // device::reduce_coo against CooReduction::reduce on a random element-like pattern, and
 // device::reduce_element_blocks against NodeBlockReduction::reduce on random elements of an
 // elastic and a consistent-mass layout: the same sums in the same order, so the same bits; the
+// node-block pattern built on the device against the host build, array for array; the
 // Hessian's other device steps (add_at, eliminate) against their host loops. Skips where no GPU
 // is present.
 #include <gtest/gtest.h>
@@ -116,6 +117,69 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
   ASSERT_GT(host.size(), 0u);
   EXPECT_EQ(std::memcmp(device_sums.data(), host.data(), host.size() * sizeof(double)), 0);
   for (std::size_t k = 0; k < host.size(); ++k) ASSERT_EQ(device_sums[k], host[k]) << "entry " << k;
+}
+
+// NodeBlockReduction::build_on_device against build(): two forms (elastic, and consistent mass
+// whose blocks hold the diagonal only) or the elastic one alone (the device's one-form path),
+// ghost nodes on both sides of the owned range and owned nodes of no element (empty rows).
+void expect_device_build_equals_host_build(bool with_mass) {
+  std::mt19937_64 rng(14);
+  const int num_local = 3000;
+  std::vector<std::int64_t> l2g(num_local);
+  std::iota(l2g.begin(), l2g.end(), 500);
+  std::shuffle(l2g.begin(), l2g.end(), rng);
+  const auto elements = [&](int count, int first, int span) {
+    std::vector<std::int32_t> pool(static_cast<std::size_t>(span)), nodes;
+    std::iota(pool.begin(), pool.end(), first);
+    for (int e = 0; e < count; ++e) {
+      std::shuffle(pool.begin(), pool.end(), rng);
+      nodes.insert(nodes.end(), pool.begin(), pool.begin() + 8);
+    }
+    return nodes;
+  };
+  const std::vector<std::int32_t> elastic = elements(2000, 0, 2500), mass = elements(600, 2000, 1000);
+  std::vector<NodeBlockReduction::Input> inputs = {
+      {{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7}};
+  if (with_mass)
+    inputs.push_back(
+        {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 99});
+  // Owned nodes [300, 2500): those below 500 are in no element.
+  const NodeBlockReduction host = NodeBlockReduction::build(inputs, 300, 2500);
+  device::NodeBlocks on_device;
+  const NodeBlockReduction dev = NodeBlockReduction::build_on_device(inputs, 300, 2500, &on_device);
+  ASSERT_GT(host.num_blocks(), 0u);
+  EXPECT_EQ(dev.row_nodes, host.row_nodes);
+  EXPECT_EQ(dev.row_start, host.row_start);
+  EXPECT_TRUE(dev.block_col == host.block_col);
+  EXPECT_TRUE(dev.block_mask == host.block_mask);
+  EXPECT_TRUE(dev.block_start == host.block_start);
+  EXPECT_EQ(on_device.num_blocks, host.num_blocks());
+  EXPECT_TRUE(on_device.mask.to_host() == std::vector<std::uint16_t>(host.block_mask.begin(), host.block_mask.end()));
+  EXPECT_TRUE(on_device.start.to_host() ==
+              std::vector<std::uint64_t>(host.block_start.begin(), host.block_start.end()));
+  ASSERT_EQ(dev.forms.size(), host.forms.size());
+  ASSERT_EQ(on_device.offsets.size(), host.forms.size());
+  for (std::size_t f = 0; f < host.forms.size(); ++f) {
+    EXPECT_EQ(dev.forms[f].layout, host.forms[f].layout);
+    EXPECT_EQ(dev.forms[f].raw_begin, host.forms[f].raw_begin);
+    EXPECT_TRUE(dev.forms[f].sources.empty());
+    EXPECT_TRUE(on_device.offsets[f].to_host() ==
+                std::vector<std::uint32_t>(host.forms[f].offsets.begin(), host.forms[f].offsets.end()))
+        << "form " << f;
+    EXPECT_TRUE(on_device.sources[f].to_host() ==
+                std::vector<std::uint32_t>(host.forms[f].sources.begin(), host.forms[f].sources.end()))
+        << "form " << f;
+  }
+}
+
+TEST(CooReductionGpu, NodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  expect_device_build_equals_host_build(true);
+}
+
+TEST(CooReductionGpu, OneFormsNodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  expect_device_build_equals_host_build(false);
 }
 
 TEST(CooReductionGpu, AddAtAndEliminateEqualTheHostLoops) {
