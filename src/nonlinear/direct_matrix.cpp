@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "assembly/cuda/block_rows.hpp"
 #include "partition/mpi_exchange.hpp"
 
 // PetscObjectStateIncrease: PETSc's objects count their changes in a state that the solvers
@@ -74,17 +75,16 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   PetscCallMPI(MPI_Allgather(&m, 1, MPIU_INT, row_starts_.data() + 1, 1, MPIU_INT, comm));
   for (int r = 0; r < size; ++r) row_starts_[r + 1] += row_starts_[r];
   row_begin_ = row_starts_[rank];
+  rows_on_device_ = kind == Kind::device_hypre;
   PetscCall(build_pattern(comm, m, blocks, rows, cols, n, kind == Kind::device_hypre));
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
-    PetscCall(make_device_hypre(like, J));
+    PetscCall(make_device_hypre(like, blocks, J));
   if (kind == Kind::device_hypre) {
-    d_position_.upload(position_);
     d_slot_position_.upload(slot_position_);
     d_slot_keep_.upload(slot_keep_);
     d_slot_sums_.resize(slot_position_.size());
-    LargePageVector<std::uint32_t>().swap(position_);
   }
   PetscFunctionReturn(0);
 }
@@ -113,7 +113,10 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
   // back in the order sent. An own node's block row is read in place below; a ghost node's
   // (the few on the partition's boundary) is expanded to its entries here.
-  position_.assign(total, kRemote);
+  if (rows_on_device_)
+    LargePageVector<std::uint32_t>().swap(position_);
+  else
+    position_.assign(total, kRemote);
   std::vector<std::vector<Pair>> to(size);
   std::vector<std::vector<PetscInt>> remote_entry(size);
   const PetscInt first_node = row_begin / 3;
@@ -176,25 +179,55 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   diag_j_.clear();
   offd_j_.clear();
-  diag_j_.reserve(total + received.size());  // at most; the few remote entries and repeats fewer
+  if (!rows_on_device_) diag_j_.reserve(total + received.size());  // at most: remote entries and repeats fewer
   slot_position_.clear();
   slot_keep_.clear();
+  device_block_row_.assign(rows_on_device_ ? static_cast<std::size_t>(num_rows) : 0, -1);
+  side_diag_.clear(), side_offd_.clear(), side_position_.clear();
   std::vector<std::uint32_t> received_slot(received.size());
   std::vector<std::pair<PetscInt, std::uint32_t>> line;
   std::uint32_t num_diag = 0, num_offd = 0;
+  // A column's place in its block (a provisional one in the off-diagonal block), and an own
+  // entry's position: in the host's arrays, or (rows_on_device_) listed for the device.
   const auto next_position = [&](PetscInt col) {
     if (col >= col_begin && col < col_end) {
-      diag_j_.push_back(col - col_begin);
+      if (rows_on_device_)
+        side_diag_.push_back({num_diag, col - col_begin});
+      else
+        diag_j_.push_back(col - col_begin);
       return num_diag++;
     }
-    offd_j_.push_back(col);
+    if (rows_on_device_)
+      side_offd_.push_back({num_offd, col});
+    else
+      offd_j_.push_back(col);
     return kOffdFlag | num_offd++;
+  };
+  const auto set_position = [&](std::size_t entry, std::uint32_t p) {
+    if (rows_on_device_)
+      side_position_.push_back({static_cast<std::uint32_t>(entry), p});
+    else
+      position_[entry] = p;
   };
   for (PetscInt r = 0; r < num_rows; ++r) {
     line.clear();
     const PetscInt row = row_begin + r;
     // Row 3 node + i of a node block row: the i-th row of each of its blocks, columns ascending.
     const std::int64_t s = blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1;
+    if (s >= 0 && row_count[r] == row_count[r + 1] && rows_on_device_) {
+      // The blocks' entries alone, written on the device (device::write_block_rows): counted here.
+      const int i = static_cast<int>(r % 3);
+      const std::int64_t node_begin = col_begin / 3, node_end = col_end / 3;
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+        const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
+        const std::int64_t c = blocks->block_col[k];
+        (c >= node_begin && c < node_end ? num_diag : num_offd) += present;
+      }
+      device_block_row_[static_cast<std::size_t>(r)] = s;
+      diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
+      offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
+      continue;
+    }
     if (s >= 0 && row_count[r] == row_count[r + 1]) {
       // The blocks' entries alone (most rows): distinct, ascending, written where they lie, with
       // the diagonal moved first where the kind wants it; the order the general path below gives.
@@ -246,7 +279,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
       while (b < line.size() && line[b].first == line[a].first) ++b;
       const std::uint32_t p = next_position(line[a].first);
       const bool own = !is_received(line[a].second);
-      if (own) position_[line[a].second] = p;
+      if (own) set_position(line[a].second, p);
       if (b > a + (own ? 1 : 0)) {
         for (std::size_t c = a + (own ? 1 : 0); c < b; ++c)
           received_slot[line[c].second - total] = static_cast<std::uint32_t>(slot_position_.size());
@@ -266,6 +299,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   };
   if (num_offd > 0) {
     for (std::uint32_t& p : position_) finish(p);
+    for (auto& [entry, p] : side_position_) finish(p);
     for (std::uint32_t& p : slot_position_) finish(p);
   }
 
@@ -365,21 +399,35 @@ PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscIn
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
+PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J) {
   PetscFunctionBeginUser;
 #if PetscDefined(HAVE_HYPRE_DEVICE)
+  static_assert(sizeof(HYPRE_Int) == sizeof(int), "the device writes hypre's column indices as int");
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
   PetscInt m, bs;
   PetscCall(MatGetLocalSize(like, &m, nullptr));
   PetscCall(MatGetBlockSize(like, &bs));
   const PetscInt M = row_starts_.back(), begin = row_begin_;
   // The off-diagonal block's columns through its map: the distinct global columns, ascending.
-  std::vector<PetscInt> col_map(offd_j_);
+  // Those of the rows the device writes are the blocks' outside the own nodes, which sit at
+  // either end of a block row (its columns ascend).
+  std::vector<std::int64_t> col_map;
+  for (const auto& entry : side_offd_) col_map.push_back(entry.second);
+  const std::int64_t node_begin = begin / 3, node_end = (begin + m) / 3;
+  for (std::size_t r = 0; r < device_block_row_.size(); ++r) {
+    const std::int64_t s = device_block_row_[r];
+    if (s < 0) continue;
+    const int i = static_cast<int>(r % 3);
+    const auto add = [&](std::size_t k) {
+      for (int j = 0; j < 3; ++j)
+        if (blocks->block_mask[k] >> (3 * i + j) & 1u) col_map.push_back(3 * blocks->block_col[k] + j);
+    };
+    std::size_t k = blocks->row_start[s], e = blocks->row_start[s + 1];
+    while (k < e && blocks->block_col[k] < node_begin) add(k++);
+    while (e > k && blocks->block_col[e - 1] >= node_end) add(--e);
+  }
   std::sort(col_map.begin(), col_map.end());
   col_map.erase(std::unique(col_map.begin(), col_map.end()), col_map.end());
-  std::vector<HYPRE_Int> offd_local(offd_j_.size());
-  for (std::size_t k = 0; k < offd_j_.size(); ++k)
-    offd_local[k] = static_cast<HYPRE_Int>(std::lower_bound(col_map.begin(), col_map.end(), offd_j_[k]) - col_map.begin());
   PetscHYPREInitialize();
   PetscCallExternal(HYPRE_SetMemoryLocation, HYPRE_MEMORY_DEVICE);
   HYPRE_BigInt starts[2] = {static_cast<HYPRE_BigInt>(begin), static_cast<HYPRE_BigInt>(begin + m)};
@@ -388,35 +436,89 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, Mat* J) {
   hypre_ParCSRMatrixInitialize_v2(A, HYPRE_MEMORY_DEVICE);
   hypre_CSRMatrix* diag = hypre_ParCSRMatrixDiag(A);
   hypre_CSRMatrix* offd = hypre_ParCSRMatrixOffd(A);
-  // hypre's index type is PetscInt's in both PETSc builds dipc meets; converted where not.
-  const auto upload = [](HYPRE_Int* dst, const auto& v) {
-    if (v.empty()) return;
-    if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, HYPRE_Int>) {
-      device::copy_to_device(dst, v.data(), v.size() * sizeof(HYPRE_Int));
-    } else {
-      const std::vector<HYPRE_Int> converted(v.begin(), v.end());
-      device::copy_to_device(dst, converted.data(), converted.size() * sizeof(HYPRE_Int));
-    }
+  const auto upload_ints = [](int* dst, const std::vector<PetscInt>& v) {
+    const std::vector<int> converted(v.begin(), v.end());
+    if (!converted.empty()) device::copy_to_device(dst, converted.data(), converted.size() * sizeof(int));
   };
-  upload(hypre_CSRMatrixI(diag), diag_i_);
-  upload(hypre_CSRMatrixJ(diag), diag_j_);
-  upload(hypre_CSRMatrixI(offd), offd_i_);
-  upload(hypre_CSRMatrixJ(offd), offd_local);
+  upload_ints(hypre_CSRMatrixI(diag), diag_i_);
+  upload_ints(hypre_CSRMatrixI(offd), offd_i_);
+
+  // The rows of node blocks alone, written on the device; then the host's rows and positions
+  // scattered in. Entries of other ranks' rows keep kRemote.
+  d_position_.resize(num_entries_);
+  device::fill(d_position_.data(), kRemote, num_entries_);
+  if (blocks && !device_block_row_.empty()) {
+    device::Array<std::int64_t> d_block_row("matrix block rows"), d_col("matrix block columns"),
+        d_col_map("matrix column map");
+    device::Array<std::uint64_t> d_row_start("matrix block row starts"), d_start("matrix block starts");
+    device::Array<std::uint16_t> d_mask("matrix block masks");
+    d_block_row.upload(device_block_row_);
+    d_row_start.upload(blocks->row_start.data(), blocks->row_start.size());
+    d_col.upload(blocks->block_col);
+    d_mask.upload(blocks->block_mask);
+    d_start.upload(blocks->block_start);
+    d_col_map.upload(col_map);
+    device::BlockRows rows;
+    rows.num_rows = static_cast<std::size_t>(m);
+    rows.row_begin = begin;
+    rows.block_row = d_block_row.data();
+    rows.row_start = d_row_start.data();
+    rows.col = d_col.data();
+    rows.mask = d_mask.data();
+    rows.start = d_start.data();
+    rows.diag_i = hypre_CSRMatrixI(diag);
+    rows.offd_i = hypre_CSRMatrixI(offd);
+    rows.col_map = d_col_map.data();
+    rows.col_map_size = col_map.size();
+    rows.num_diag = num_diag_;
+    rows.diagonal_first = true;
+    rows.diag_j = hypre_CSRMatrixJ(diag);
+    rows.offd_j = hypre_CSRMatrixJ(offd);
+    rows.position = d_position_.data();
+    device::write_block_rows(rows);
+    device::synchronize();  // before the uploaded arrays go
+  }
+  const auto scatter = [](auto* out, const std::vector<std::uint32_t>& index, const auto& value) {
+    if (index.empty()) return;
+    using T = typename std::decay_t<decltype(value)>::value_type;
+    device::Array<std::uint32_t> d_index("matrix scatter indices");
+    device::Array<T> d_value("matrix scatter values");
+    d_index.upload(index);
+    d_value.upload(value);
+    device::scatter(out, d_index.data(), d_value.data(), index.size());
+    device::synchronize();
+  };
+  {
+    std::vector<std::uint32_t> index;
+    std::vector<int> columns;
+    for (const auto& [p, col] : side_diag_) index.push_back(p), columns.push_back(static_cast<int>(col));
+    scatter(hypre_CSRMatrixJ(diag), index, columns);
+    index.clear(), columns.clear();
+    for (const auto& [p, col] : side_offd_) {
+      index.push_back(p);
+      columns.push_back(static_cast<int>(std::lower_bound(col_map.begin(), col_map.end(), col) - col_map.begin()));
+    }
+    scatter(hypre_CSRMatrixJ(offd), index, columns);
+    std::vector<std::uint32_t> entries, positions;
+    for (const auto& [entry, p] : side_position_) entries.push_back(entry), positions.push_back(p);
+    scatter(d_position_.data(), entries, positions);
+  }
   if (num_diag_) device::zero(hypre_CSRMatrixData(diag), num_diag_ * sizeof(double));
   if (num_offd_) device::zero(hypre_CSRMatrixData(offd), num_offd_ * sizeof(double));
   HYPRE_BigInt* map = hypre_ParCSRMatrixColMapOffd(A);
   for (std::size_t k = 0; k < col_map.size(); ++k) map[k] = static_cast<HYPRE_BigInt>(col_map[k]);
   hypre_ParCSRMatrixCopyColMapOffdToDevice(A);
   hypre_MatvecCommPkgCreate(A);
-  std::vector<PetscInt>().swap(diag_i_), LargePageVector<PetscInt>().swap(diag_j_);
-  std::vector<PetscInt>().swap(offd_i_), std::vector<PetscInt>().swap(offd_j_);
+  std::vector<PetscInt>().swap(diag_i_), std::vector<PetscInt>().swap(offd_i_);
+  std::vector<std::int64_t>().swap(device_block_row_);
+  side_diag_.clear(), side_offd_.clear(), side_position_.clear();
   PetscCall(MatCreateFromParCSR(A, MATHYPRE, PETSC_OWN_POINTER, J));
   PetscCall(MatSetBlockSize(*J, bs));
   const char* prefix = nullptr;
   PetscCall(MatGetOptionsPrefix(like, &prefix));
   PetscCall(MatSetOptionsPrefix(*J, prefix));
 #else
-  (void)like, (void)J;
+  (void)like, (void)blocks, (void)J;
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "a device hypre matrix needs a PETSc whose hypre runs on the GPU");
 #endif
   PetscFunctionReturn(0);

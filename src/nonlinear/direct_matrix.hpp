@@ -68,7 +68,7 @@ class DirectMatrix {
   PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
                                const PetscInt* rows, const PetscInt* cols, std::size_t n, bool diagonal_first);
   PetscErrorCode make_host_aij(Mat like, Mat* J);
-  PetscErrorCode make_device_hypre(Mat like, Mat* J);
+  PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
   // device_hypre: J's value arrays on the device.
   PetscErrorCode hypre_values(Mat J, double** diag, double** offd) const;
   // host_aij: J's diagonal and off-diagonal blocks (offd null on a SEQAIJ) and the latter's
@@ -89,6 +89,14 @@ class DirectMatrix {
   // block), or kRemote where another rank owns its row.
   static constexpr std::uint32_t kRemote = 0xffffffffu;
   LargePageVector<std::uint32_t> position_;
+  // device_hypre writes the rows made of node blocks alone on the device
+  // (device::write_block_rows): per row, its node block row there (-1 for the other rows), and
+  // the other rows' columns (position in the block, column) and own entries' (entry, position),
+  // written by the host. position_, diag_j_ and offd_j_ then stay empty.
+  bool rows_on_device_ = false;
+  std::vector<std::int64_t> device_block_row_;
+  std::vector<std::pair<std::uint32_t, PetscInt>> side_diag_, side_offd_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> side_position_;
   // Entries other ranks send here: one slot per distinct (row, column), its position, and
   // whether an entry of this rank is there too (then the slot's sum is added to it).
   std::vector<std::uint32_t> slot_position_;

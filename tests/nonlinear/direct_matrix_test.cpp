@@ -64,10 +64,12 @@ Entries make_entries(int rank, int size) {
 
 // Node blocks as the element forms give them, then a list. A chain of hexes along x, four nodes
 // per cross-section and five sections per rank (its 60 rows); rank r takes the elements on its
-// sections and the one joining its left neighbour's, so that ghost block rows go to their
-// owners and some blocks come from two ranks. Even elements are elastic (full blocks), odd ones
-// consistent mass (diagonal blocks only), so that some blocks are partial. The list pairs nodes
-// two or more sections apart (in no block), in own rows and in the next rank's.
+// sections and the one joining them to the next rank's, so that ghost block rows go to their
+// owners and rows made of blocks alone have off-diagonal columns; an even rank also takes the
+// element joining it to its left neighbour, so that (from 3 ranks) some blocks come from two
+// ranks. Even elements are elastic (full blocks), odd ones consistent mass (diagonal blocks
+// only), so that some blocks are partial. The list pairs nodes two or more sections apart (in
+// no block), in own rows and in the next rank's.
 struct BlockCase {
   std::vector<std::int32_t> elastic_nodes, mass_nodes;
   std::vector<std::int64_t> local_to_global;
@@ -78,7 +80,7 @@ struct BlockCase {
 
 BlockCase make_block_case(int rank, int size) {
   constexpr int kSections = kRowsPerRank / 12;
-  const int sections = kSections * size, first = std::max(0, kSections * rank - 1);
+  const int sections = kSections * size, first = std::max(0, kSections * rank - (rank % 2 == 0 ? 1 : 0));
   const int last = std::min(sections - 1, kSections * (rank + 1));  // elements [first, last)
   BlockCase c;
   for (std::int64_t g = 4 * first; g < 4 * (last + 1); ++g) c.local_to_global.push_back(g);
