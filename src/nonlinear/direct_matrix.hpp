@@ -18,7 +18,9 @@
 //   device_hypre  MATHYPRE whose hypre runs on the GPU: a hypre ParCSR matrix made on the
 //                 device (MatCreateFromParCSR), the diagonal first in each row of its diagonal
 //                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
-//                 through its ascending column map.
+//                 through its ascending column map. The rows made of node blocks alone (nearly
+//                 all) are written on the device (device::write_block_rows); the host counts
+//                 them and writes the others.
 // Values are given in the entry order of create(): host memory for host_aij, device memory for
 // device_hypre.
 #pragma once

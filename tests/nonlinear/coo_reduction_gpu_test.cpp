@@ -65,25 +65,33 @@ std::vector<double> spread_values(std::mt19937_64& rng, std::size_t n) {
   return v;
 }
 
+// Local nodes 0 .. n - 1 numbered globally from 500 on, shuffled.
+std::vector<std::int64_t> shuffled_global_ids(std::mt19937_64& rng, int n) {
+  std::vector<std::int64_t> l2g(static_cast<std::size_t>(n));
+  std::iota(l2g.begin(), l2g.end(), 500);
+  std::shuffle(l2g.begin(), l2g.end(), rng);
+  return l2g;
+}
+
+// `count` elements of 8 distinct local nodes drawn from [first, first + span).
+std::vector<std::int32_t> random_elements(std::mt19937_64& rng, int count, int first, int span) {
+  std::vector<std::int32_t> pool(static_cast<std::size_t>(span)), nodes;
+  std::iota(pool.begin(), pool.end(), first);
+  for (int e = 0; e < count; ++e) {
+    std::shuffle(pool.begin(), pool.end(), rng);
+    nodes.insert(nodes.end(), pool.begin(), pool.begin() + 8);
+  }
+  return nodes;
+}
+
 TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   std::mt19937_64 rng(12);
-  const int num_local = 3000;
-  std::vector<std::int64_t> l2g(num_local);
-  std::iota(l2g.begin(), l2g.end(), 500);
-  std::shuffle(l2g.begin(), l2g.end(), rng);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
   // Elastic elements over nodes [0, 2500), mass elements over [2000, 3000): some blocks hold the
   // mass's diagonal only.
-  const auto elements = [&](int count, int first, int span) {
-    std::vector<std::int32_t> pool(static_cast<std::size_t>(span)), nodes;
-    std::iota(pool.begin(), pool.end(), first);
-    for (int e = 0; e < count; ++e) {
-      std::shuffle(pool.begin(), pool.end(), rng);
-      nodes.insert(nodes.end(), pool.begin(), pool.begin() + 8);
-    }
-    return nodes;
-  };
-  const std::vector<std::int32_t> elastic = elements(2000, 0, 2500), mass = elements(600, 2000, 1000);
+  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
   const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
   const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
   // The forms' values behind 7 values of something else, as in the potential's raw array.
@@ -124,20 +132,9 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
 // ghost nodes on both sides of the owned range and owned nodes of no element (empty rows).
 void expect_device_build_equals_host_build(bool with_mass) {
   std::mt19937_64 rng(14);
-  const int num_local = 3000;
-  std::vector<std::int64_t> l2g(num_local);
-  std::iota(l2g.begin(), l2g.end(), 500);
-  std::shuffle(l2g.begin(), l2g.end(), rng);
-  const auto elements = [&](int count, int first, int span) {
-    std::vector<std::int32_t> pool(static_cast<std::size_t>(span)), nodes;
-    std::iota(pool.begin(), pool.end(), first);
-    for (int e = 0; e < count; ++e) {
-      std::shuffle(pool.begin(), pool.end(), rng);
-      nodes.insert(nodes.end(), pool.begin(), pool.begin() + 8);
-    }
-    return nodes;
-  };
-  const std::vector<std::int32_t> elastic = elements(2000, 0, 2500), mass = elements(600, 2000, 1000);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
+  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
   std::vector<NodeBlockReduction::Input> inputs = {
       {{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7}};
   if (with_mass)
