@@ -62,6 +62,9 @@ gpus=$(nvidia-smi -L | wc -l)
 case "${1:-}" in
   tests)
     # Full output goes to $out/gpu_tests.log; the summary lines and exit codes to the screen.
+    # The machine's Open MPI is not CUDA-aware: a CUDA PETSc refuses to start without
+    # -use_gpu_aware_mpi 0 (exit 76). The trajectory tests read the scenes of this tree.
+    export PETSC_OPTIONS="${PETSC_OPTIONS:-} -use_gpu_aware_mpi 0" DIPC_SOURCE_DIR=${DIPC_SOURCE_DIR:-$PWD}
     for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests direct_matrix_tests; do
       run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
