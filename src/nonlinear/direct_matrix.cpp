@@ -75,8 +75,7 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   PetscCallMPI(MPI_Allgather(&m, 1, MPIU_INT, row_starts_.data() + 1, 1, MPIU_INT, comm));
   for (int r = 0; r < size; ++r) row_starts_[r + 1] += row_starts_[r];
   row_begin_ = row_starts_[rank];
-  rows_on_device_ = kind == Kind::device_hypre;
-  PetscCall(build_pattern(comm, m, blocks, rows, cols, n, kind == Kind::device_hypre));
+  PetscCall(build_pattern(comm, m, blocks, rows, cols, n));
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
@@ -90,9 +89,11 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
 }
 
 PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
-                                           const PetscInt* rows, const PetscInt* cols, std::size_t n,
-                                           bool diagonal_first) {
+                                           const PetscInt* rows, const PetscInt* cols, std::size_t n) {
   PetscFunctionBeginUser;
+  // hypre's matrix on the device: its rows hold the diagonal first (as hypre's smoothers read
+  // it), and those made of node blocks alone are written there (make_device_hypre).
+  const bool on_device = kind_ == Kind::device_hypre;
   const int size = static_cast<int>(row_starts_.size()) - 1;
   const std::vector<PetscInt>& starts = row_starts_;
   // The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
@@ -113,7 +114,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
   // back in the order sent. An own node's block row is read in place below; a ghost node's
   // (the few on the partition's boundary) is expanded to its entries here.
-  if (rows_on_device_)
+  if (on_device)
     LargePageVector<std::uint32_t>().swap(position_);
   else
     position_.assign(total, kRemote);
@@ -129,15 +130,11 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
         continue;
       }
       const int owner = owner_of(static_cast<PetscInt>(3 * node));
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-        std::size_t entry = blocks->block_start[k];
-        for (int bit = 0; bit < 9; ++bit)
-          if (blocks->block_mask[k] >> bit & 1u) {
-            to[owner].push_back({static_cast<PetscInt>(3 * node + bit / 3),
-                                 static_cast<PetscInt>(3 * blocks->block_col[k] + bit % 3)});
-            remote_entry[owner].push_back(static_cast<PetscInt>(entry++));
-          }
-      }
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k)
+        blocks->for_each_entry(node, k, [&](std::size_t entry, std::int64_t row, std::int64_t col) {
+          to[owner].push_back({static_cast<PetscInt>(row), static_cast<PetscInt>(col)});
+          remote_entry[owner].push_back(static_cast<PetscInt>(entry));
+        });
     }
   }
   for (std::size_t k = 0; k < n; ++k)
@@ -179,32 +176,32 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   diag_j_.clear();
   offd_j_.clear();
-  if (!rows_on_device_) diag_j_.reserve(total + received.size());  // at most: remote entries and repeats fewer
+  if (!on_device) diag_j_.reserve(total + received.size());  // at most: remote entries and repeats fewer
   slot_position_.clear();
   slot_keep_.clear();
-  device_block_row_.assign(rows_on_device_ ? static_cast<std::size_t>(num_rows) : 0, -1);
+  device_block_row_.assign(on_device ? static_cast<std::size_t>(num_rows) : 0, -1);
   side_diag_.clear(), side_offd_.clear(), side_position_.clear();
   std::vector<std::uint32_t> received_slot(received.size());
   std::vector<std::pair<PetscInt, std::uint32_t>> line;
   std::uint32_t num_diag = 0, num_offd = 0;
   // A column's place in its block (a provisional one in the off-diagonal block), and an own
-  // entry's position: in the host's arrays, or (rows_on_device_) listed for the device.
+  // entry's position: in the host's arrays, or (on_device) listed for the device.
   const auto next_position = [&](PetscInt col) {
     if (col >= col_begin && col < col_end) {
-      if (rows_on_device_)
+      if (on_device)
         side_diag_.push_back({num_diag, col - col_begin});
       else
         diag_j_.push_back(col - col_begin);
       return num_diag++;
     }
-    if (rows_on_device_)
+    if (on_device)
       side_offd_.push_back({num_offd, col});
     else
       offd_j_.push_back(col);
     return kOffdFlag | num_offd++;
   };
   const auto set_position = [&](std::size_t entry, std::uint32_t p) {
-    if (rows_on_device_)
+    if (on_device)
       side_position_.push_back({static_cast<std::uint32_t>(entry), p});
     else
       position_[entry] = p;
@@ -214,7 +211,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     const PetscInt row = row_begin + r;
     // Row 3 node + i of a node block row: the i-th row of each of its blocks, columns ascending.
     const std::int64_t s = blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1;
-    if (s >= 0 && row_count[r] == row_count[r + 1] && rows_on_device_) {
+    if (s >= 0 && row_count[r] == row_count[r + 1] && on_device) {
       // The blocks' entries alone, written on the device (device::write_block_rows): counted here.
       const int i = static_cast<int>(r % 3);
       const std::int64_t node_begin = col_begin / 3, node_end = col_end / 3;
@@ -229,28 +226,15 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
       continue;
     }
     if (s >= 0 && row_count[r] == row_count[r + 1]) {
-      // The blocks' entries alone (most rows): distinct, ascending, written where they lie, with
-      // the diagonal moved first where the kind wants it; the order the general path below gives.
+      // The blocks' entries alone (most rows): distinct and ascending, written where they lie;
+      // the order the general path below gives.
       const int i = static_cast<int>(r % 3);
-      const std::size_t first = blocks->row_start[s], last = blocks->row_start[s + 1];
-      const auto entry_at = [&](std::size_t k, int bit) {
-        return static_cast<std::size_t>(blocks->block_start[k]) + static_cast<std::size_t>(entry_in_block(blocks->block_mask[k], bit));
-      };
-      std::size_t diagonal_block = last;
-      if (diagonal_first) {
-        const auto b = blocks->block_col.begin();
-        const std::int64_t node = blocks->row_nodes[s];
-        const auto k = static_cast<std::size_t>(std::lower_bound(b + first, b + last, node) - b);
-        if (k < last && blocks->block_col[k] == node && (blocks->block_mask[k] >> (4 * i) & 1u)) {
-          diagonal_block = k;
-          position_[entry_at(k, 4 * i)] = next_position(row);
-        }
-      }
-      for (std::size_t k = first; k < last; ++k) {
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
         const unsigned mask = blocks->block_mask[k];
         for (int j = 0; j < 3; ++j)
-          if ((mask >> (3 * i + j) & 1u) && !(k == diagonal_block && j == i))
-            position_[entry_at(k, 3 * i + j)] = next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
+          if (mask >> (3 * i + j) & 1u)
+            position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
+                next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
       }
       diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
       offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
@@ -272,7 +256,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     // By column; own entries, then received ones in arrival order. The element blocks give
     // most rows already sorted.
     if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
-    if (diagonal_first)
+    if (on_device)
       std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row; });
     for (std::size_t a = 0; a < line.size();) {
       std::size_t b = a + 1;
@@ -471,7 +455,6 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
     rows.col_map = d_col_map.data();
     rows.col_map_size = col_map.size();
     rows.num_diag = num_diag_;
-    rows.diagonal_first = true;
     rows.diag_j = hypre_CSRMatrixJ(diag);
     rows.offd_j = hypre_CSRMatrixJ(offd);
     rows.position = d_position_.data();

@@ -68,7 +68,7 @@ class DirectMatrix {
   // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
   // of other ranks' rows.
   PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
-                               const PetscInt* rows, const PetscInt* cols, std::size_t n, bool diagonal_first);
+                               const PetscInt* rows, const PetscInt* cols, std::size_t n);
   PetscErrorCode make_host_aij(Mat like, Mat* J);
   PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
   // device_hypre: J's value arrays on the device.
@@ -95,7 +95,6 @@ class DirectMatrix {
   // (device::write_block_rows): per row, its node block row there (-1 for the other rows), and
   // the other rows' columns (position in the block, column) and own entries' (entry, position),
   // written by the host. position_, diag_j_ and offd_j_ then stay empty.
-  bool rows_on_device_ = false;
   std::vector<std::int64_t> device_block_row_;
   std::vector<std::pair<std::uint32_t, PetscInt>> side_diag_, side_offd_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> side_position_;

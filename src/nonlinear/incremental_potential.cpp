@@ -399,9 +399,7 @@ void IncrementalPotential::find_dirichlet_entries(const std::vector<PetscInt>& e
     const bool row_any = node_prescribed(row_node);
     for (std::size_t k = blocks_.row_start[s]; k < blocks_.row_start[s + 1]; ++k) {
       if (!row_any && !node_prescribed(blocks_.block_col[k])) continue;
-      std::size_t u = blocks_.block_start[k];
-      for (int bit = 0; bit < 9; ++bit)
-        if (blocks_.block_mask[k] >> bit & 1u) classify(u++, 3 * row_node + bit / 3, 3 * blocks_.block_col[k] + bit % 3);
+      blocks_.for_each_entry(row_node, k, classify);
     }
   }
   for (std::size_t v = 0; v < extra_rows.size(); ++v) classify(num_block_entries_ + v, extra_rows[v], extra_cols[v]);

@@ -208,13 +208,10 @@ void NodeBlockReduction::entries(std::vector<PetscInt>* rows, std::vector<PetscI
         throw std::overflow_error("global dof id " + std::to_string(3 * std::max(row_node, block_col[k]) + 2) +
                                   " does not fit PETSc's " + std::to_string(8 * sizeof(PetscInt)) +
                                   "-bit PetscInt: use a PETSc configured with --with-64-bit-indices");
-      std::size_t out = block_start[k];
-      for (int bit = 0; bit < 9; ++bit)
-        if (block_mask[k] >> bit & 1u) {
-          (*rows)[out] = static_cast<PetscInt>(3 * row_node + bit / 3);
-          (*cols)[out] = static_cast<PetscInt>(3 * block_col[k] + bit % 3);
-          ++out;
-        }
+      for_each_entry(row_node, k, [&](std::size_t entry, std::int64_t row, std::int64_t col) {
+        (*rows)[entry] = static_cast<PetscInt>(row);
+        (*cols)[entry] = static_cast<PetscInt>(col);
+      });
     }
   }
 }

@@ -69,6 +69,14 @@ class NodeBlockReduction {
   // Global dof ids of every entry, in entry order (3 node + i, 3 node + j). Throws
   // std::overflow_error when an id does not fit PetscInt (configure PETSc with 64-bit indices).
   void entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  // f(entry, row, col) for each entry of block k, whose row node is row_node, in entry order
+  // (bits 3i + j ascending); row and col are global dof ids 3 node + component.
+  template <class F>
+  void for_each_entry(std::int64_t row_node, std::size_t k, F&& f) const {
+    std::size_t entry = block_start[k];
+    for (int bit = 0; bit < 9; ++bit)
+      if (block_mask[k] >> bit & 1u) f(entry++, 3 * row_node + bit / 3, 3 * block_col[k] + bit % 3);
+  }
   // Entry index of the dof pair (row, col), or -1 where no block holds it.
   std::int64_t find(std::int64_t row, std::int64_t col) const;
   // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).

@@ -30,14 +30,13 @@ __global__ void write_block_rows_kernel(BlockRows b) {
     return b.start[k] + static_cast<std::uint64_t>(__popc(b.mask[k] & ((1u << bit) - 1u)));
   };
   std::size_t diagonal_block = b.row_start[s + 1];
-  if (b.diagonal_first)
-    for (std::size_t k = b.row_start[s]; k < b.row_start[s + 1]; ++k)
-      if (b.col[k] == node && (b.mask[k] >> (4 * i) & 1u)) {
-        diagonal_block = k;
-        b.diag_j[d] = static_cast<int>(row - b.row_begin);
-        b.position[entry(k, 4 * i)] = static_cast<std::uint32_t>(d++);
-        break;
-      }
+  for (std::size_t k = b.row_start[s]; k < b.row_start[s + 1]; ++k)
+    if (b.col[k] == node && (b.mask[k] >> (4 * i) & 1u)) {
+      diagonal_block = k;
+      b.diag_j[d] = static_cast<int>(row - b.row_begin);
+      b.position[entry(k, 4 * i)] = static_cast<std::uint32_t>(d++);
+      break;
+    }
   for (std::size_t k = b.row_start[s]; k < b.row_start[s + 1]; ++k) {
     const unsigned mask = b.mask[k];
     for (int j = 0; j < 3; ++j) {

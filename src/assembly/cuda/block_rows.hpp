@@ -10,12 +10,12 @@ namespace dipc::device {
 
 // Row r (of num_rows, global row row_begin + r = 3 node + i) with block_row[r] >= 0 is the
 // i-th row of node block row s = block_row[r]: blocks k in [row_start[s], row_start[s + 1]),
-// column node col[k], entries present mask[k] (bit 3i + j), first entry start[k]. Its columns
-// ascend, except that with diagonal_first the diagonal comes first; those in [row_begin,
-// row_begin + num_rows) go to diag_j from diag_i[r] (relative to row_begin), the others to
-// offd_j from offd_i[r] (their index in the ascending col_map). Each entry's position goes to
-// position[start[k] + rank of its bit in mask[k]]: its diag_j index, or num_diag + its offd_j
-// index. Rows with block_row[r] < 0 are left alone. All pointers are device memory.
+// column node col[k], entries present mask[k] (bit 3i + j), first entry start[k]. Its diagonal
+// comes first (as hypre's smoothers read a row), then its other columns ascending; those in
+// [row_begin, row_begin + num_rows) go to diag_j from diag_i[r] (relative to row_begin), the
+// others to offd_j from offd_i[r] (their index in the ascending col_map). Each entry's position
+// goes to position[start[k] + rank of its bit in mask[k]]: its diag_j index, or num_diag + its
+// offd_j index. Rows with block_row[r] < 0 are left alone. All pointers are device memory.
 struct BlockRows {
   std::size_t num_rows = 0;
   std::int64_t row_begin = 0;
@@ -29,7 +29,6 @@ struct BlockRows {
   const std::int64_t* col_map = nullptr;
   std::size_t col_map_size = 0;
   std::size_t num_diag = 0;
-  bool diagonal_first = false;
   int* diag_j = nullptr;
   int* offd_j = nullptr;
   std::uint32_t* position = nullptr;
