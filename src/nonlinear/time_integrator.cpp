@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "assembly/hex8_mass.hpp"
 #include "math/vector3.hpp"
@@ -14,6 +15,37 @@
 namespace dipc {
 
 namespace {
+
+// -log_view events for the setup's phases (what the run header's "setup" row sums), registered
+// once per process; a Phase scope brackets one.
+struct SetupEvents {
+  PetscLogEvent elements, masses, forms, state, solver, contact_check;
+};
+const SetupEvents& setup_events() {
+  static SetupEvents e = [] {
+    SetupEvents r{};
+    PetscClassId id;
+    PetscClassIdRegister("dipc setup", &id);
+    PetscLogEventRegister("dipcSetupElements", id, &r.elements);
+    PetscLogEventRegister("dipcSetupMasses", id, &r.masses);
+    PetscLogEventRegister("dipcSetupForms", id, &r.forms);
+    PetscLogEventRegister("dipcSetupState", id, &r.state);
+    PetscLogEventRegister("dipcSetupSolver", id, &r.solver);
+    PetscLogEventRegister("dipcContactCheck", id, &r.contact_check);
+    return r;
+  }();
+  return e;
+}
+class Phase {
+ public:
+  explicit Phase(PetscLogEvent event) : event_(event) { PetscLogEventBegin(event_, 0, 0, 0, 0); }
+  ~Phase() { PetscLogEventEnd(event_, 0, 0, 0, 0); }
+  Phase(const Phase&) = delete;
+  Phase& operator=(const Phase&) = delete;
+
+ private:
+  PetscLogEvent event_;
+};
 
 // Lumped mass of every local node with the contributions of all ranks summed, so that
 // owned-node loops (inertia, gravity) see complete masses.
@@ -61,8 +93,11 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   h_ = problem.dt;
   mesh_ = &mesh;
   problem_ = problem;
+  const SetupEvents& events = setup_events();
+  std::optional<Phase> phase(std::in_place, events.elements);
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
   PetscCall(exchange_.setup(mesh, 3));
+  phase.emplace(events.masses);
 
   const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
   const bool inertia = !problem.is_static;
@@ -75,6 +110,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   }
 
   // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
+  phase.emplace(events.forms);
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
   const bool on_device = space == MemorySpace::device;
@@ -128,6 +164,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   for (auto& f : forms) form_names_.push_back(f->name());
 
   // Dirichlet sets: later sets win where they overlap.
+  phase.emplace(events.state);
   dirichlet_set_.assign(mesh.num_local_nodes(), -1);
   for (std::size_t s = 0; s < problem.dirichlet.size(); ++s)
     for (std::int32_t n : problem.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
@@ -168,9 +205,11 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecRestoreArray(v_, &v));
   PetscCall(VecCopy(X_, x_));
 
+  phase.emplace(events.solver);
   PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed)));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
                           control.alpha_floor));
+  phase.emplace(events.contact_check);
   if (contact_) {
     std::string problem_at_start;
     PetscCall(contact_state_problem(x_, &problem_at_start));
