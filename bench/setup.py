@@ -124,7 +124,11 @@ def run_one(args, n, ranks, partitioner, source, workdir):
 
 
 def plot(rows, path):
-    import matplotlib
+    try:
+        import matplotlib
+    except ImportError:
+        print("no plot: python3-matplotlib is not installed (the CSV has every number)")
+        return
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))

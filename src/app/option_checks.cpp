@@ -111,7 +111,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       integer_at_least("-dipc_checkpoint_every", 1),
       positive_real("-dipc_checkpoint_minutes"),
       text("-dipc_restart"),
-      one_of("-dipc_partitioner", "metis ptscotch auto"),
+      one_of("-dipc_partitioner", "metis ptscotch rcb auto"),
       integer_at_least("-dipc_metis_max_elements", 1),
   };
   return specs;

@@ -16,7 +16,7 @@ constexpr const char* kManual = "RunOptions";
 constexpr const char* kBackends[] = {"cpu", "cuda", "auto"};
 
 // The partitioners, in the order of PetscOptionsEList's index (partition/slice_partition.hpp).
-constexpr const char* kPartitioners[] = {"metis", "ptscotch", "auto"};
+constexpr const char* kPartitioners[] = {"metis", "ptscotch", "rcb", "auto"};
 
 }  // namespace
 
@@ -30,8 +30,8 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscReal dt_min = o->dt_min > 0 ? o->dt_min : scene.dt / 1024;
   PetscBool no_output = o->write_output ? PETSC_FALSE : PETSC_TRUE, quiet = o->quiet ? PETSC_TRUE : PETSC_FALSE;
   PetscBool setup_only = o->setup_only ? PETSC_TRUE : PETSC_FALSE;
-  PetscInt partitioner = 2, metis_max = static_cast<PetscInt>(o->metis_max_elements);
-  for (PetscInt i = 0; i < 3; ++i)
+  PetscInt partitioner = 3, metis_max = static_cast<PetscInt>(o->metis_max_elements);
+  for (PetscInt i = 0; i < 4; ++i)
     if (o->partitioner == kPartitioners[i]) partitioner = i;
   PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
   PetscBool substeps = o->output_substeps ? PETSC_TRUE : PETSC_FALSE;
@@ -62,9 +62,10 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU",
                             kManual, crossover, &crossover, nullptr));
   PetscCall(PetscOptionsEList("-dipc_partitioner",
-                              "Element partitioner: metis (on rank 0), ptscotch (parallel) or auto (metis up to "
-                              "-dipc_metis_max_elements elements, ptscotch above)",
-                              kManual, kPartitioners, 3, kPartitioners[partitioner], &partitioner, nullptr));
+                              "Element partitioner: metis (on rank 0), ptscotch (parallel), rcb (parallel recursive "
+                              "coordinate bisection) or auto (metis up to -dipc_metis_max_elements elements, above "
+                              "ptscotch where PETSc has it, rcb otherwise)",
+                              kManual, kPartitioners, 4, kPartitioners[partitioner], &partitioner, nullptr));
   PetscCall(PetscOptionsInt("-dipc_metis_max_elements",
                             "Largest mesh (elements) that -dipc_partitioner auto partitions with METIS on rank 0", kManual,
                             metis_max, &metis_max, nullptr));

@@ -36,8 +36,8 @@ struct RunOptions {
   // wall-clock minutes (0: not by that rule); a stop signal always writes one.
   int checkpoint_every = 0;
   double checkpoint_minutes = 0;
-  // Element partitioner (partition/slice_partition.hpp): metis, ptscotch, or auto = METIS on
-  // rank 0 up to metis_max_elements elements, PT-Scotch above.
+  // Element partitioner (partition/slice_partition.hpp): metis, ptscotch, rcb, or auto = METIS
+  // on rank 0 up to metis_max_elements elements; above, PT-Scotch where PETSc has it, RCB otherwise.
   std::string partitioner = "auto";
   long metis_max_elements = 4000000;
   std::string restart;  // -dipc_restart FILE | auto (the newest checkpoint in the output directory); "": none

@@ -382,11 +382,10 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     MeshSlice slice = build_scene_slice(scene, comm);
     diagonal = slice_bounding_box_diagonal(slice);
     fingerprint = scene_fingerprint(scene, slice_digest(slice));
-    partitioner = options.partitioner == "auto"
-                      ? (slice.num_global_elements <= options.metis_max_elements || !ptscotch_available()
-                             ? Partitioner::metis
-                             : Partitioner::ptscotch)
-                      : parse_partitioner(options.partitioner);
+    partitioner = options.partitioner != "auto"                           ? parse_partitioner(options.partitioner)
+                  : slice.num_global_elements <= options.metis_max_elements ? Partitioner::metis
+                  : ptscotch_available()                                    ? Partitioner::ptscotch
+                                                                            : Partitioner::rcb;
     t_slices = MPI_Wtime() - t_partition;
     mesh = distribute_slices(slice, partitioner, scene.contact.enabled, &distribution);  // the surface only for contact
   }

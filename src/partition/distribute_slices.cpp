@@ -24,6 +24,7 @@
 #include "partition/mpi_exchange.hpp"
 #include "partition/partition_error.hpp"
 #include "partition/slice_partition.hpp"
+#include "partition/touched_nodes.hpp"
 
 namespace dipc {
 namespace {
@@ -68,63 +69,6 @@ struct VertexRecord {
 struct OwnedPrimitive {
   std::int64_t gid, a, b;  // b unused for vertices
   std::int32_t body, pad;
-};
-
-// The input node ids that a rank's elements touch, sorted and unique, and the position of any
-// id in that list. When the ids span a compact range (a box's numbering on one or a few ranks,
-// a Gmsh mesh on one rank), a direct index over the range builds the list without a sort and
-// finds an id in one step; otherwise (scattered ids, as in a part of a shuffled numbering on
-// many ranks) a sort and binary searches. On a 1M-hex cube on one rank the sort of the 8M
-// corner ids and the binary search per corner took most of the 1.1 s of the nodes phase.
-class TouchedNodes {
- public:
-  explicit TouchedNodes(const std::vector<ElementRecord>& elements) {
-    if (elements.empty()) return;
-    std::int64_t lowest = elements[0].hex[0], highest = lowest;
-    for (const ElementRecord& r : elements)
-      for (std::int64_t n : r.hex) lowest = std::min(lowest, n), highest = std::max(highest, n);
-    const std::int64_t span = highest - lowest + 1;
-    // The index costs 4 bytes per id of the span: at most what the sort's list of 8 corner ids
-    // (8 bytes each) per element would take.
-    if (span <= 2 * 8 * static_cast<std::int64_t>(elements.size()) && span <= INT32_MAX)
-      index_range(elements, lowest, span);
-    else
-      sort_corners(elements);
-  }
-  const std::vector<std::int64_t>& ids() const { return ids_; }
-  // Position of `input` in ids(), or -1 when no element touches it.
-  std::int64_t position(std::int64_t input) const {
-    if (!index_.empty()) {
-      const std::int64_t i = input - lowest_;
-      return i >= 0 && i < static_cast<std::int64_t>(index_.size()) ? index_[static_cast<std::size_t>(i)] : -1;
-    }
-    const auto it = std::lower_bound(ids_.begin(), ids_.end(), input);
-    return it != ids_.end() && *it == input ? it - ids_.begin() : -1;
-  }
-
- private:
-  void index_range(const std::vector<ElementRecord>& elements, std::int64_t lowest, std::int64_t span) {
-    lowest_ = lowest;
-    index_.assign(static_cast<std::size_t>(span), -1);
-    for (const ElementRecord& r : elements)
-      for (std::int64_t n : r.hex) index_[static_cast<std::size_t>(n - lowest)] = 0;
-    for (std::size_t i = 0; i < index_.size(); ++i)
-      if (index_[i] == 0) {
-        index_[i] = static_cast<std::int32_t>(ids_.size());
-        ids_.push_back(lowest + static_cast<std::int64_t>(i));
-      }
-  }
-  void sort_corners(const std::vector<ElementRecord>& elements) {
-    ids_.reserve(8 * elements.size());
-    for (const ElementRecord& r : elements) ids_.insert(ids_.end(), r.hex.begin(), r.hex.end());
-    std::sort(ids_.begin(), ids_.end());
-    ids_.erase(std::unique(ids_.begin(), ids_.end()), ids_.end());
-    ids_.shrink_to_fit();
-  }
-
-  std::vector<std::int64_t> ids_;
-  std::int64_t lowest_ = 0;
-  std::vector<std::int32_t> index_;  // dense case: position of id lowest_ + i, or -1; empty otherwise
 };
 
 // The node sets of each node of this rank's block, by increasing set index (the sets' order in
@@ -302,7 +246,7 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
 
   lap(times.elements);
   // Touched nodes, sorted by input id; their homes decide the owner (the lowest touching part).
-  const TouchedNodes touched_nodes(mine);
+  const TouchedNodes touched_nodes(mine.size(), [&mine](std::size_t e) -> const Hex& { return mine[e].hex; });
   const std::vector<std::int64_t>& touched = touched_nodes.ids();
   std::string error;
   if (touched.size() > static_cast<std::size_t>(INT32_MAX))

@@ -10,6 +10,7 @@
 #include "partition/metis_partition.hpp"
 #include "partition/mpi_exchange.hpp"
 #include "partition/partition_error.hpp"
+#include "partition/rcb_partition.hpp"
 
 // PT-Scotch draws from a pseudo-random generator whose state persists between calls; it is
 // reset before each partitioning so that a partitioning does not depend on the ones before it in
@@ -135,10 +136,18 @@ bool ptscotch_available() {
 Partitioner parse_partitioner(const std::string& name) {
   if (name == "metis") return Partitioner::metis;
   if (name == "ptscotch") return Partitioner::ptscotch;
-  throw PartitionError("unknown partitioner \"" + name + "\" (use metis or ptscotch)");
+  if (name == "rcb") return Partitioner::rcb;
+  throw PartitionError("unknown partitioner \"" + name + "\" (use metis, ptscotch or rcb)");
 }
 
-const char* partitioner_name(Partitioner p) { return p == Partitioner::metis ? "metis" : "ptscotch"; }
+const char* partitioner_name(Partitioner p) {
+  switch (p) {
+    case Partitioner::metis: return "metis";
+    case Partitioner::ptscotch: return "ptscotch";
+    case Partitioner::rcb: return "rcb";
+  }
+  return "?";
+}
 
 std::vector<int> partition_slice(const MeshSlice& slice, const FaceMatching& graph, Partitioner partitioner) {
   int size = 1;
@@ -151,7 +160,11 @@ std::vector<int> partition_slice(const MeshSlice& slice, const FaceMatching& gra
   if (size == 1) return std::vector<int>(slice.hexes.size(), 0);
   std::vector<int> part;
   try {
-    part = partitioner == Partitioner::metis ? metis_on_rank0(slice, size) : ptscotch(slice, graph, size);
+    switch (partitioner) {
+      case Partitioner::metis: part = metis_on_rank0(slice, size); break;
+      case Partitioner::ptscotch: part = ptscotch(slice, graph, size); break;
+      case Partitioner::rcb: part = rcb_partition(slice, size); break;
+    }
   } catch (const PartitionError& e) {
     error = e.what();
   }

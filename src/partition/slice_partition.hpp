@@ -6,7 +6,11 @@
 //              bench/setup.py's runs).
 //   ptscotch - PT-Scotch through PETSc's MatPartitioning on the distributed dual graph of
 //              face_matching.hpp: no rank holds more than its slice.
-// METIS gives the same parts for a given mesh and rank count. PT-Scotch need not: Debian's
+//   rcb      - recursive coordinate bisection of the element centroids (rcb_partition.hpp):
+//              no rank holds more than its slice, no dual graph, a few passes over the slice
+//              per level; for meshes too big for METIS on one rank where PETSc has no
+//              PT-Scotch (a CUDA build), or where setup time matters more than the edge cut.
+// METIS and RCB give the same parts for a given mesh and rank count. PT-Scotch need not: Debian's
 // Scotch 7 gave edge cuts 400, 400 and 440 in three 2-rank runs on a 20^3 box, although its
 // generator is reset before each call; trajectories then differ at round-off, inside the rank
 // invariance tests' tolerances.
@@ -20,9 +24,9 @@
 
 namespace dipc {
 
-enum class Partitioner { metis, ptscotch };
+enum class Partitioner { metis, ptscotch, rcb };
 
-// "metis" or "ptscotch"; throws PartitionError naming the accepted values otherwise.
+// "metis", "ptscotch" or "rcb"; throws PartitionError naming the accepted values otherwise.
 Partitioner parse_partitioner(const std::string& name);
 const char* partitioner_name(Partitioner p);
 // Whether this PETSc has PT-Scotch (PETSC_HAVE_PTSCOTCH; Debian's has, a PETSc configured

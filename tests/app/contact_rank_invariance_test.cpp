@@ -64,5 +64,8 @@ TEST(ContactRankInvariance, DefaultScenePtScotchMatchesOneRank) {
   default_scene_matches_one_rank("ptscotch");
 }
 
+// RCB cuts by centroid, without the dual graph: the ghost surfaces must follow it too.
+TEST(ContactRankInvariance, DefaultSceneRcbMatchesOneRank) { default_scene_matches_one_rank("rcb"); }
+
 }  // namespace
 }  // namespace dipc

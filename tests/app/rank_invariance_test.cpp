@@ -84,6 +84,9 @@ TEST(RankInvariance, BeamScenePtScotchMatchesOneRank) {
   beam_matches_one_rank(beam_scene(), 10, 1e-8, "ptscotch");
 }
 
+// RCB cuts the beam across its length by centroid; the trajectory must not notice either.
+TEST(RankInvariance, BeamSceneRcbMatchesOneRank) { beam_matches_one_rank(beam_scene(), 10, 1e-8, "rcb"); }
+
 TEST(RankInvariance, MeanDilatationBeamMatchesOneRank) {
   Scene scene = beam_scene();
   for (Material& m : scene.materials) m.mean_dilatation = true, m.nu = 0.499;

@@ -1,10 +1,12 @@
 // distribute_slices under MPI (1, 2 and 3 ranks): with METIS it rebuilds distribute_mesh's
 // parts field by field from slices; with PT-Scotch its parts are consistent with the input
-// mesh and balanced; slices round-trip; errors stop every rank.
+// mesh and balanced; RCB cuts boxes where the geometry says, balanced to the element, whatever
+// the numbering; slices round-trip; errors stop every rank.
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
 #include <string>
+#include <utility>
 
 #include "box_mesh.hpp"
 #include "distributed_mesh_checks.hpp"
@@ -69,6 +71,61 @@ TEST(DistributeSlices, PtScotchPartsAreConsistentAndBalanced) {
   EXPECT_EQ(quality.dual_edges, 60 + 54 + 48 + 8 + 6 + 6);
 }
 
+// Which rank holds each input element, the same on every rank.
+std::vector<int> part_of_elements(const DistributedMesh& part, std::int64_t num_elements) {
+  std::vector<int> owner(static_cast<std::size_t>(num_elements), -1);
+  for (std::int64_t e : part.element_input_id) owner[static_cast<std::size_t>(e)] = test::rank_of(PETSC_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, owner.data(), static_cast<int>(owner.size()), MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  return owner;
+}
+
+// An 18x10x8 box of unit hexes (1440 elements): x is the longest side, so 2 parts are x < 9 and
+// x > 9 (a cut of 10 * 8 faces); 3 parts are x < 6 (480 elements), then the 12x10x8 rest cut
+// at x = 12 (another 80 faces). The same along z for an 8x10x18 box, and for a shuffled node
+// numbering.
+TEST(DistributeSlices, RcbCutsBoxesAcrossTheLongestSide) {
+  const int size = test::size_of(PETSC_COMM_WORLD);
+  const std::int64_t expected_cut[] = {0, 80, 160};
+  const std::pair<HexMesh, int> boxes[] = {{test::structured_box(18, 10, 8), 0},
+                                           {test::structured_box(8, 10, 18), 2},
+                                           {test::scattered_node_ids(test::structured_box(18, 10, 8), 7), 0}};
+  for (const auto& [mesh, axis] : boxes) {
+    const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+    const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+    DistributeReport report;
+    const DistributedMesh part = distribute_slices(slice, Partitioner::rcb, true, &report);
+    test::expect_consistent_with(mesh, part);
+    EXPECT_EQ(report.quality.edge_cut, expected_cut[size - 1]);
+    EXPECT_EQ(report.quality.largest_part, 1440 / size);
+    EXPECT_EQ(report.quality.smallest_part, 1440 / size);
+    // Every element of part p lies in the slab 18 p / size < x < 18 (p + 1) / size (x along `axis`).
+    const std::vector<int> owner = part_of_elements(part, 1440);
+    for (std::size_t e = 0; e < mesh.hexes.size(); ++e) {
+      double x = 0;
+      for (std::int64_t n : mesh.hexes[e]) x += mesh.nodes[static_cast<std::size_t>(n)][axis] / 8;
+      EXPECT_EQ(owner[e], static_cast<int>(x * size / 18)) << "element " << e << " at " << x << " along axis " << axis;
+    }
+  }
+}
+
+// Cuts through a layer of elements with equal coordinates (7x3x2: 2 parts take 21 elements
+// each, 3.5 of the 6-element x layers) are filled by input id, so parts differ by at most one
+// element.
+TEST(DistributeSlices, RcbBalancesToTheElement) {
+  const int size = test::size_of(PETSC_COMM_WORLD);
+  const HexMesh mesh = test::two_body_mesh();  // 72 + 12 elements, two bodies apart
+  for (const HexMesh& m : {test::structured_box(7, 3, 2), mesh}) {
+    const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+    const MeshSlice slice = slice_whole_mesh(root ? m : HexMesh(), PETSC_COMM_WORLD);
+    DistributeReport report;
+    const DistributedMesh part = distribute_slices(slice, Partitioner::rcb, true, &report);
+    test::expect_consistent_with(m, part);
+    const std::int64_t n = static_cast<std::int64_t>(m.hexes.size());
+    EXPECT_LE(report.quality.largest_part - report.quality.smallest_part, 1) << n << " elements on " << size << " ranks";
+    EXPECT_EQ(report.quality.largest_part, (n + size - 1) / size);
+  }
+}
+
 TEST(DistributeSlices, QualityCountsTheCutFaces) {
   // A 12x1x1 bar: element i touches i + 1 through one face, so the cut is the number of i
   // whose part differs from i + 1's, counted here from the parts the ranks received.
@@ -76,7 +133,7 @@ TEST(DistributeSlices, QualityCountsTheCutFaces) {
   const HexMesh mesh = test::structured_box(n, 1, 1);
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
   const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
-  for (Partitioner p : {Partitioner::metis, Partitioner::ptscotch}) {
+  for (Partitioner p : {Partitioner::metis, Partitioner::ptscotch, Partitioner::rcb}) {
     if (p == Partitioner::ptscotch && !ptscotch_available()) continue;
     DistributeReport report;
     const DistributedMesh part = distribute_slices(slice, p, false, &report);

@@ -1,0 +1,32 @@
+// Recursive coordinate bisection (RCB; Berger and Bokhari, IEEE Trans. Computers 36(5), 1987)
+// of a sliced mesh's elements by their centroids, in parallel: -dipc_partitioner rcb.
+//
+// A group of elements that is to become q parts is cut by a plane normal to the longest side of
+// the box around its centroids, with round(n * floor(q/2) / q) of its n elements on the low
+// side; both sides are cut again until every group is one part. Every group of a level is cut
+// at once. A cut's position is the k-th smallest centroid coordinate over all ranks, found by
+// bisection on the ordered bits of the coordinate with the counts on each side summed over the
+// ranks (MPI_Allreduce), so no rank gathers anything and a rank's work is a few dozen passes
+// over its slice per level. Elements whose coordinate equals the cut's (a whole layer of a
+// structured grid) are taken by increasing input id, so every cut hits its count exactly.
+//
+// The parts depend on the mesh and the number of parts only, not on how the mesh is sliced,
+// and repeat from run to run. Edge cuts: the same as METIS on boxes cut into a few parts, more
+// on irregular meshes, where parts can also come out disconnected (partition_quality reports
+// the cut; docs/solver.md, "Partitioning", has the measured comparison).
+#pragma once
+#include <vector>
+
+#include "partition/mesh_slice.hpp"
+
+namespace dipc {
+
+// Collective: the centroid (mean of the 8 corners) of every slice element. A rank asks the
+// home ranks of its elements' nodes for their coordinates (one all-to-all each way).
+std::vector<Vec3> element_centroids(const MeshSlice& slice);
+
+// Collective: the part (0 <= part < parts) of every slice element. Requires at least `parts`
+// elements in the mesh (partition_slice checks).
+std::vector<int> rcb_partition(const MeshSlice& slice, int parts);
+
+}  // namespace dipc
