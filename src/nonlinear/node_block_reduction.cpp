@@ -216,10 +216,17 @@ void NodeBlockReduction::entries(std::vector<PetscInt>* rows, std::vector<PetscI
   }
 }
 
-std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col) const {
-  if (row < 0 || col < 0) return -1;
-  const auto r = std::lower_bound(row_nodes.begin(), row_nodes.end(), row / 3);
-  if (r == row_nodes.end() || *r != row / 3) return -1;
+std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col, std::size_t* row_hint) const {
+  if (row < 0 || col < 0 || row_nodes.empty()) return -1;
+  const std::int64_t node = row / 3;
+  auto from = row_nodes.begin();
+  if (row_hint && *row_hint < row_nodes.size() && row_nodes[*row_hint] <= node) {
+    from += static_cast<std::ptrdiff_t>(*row_hint);
+    if (*from != node && from + 1 != row_nodes.end() && from[1] == node) ++from;  // the next row
+  }
+  const auto r = *from == node ? from : std::lower_bound(from, row_nodes.end(), node);
+  if (row_hint) *row_hint = static_cast<std::size_t>(std::min(r, row_nodes.end() - 1) - row_nodes.begin());
+  if (r == row_nodes.end() || *r != node) return -1;
   const std::size_t s = static_cast<std::size_t>(r - row_nodes.begin());
   const auto first = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s]);
   const auto last = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s + 1]);

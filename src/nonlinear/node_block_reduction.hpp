@@ -77,8 +77,11 @@ class NodeBlockReduction {
     for (int bit = 0; bit < 9; ++bit)
       if (block_mask[k] >> bit & 1u) f(entry++, 3 * row_node + bit / 3, 3 * block_col[k] + bit % 3);
   }
-  // Entry index of the dof pair (row, col), or -1 where no block holds it.
-  std::int64_t find(std::int64_t row, std::int64_t col) const;
+  // Entry index of the dof pair (row, col), or -1 where no block holds it. With row_hint, the
+  // search for the row starts at block row *row_hint and leaves there the block row it ended
+  // at: a pass over pairs sorted by row (start with 0) then finds each row in a step or two
+  // instead of a binary search (3M lumped-mass diagonal entries at 1M hexes took 0.25 s so).
+  std::int64_t find(std::int64_t row, std::int64_t col, std::size_t* row_hint = nullptr) const;
   // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).
   void reduce(const double* raw, double* unique) const;
 
