@@ -89,7 +89,7 @@ IncrementalPotential::~IncrementalPotential() {
 }
 
 PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
-                                           std::vector<char> dirichlet_dof) {
+                                           std::vector<char> dirichlet_dof, const GhostExchange* nodal) {
   PetscFunctionBeginUser;
   comm_ = mesh.comm;
   mesh_ = &mesh;
@@ -111,7 +111,10 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
   PetscCall(read_direct_matrix(comm_, &direct_matrix_allowed_));
   local_to_global_ = mesh.local_to_global;
-  PetscCall(exchange_.setup(mesh, 3));
+  if (nodal && nodal->block_size() == 3)
+    PetscCall(exchange_.share(*nodal));
+  else
+    PetscCall(exchange_.setup(mesh, 3));
   // Prescribed dofs as a distributed field, so that the flags of extra nodes can be gathered.
   PetscCall(exchange_.create_global_vec(&dirichlet_global_));
   PetscScalar* d;
@@ -279,8 +282,9 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   std::vector<PetscInt> extra_rows, extra_cols;
   const std::size_t num_scalar = reduction_.num_unique();
   scalar_target_.resize(num_scalar);
+  std::size_t row_hint = 0;  // the unique entries ascend by row
   for (std::size_t v = 0; v < num_scalar; ++v) {
-    const std::int64_t k = blocks_.find(reduction_.rows[v], reduction_.cols[v]);
+    const std::int64_t k = blocks_.find(reduction_.rows[v], reduction_.cols[v], &row_hint);
     if (k >= 0) {
       scalar_target_[v] = static_cast<std::size_t>(k);
     } else {

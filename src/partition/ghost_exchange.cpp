@@ -155,6 +155,23 @@ PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode GhostExchange::share(const GhostExchange& other) {
+  PetscFunctionBeginUser;
+  PetscCheck(other.scatter_, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE,
+             "GhostExchange::share: the other exchange is not set up");
+  if (&other == this) PetscFunctionReturn(0);
+  PetscCall(PetscObjectReference(reinterpret_cast<PetscObject>(other.scatter_)));
+  PetscCall(VecScatterDestroy(&scatter_));
+  scatter_ = other.scatter_;
+  comm_ = other.comm_;
+  bs_ = other.bs_;
+  num_owned_nodes_ = other.num_owned_nodes_;
+  num_local_nodes_ = other.num_local_nodes_;
+  num_global_nodes_ = other.num_global_nodes_;
+  local_vec_type_ = other.local_vec_type_;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode GhostExchange::create_global_vec(Vec* v) const {
   PetscFunctionBeginUser;
   PetscCheck(bs_ >= 1, PETSC_COMM_SELF, PETSC_ERR_ORDER,
