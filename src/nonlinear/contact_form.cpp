@@ -21,8 +21,9 @@ MemorySpace ContactForm::checked_space(MemorySpace space) {
   return space;
 }
 
-ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space)
-    : parameters_(std::move(parameters)), space_(checked_space(space)), set_(mesh, parameters_, space_, &stats_) {}
+ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space,
+                         const GhostExchange* nodal)
+    : parameters_(std::move(parameters)), space_(checked_space(space)), set_(mesh, parameters_, space_, &stats_, nodal) {}
 
 void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
   // IPC supplement (adaptive barrier stiffness): κ_min makes the barrier's stiffness at a

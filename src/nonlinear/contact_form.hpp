@@ -49,7 +49,9 @@ class ContactForm : public Form {
   using PairInfo = ContactSet::PairInfo;
   // space: where value, gradient, hessian and max_step run (and where their arrays live).
   // MemorySpace::device throws device::DeviceError when no CUDA device is available.
-  ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space = MemorySpace::host);
+  // nodal (optional): the caller's halo exchange of the mesh's nodes, for the set's rest areas.
+  ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space = MemorySpace::host,
+              const GhostExchange* nodal = nullptr);
   // The set refers to parameters_ and stats_: the form stays where it was built.
   ContactForm(const ContactForm&) = delete;
   ContactForm& operator=(const ContactForm&) = delete;

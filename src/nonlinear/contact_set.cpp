@@ -28,21 +28,25 @@ double triangle_area(const double* a, const double* b, const double* c) {
 }  // namespace
 
 ContactSet::ContactSet(const DistributedMesh& mesh, const ContactParameters& parameters, MemorySpace space,
-                       ContactStats* stats)
+                       ContactStats* stats, const GhostExchange* nodal)
     : comm_(mesh.comm), mesh_(mesh), parameters_(parameters), space_(space), stats_(stats),
       obstacles_(parameters.obstacles) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
   surface_ = build_contact_surface(mesh);
-  for (int n = 0; n < mesh.num_local_nodes(); ++n) global_to_local_[mesh.local_to_global[n]] = n;
 
   // Rest vertex areas: each owned triangle gives ⅓ of its area to its three nodes; the sums of
-  // all ranks meet at the owners and are copied back to every rank holding the node.
+  // all ranks meet at the owners and are copied back to every rank holding the node (as the
+  // first component of the caller's nodal exchange where there is one).
   GhostExchange scalar;
-  scalar.setup(mesh, 1);
+  if (!nodal) {
+    scalar.setup(mesh, 1);
+    nodal = &scalar;
+  }
+  const PetscInt bs = nodal->block_size();
   Vec local, global;
-  scalar.create_local_vec(&local);
-  scalar.create_global_vec(&global);
+  nodal->create_local_vec(&local);
+  nodal->create_global_vec(&global);
   VecZeroEntries(local);
   VecZeroEntries(global);
   PetscScalar* a;
@@ -50,15 +54,15 @@ ContactSet::ContactSet(const DistributedMesh& mesh, const ContactParameters& par
   for (const auto& f : surface_.faces) {
     const double area = triangle_area(mesh.coordinates[f[0]].data(), mesh.coordinates[f[1]].data(),
                                       mesh.coordinates[f[2]].data());
-    for (std::int32_t n : f) a[n] += area / 3.0;
+    for (std::int32_t n : f) a[bs * n] += area / 3.0;
   }
   VecRestoreArray(local, &a);
-  scalar.add_to_global(local, global);
-  scalar.to_local(global, local);
+  nodal->add_to_global(local, global);
+  nodal->to_local(global, local);
   const PetscScalar* ac;
   VecGetArrayRead(local, &ac);
-  for (std::int32_t v : surface_.vertices) node_area_[v] = ac[v];
-  for (const auto& e : surface_.edges) node_area_[e[0]] = ac[e[0]], node_area_[e[1]] = ac[e[1]];
+  for (std::int32_t v : surface_.vertices) node_area_[v] = ac[bs * v];
+  for (const auto& e : surface_.edges) node_area_[e[0]] = ac[bs * e[0]], node_area_[e[1]] = ac[bs * e[1]];
   VecRestoreArrayRead(local, &ac);
   VecDestroy(&local);
   VecDestroy(&global);
@@ -103,11 +107,13 @@ void ContactSet::collect_owned() {
 }
 
 std::int32_t ContactSet::ext_local(std::int64_t global_node) {
-  auto it = global_to_local_.find(global_node);
-  if (it != global_to_local_.end()) return it->second;
+  const std::int32_t m = mesh_local(global_node);
+  if (m >= 0) return m;
+  auto it = extra_local_.find(global_node);
+  if (it != extra_local_.end()) return it->second;
   const auto id = static_cast<std::int32_t>(mesh_.num_local_nodes() + extra_nodes_.size());
   extra_nodes_.push_back(global_node);
-  global_to_local_[global_node] = id;
+  extra_local_[global_node] = id;
   return id;
 }
 
@@ -160,7 +166,7 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
     previous_edges.assign(edges_.begin() + owned_edges_, edges_.end());
     previous_faces.assign(faces_.begin() + owned_faces_, faces_.end());
   }
-  for (std::int64_t g : extra_nodes_) global_to_local_.erase(g);
+  extra_local_.clear();
   extra_nodes_.clear();
   edges_.resize(owned_edges_);
   faces_.resize(owned_faces_);

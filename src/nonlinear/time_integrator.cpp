@@ -148,7 +148,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   if (gravity)
     forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2, space));
   if (problem.contact) {
-    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space);
+    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space, &exchange_);
     // κ bounds from the average nodal mass (IPC supplement).
     double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
     for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];
