@@ -4,10 +4,10 @@
 // A group of elements that is to become q parts is cut by a plane normal to the longest side of
 // the box around its centroids, with round(n * floor(q/2) / q) of its n elements on the low
 // side; both sides are cut again until every group is one part. Every group of a level is cut
-// at once. A cut's position is the k-th smallest centroid coordinate over all ranks, found by
-// bisection on the ordered bits of the coordinate with the counts on each side summed over the
-// ranks (MPI_Allreduce), so no rank gathers anything and a rank's work is a few dozen passes
-// over its slice per level. Elements whose coordinate equals the cut's (a whole layer of a
+// at once. A cut's position is the k-th smallest centroid coordinate over all ranks, found by a
+// radix selection on the coordinate's ordered bits with digit histograms summed over the ranks
+// (MPI_Allreduce), so no rank gathers anything and a rank's work is a few passes over its
+// slice per level. Elements whose coordinate equals the cut's (a whole layer of a
 // structured grid) are taken by increasing input id, so every cut hits its count exactly.
 //
 // The parts depend on the mesh and the number of parts only, not on how the mesh is sliced,
