@@ -3,7 +3,7 @@
 per phase, against the mesh size, for each rank count and partitioner.
 
   bench/setup.py [--dipc build/src/app/dipc] [--elements 100000,1000000,4000000,16000000]
-                 [--ranks 1,2] [--partitioners metis,ptscotch] [--source generated,hdf5]
+                 [--ranks 1,2] [--partitioners metis,ptscotch,rcb] [--source generated,hdf5]
                  [--tag cpu] [--out bench/results] [--timeout 600] [-- extra dipc options]
 
 The scene: one cube of n^3 hexes (n = round(elements^(1/3))), rubber (E = 1 MPa), resting 1 cm
@@ -170,7 +170,7 @@ def main():
     ap.add_argument("--dipc", default="build/src/app/dipc")
     ap.add_argument("--elements", default="100000")
     ap.add_argument("--ranks", default="1,2")
-    ap.add_argument("--partitioners", default="metis,ptscotch")
+    ap.add_argument("--partitioners", default="metis,ptscotch,rcb")
     ap.add_argument("--source", default="generated")
     ap.add_argument("--tag", default="cpu")
     ap.add_argument("--out", default="bench/results")
