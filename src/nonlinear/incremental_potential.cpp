@@ -7,31 +7,12 @@
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "nonlinear/device_matrix.hpp"
+#include "nonlinear/log_stages.hpp"
 
 namespace dipc {
 
 namespace {
-// PETSc log events (registered once per process) and a scope timer that feeds both them and
-// the EvaluationTimes counters.
-struct Events {
-  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix;
-};
-const Events& events() {
-  static Events e = [] {
-    Events r{};
-    PetscClassId id;
-    PetscClassIdRegister("dipc", &id);
-    PetscLogEventRegister("dipcEnergy", id, &r.energy);
-    PetscLogEventRegister("dipcGradient", id, &r.gradient);
-    PetscLogEventRegister("dipcHessian", id, &r.hessian);
-    PetscLogEventRegister("dipcValidity", id, &r.validity);
-    PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
-    PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
-    PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
-    return r;
-  }();
-  return e;
-}
+// A scope timer that feeds both a PETSc log event (log_stages.hpp) and an EvaluationTimes counter.
 class ScopedEvent {
  public:
   ScopedEvent(PetscLogEvent event, double* seconds) : event_(event), seconds_(seconds), start_(MPI_Wtime()) {
@@ -220,7 +201,7 @@ PetscErrorCode IncrementalPotential::build_element_blocks() {
 PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
-  PetscCall(PetscLogEventBegin(events().coo_reduction, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(log_events().coo_reduction, 0, 0, 0, 0));
   device_matrix_ = any_device_ && matrix_on_device(J_);
   // Host AIJ, and hypre on the device when the values are summed there, are made from the
   // entries directly (direct_matrix.hpp); other types and -dipc_direct_matrix 0 take PETSc's
@@ -228,9 +209,9 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   direct_kind_ = direct_matrix_allowed_ ? DirectMatrix::kind_of(J_) : DirectMatrix::Kind::coo;
   if (direct_kind_ == DirectMatrix::Kind::device_hypre && !device_matrix_) direct_kind_ = DirectMatrix::Kind::coo;
   if (!blocks_built_) {
-    PetscCall(PetscLogEventBegin(events().node_blocks, 0, 0, 0, 0));
+    PetscCall(PetscLogEventBegin(log_events().node_blocks, 0, 0, 0, 0));
     PetscCall(build_element_blocks());
-    PetscCall(PetscLogEventEnd(events().node_blocks, 0, 0, 0, 0));
+    PetscCall(PetscLogEventEnd(log_events().node_blocks, 0, 0, 0, 0));
     blocks_built_ = true;
   }
   // The other forms' raw COO lists (contact, friction, the lumped mass: small, or changing with
@@ -337,7 +318,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
     d_zero_entries_.upload(zero_entries_);
     d_one_entries_.upload(one_entries_);
   }
-  PetscCall(PetscLogEventEnd(events().coo_reduction, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(log_events().coo_reduction, 0, 0, 0, 0));
   if (direct_kind_ == DirectMatrix::Kind::coo) {
     // PETSc's COO path takes every entry as a (row, col) pair; it may reorder the index arrays it
     // is given and keeps its own copy.
@@ -353,7 +334,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   } else {
     // A new matrix of the entries; it replaces the template create_matrix() made, or the
     // contents of the matrix in use (whose handle the solvers hold).
-    PetscCall(PetscLogEventBegin(events().direct_matrix, 0, 0, 0, 0));
+    PetscCall(PetscLogEventBegin(log_events().direct_matrix, 0, 0, 0, 0));
     Mat fresh;
     PetscCall(direct_.create(J_, direct_kind_, &blocks_, extra_rows.data(), extra_cols.data(), extra_rows.size(), &fresh));
     if (template_matrix) {
@@ -362,7 +343,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
     } else {
       PetscCall(MatHeaderReplace(J_, &fresh));
     }
-    PetscCall(PetscLogEventEnd(events().direct_matrix, 0, 0, 0, 0));
+    PetscCall(PetscLogEventEnd(log_events().direct_matrix, 0, 0, 0, 0));
   }
   times_.preallocation += MPI_Wtime() - start;
   ++times_.preallocations;
@@ -434,7 +415,7 @@ PetscErrorCode IncrementalPotential::gather(Vec x) {
 
 PetscErrorCode IncrementalPotential::objective(Vec x, PetscReal* energy) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().energy, &times_.energy);
+  ScopedEvent timer(log_events().energy, &times_.energy);
   std::vector<double> values;
   PetscCall(form_values(x, &values));
   double sum = 0;
@@ -480,7 +461,7 @@ PetscErrorCode IncrementalPotential::all_ranks(bool ok, PetscBool* all) {
 PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
                                                      bool keep_prescribed) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().gradient, &times_.gradient);
+  ScopedEvent timer(log_events().gradient, &times_.gradient);
   PetscCall(gather(x));
   PetscCall(VecZeroEntries(g_local_));
   PetscCall(x_views_.begin(x_local_));
@@ -544,7 +525,7 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
   // A pattern rebuilt here is preallocation time, not Hessian time (the timers are disjoint).
   const double preallocation_before = times_.preallocation;
   {
-    ScopedEvent timer(events().hessian, &times_.hessian);
+    ScopedEvent timer(log_events().hessian, &times_.hessian);
     PetscCall(assemble_hessian(x, J));
   }
   times_.hessian -= times_.preallocation - preallocation_before;
@@ -679,7 +660,7 @@ PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) 
 
 PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().validity, &times_.validity);
+  ScopedEvent timer(log_events().validity, &times_.validity);
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
@@ -801,7 +782,7 @@ void IncrementalPotential::segment_point(PetscReal alpha) {
 
 PetscErrorCode IncrementalPotential::segment_objective(PetscReal alpha, PetscReal* energy) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().energy, &times_.energy);
+  ScopedEvent timer(log_events().energy, &times_.energy);
   segment_point(alpha);
   std::vector<double> local(forms_.size(), 0.0), values;
   const bool ok = local_values(seg_w_host_.data(), seg_w_device_.data(), local.data());
@@ -814,7 +795,7 @@ PetscErrorCode IncrementalPotential::segment_objective(PetscReal alpha, PetscRea
 
 PetscErrorCode IncrementalPotential::segment_is_valid(PetscReal alpha, PetscBool* valid) {
   PetscFunctionBeginUser;
-  ScopedEvent timer(events().validity, &times_.validity);
+  ScopedEvent timer(log_events().validity, &times_.validity);
   segment_point(alpha);
   PetscCall(all_ranks(local_valid(seg_w_host_.data(), seg_w_device_.data()), valid));
   PetscFunctionReturn(0);

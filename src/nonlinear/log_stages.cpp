@@ -15,4 +15,27 @@ const LogStages& log_stages() {
   return s;
 }
 
+const LogEvents& log_events() {
+  static LogEvents e = [] {
+    LogEvents r{};
+    PetscClassId id;
+    PetscClassIdRegister("dipc", &id);
+    PetscLogEventRegister("dipcEnergy", id, &r.energy);
+    PetscLogEventRegister("dipcGradient", id, &r.gradient);
+    PetscLogEventRegister("dipcHessian", id, &r.hessian);
+    PetscLogEventRegister("dipcValidity", id, &r.validity);
+    PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
+    PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
+    PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
+    PetscLogEventRegister("dipcSetupElements", id, &r.setup_elements);
+    PetscLogEventRegister("dipcSetupMasses", id, &r.setup_masses);
+    PetscLogEventRegister("dipcSetupForms", id, &r.setup_forms);
+    PetscLogEventRegister("dipcSetupState", id, &r.setup_state);
+    PetscLogEventRegister("dipcSetupSolver", id, &r.setup_solver);
+    PetscLogEventRegister("dipcContactCheck", id, &r.contact_check);
+    return r;
+  }();
+  return e;
+}
+
 }  // namespace dipc

@@ -1,5 +1,5 @@
-// PETSc log stages of a dipc run, so that -log_view breaks the time down by phase.
-// Registered on first use; every rank must call log_stages() in the same order.
+// PETSc log stages and events of a dipc run, so that -log_view breaks the time down by phase.
+// Registered on first use; every rank must call log_stages() and log_events() in the same order.
 #pragma once
 #include <petscsys.h>
 
@@ -10,6 +10,14 @@ struct LogStages {
 };
 const LogStages& log_stages();
 
+// Events: the potential's evaluations and matrix pattern (IncrementalPotential), and one per
+// phase of the time integrator's setup (TimeIntegrator::setup).
+struct LogEvents {
+  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix;
+  PetscLogEvent setup_elements, setup_masses, setup_forms, setup_state, setup_solver, contact_check;
+};
+const LogEvents& log_events();
+
 // Pushes a stage for the lifetime of the object.
 class StageScope {
  public:
@@ -17,6 +25,18 @@ class StageScope {
   ~StageScope() { PetscLogStagePop(); }
   StageScope(const StageScope&) = delete;
   StageScope& operator=(const StageScope&) = delete;
+};
+
+// Logs an event for the lifetime of the object.
+class EventScope {
+ public:
+  explicit EventScope(PetscLogEvent event) : event_(event) { PetscLogEventBegin(event_, 0, 0, 0, 0); }
+  ~EventScope() { PetscLogEventEnd(event_, 0, 0, 0, 0); }
+  EventScope(const EventScope&) = delete;
+  EventScope& operator=(const EventScope&) = delete;
+
+ private:
+  PetscLogEvent event_;
 };
 
 }  // namespace dipc

@@ -10,42 +10,12 @@
 #include "nonlinear/elastic_form.hpp"
 #include "nonlinear/friction_form.hpp"
 #include "nonlinear/inertia_form.hpp"
+#include "nonlinear/log_stages.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 
 namespace dipc {
 
 namespace {
-
-// -log_view events for the setup's phases (what the run header's "setup" row sums), registered
-// once per process; a Phase scope brackets one.
-struct SetupEvents {
-  PetscLogEvent elements, masses, forms, state, solver, contact_check;
-};
-const SetupEvents& setup_events() {
-  static SetupEvents e = [] {
-    SetupEvents r{};
-    PetscClassId id;
-    PetscClassIdRegister("dipc setup", &id);
-    PetscLogEventRegister("dipcSetupElements", id, &r.elements);
-    PetscLogEventRegister("dipcSetupMasses", id, &r.masses);
-    PetscLogEventRegister("dipcSetupForms", id, &r.forms);
-    PetscLogEventRegister("dipcSetupState", id, &r.state);
-    PetscLogEventRegister("dipcSetupSolver", id, &r.solver);
-    PetscLogEventRegister("dipcContactCheck", id, &r.contact_check);
-    return r;
-  }();
-  return e;
-}
-class Phase {
- public:
-  explicit Phase(PetscLogEvent event) : event_(event) { PetscLogEventBegin(event_, 0, 0, 0, 0); }
-  ~Phase() { PetscLogEventEnd(event_, 0, 0, 0, 0); }
-  Phase(const Phase&) = delete;
-  Phase& operator=(const Phase&) = delete;
-
- private:
-  PetscLogEvent event_;
-};
 
 // Lumped mass of every local node with the contributions of all ranks summed, so that
 // owned-node loops (inertia, gravity) see complete masses. They travel as the first of 3
@@ -95,11 +65,12 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   h_ = problem.dt;
   mesh_ = &mesh;
   problem_ = problem;
-  const SetupEvents& events = setup_events();
-  std::optional<Phase> phase(std::in_place, events.elements);
+  // One -log_view event per phase (log_stages.hpp), what the run header's "setup" row sums.
+  const LogEvents& events = log_events();
+  std::optional<EventScope> phase(std::in_place, events.setup_elements);
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
   PetscCall(exchange_.setup(mesh, 3));
-  phase.emplace(events.masses);
+  phase.emplace(events.setup_masses);
 
   const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
   const bool inertia = !problem.is_static;
@@ -112,7 +83,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   }
 
   // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
-  phase.emplace(events.forms);
+  phase.emplace(events.setup_forms);
   const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
   const bool on_device = space == MemorySpace::device;
@@ -166,7 +137,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   for (auto& f : forms) form_names_.push_back(f->name());
 
   // Dirichlet sets: later sets win where they overlap.
-  phase.emplace(events.state);
+  phase.emplace(events.setup_state);
   dirichlet_set_.assign(mesh.num_local_nodes(), -1);
   for (std::size_t s = 0; s < problem.dirichlet.size(); ++s)
     for (std::int32_t n : problem.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
@@ -207,7 +178,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecRestoreArray(v_, &v));
   PetscCall(VecCopy(X_, x_));
 
-  phase.emplace(events.solver);
+  phase.emplace(events.setup_solver);
   PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
                           control.alpha_floor));
