@@ -121,6 +121,11 @@ __global__ void scatter_split_kernel(const double* values, const std::uint32_t* 
   split_at(diag, num_diag, offd, pos[u]) = values[u];
 }
 
+__global__ void gather_kernel(double* out, const double* values, const std::uint32_t* index, std::size_t n) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k < n) out[k] = values[index[k]];
+}
+
 __global__ void add_split_kernel(const double* add, const std::uint32_t* pos, const std::uint8_t* keep, std::size_t n,
                                  double* diag, std::size_t num_diag, double* offd) {
   const std::size_t s = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
@@ -238,6 +243,12 @@ void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n
                    double* offd) {
   if (!n) return;
   scatter_split_kernel<<<blocks_for(n, 256), 256>>>(values, pos, n, diag, num_diag, offd);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void gather(double* out, const double* values, const std::uint32_t* index, std::size_t n) {
+  if (!n) return;
+  gather_kernel<<<blocks_for(n, 256), 256>>>(out, values, index, n);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

@@ -135,6 +135,8 @@ void add_at(double* values, const std::size_t* index, const double* add, std::si
 // store[pos[u]] = values[u] for u < n, skipping pos[u] == 0xffffffff (entries another rank holds).
 void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n, double* diag, std::size_t num_diag,
                    double* offd);
+// out[k] = values[index[k]] for k < n.
+void gather(double* out, const double* values, const std::uint32_t* index, std::size_t n);
 // store[pos[s]] = (keep[s] ? store[pos[s]] : 0) + add[s] for s < n, the positions distinct.
 void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* keep, std::size_t n, double* diag,
                std::size_t num_diag, double* offd);

@@ -43,6 +43,7 @@ void add_at(double*, const std::size_t*, const double*, std::size_t, std::size_t
 void scatter_split(const double*, const std::uint32_t*, std::size_t, double*, std::size_t, double*) {
   no_cuda("device matrix values");
 }
+void gather(double*, const double*, const std::uint32_t*, std::size_t) { no_cuda("device gather"); }
 void add_split(const double*, const std::uint32_t*, const std::uint8_t*, std::size_t, double*, std::size_t, double*) {
   no_cuda("device matrix values");
 }

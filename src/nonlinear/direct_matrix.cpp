@@ -45,8 +45,6 @@ PetscErrorCode destroy_host_arrays(void* ctx) {
 }
 }  // namespace
 
-DirectMatrix::~DirectMatrix() { PetscSFDestroy(&sf_); }
-
 DirectMatrix::Kind DirectMatrix::kind_of(Mat J) {
   PetscBool aij = PETSC_FALSE, hypre = PETSC_FALSE;
   const auto object = reinterpret_cast<PetscObject>(J);
@@ -83,7 +81,6 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   if (kind == Kind::device_hypre) {
     d_slot_position_.upload(slot_position_);
     d_slot_keep_.upload(slot_keep_);
-    d_slot_sums_.resize(slot_position_.size());
   }
   PetscFunctionReturn(0);
 }
@@ -111,15 +108,15 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   };
   const auto own_row = [&](PetscInt row) { return row >= row_begin && row < row_end; };
 
-  // Entries of other ranks' rows go to their owners; the owners' answers (a slot each) come
-  // back in the order sent. An own node's block row is read in place below; a ghost node's
-  // (the few on the partition's boundary) is expanded to its entries here.
+  // Entries of other ranks' rows go to their owners, which give each a slot; their values
+  // follow at every assembly in the order sent. An own node's block row is read in place below;
+  // a ghost node's (the few on the partition's boundary) is expanded to its entries here.
   if (on_device)
     LargePageVector<std::uint32_t>().swap(position_);
   else
     position_.assign(total, kRemote);
   std::vector<std::vector<Pair>> to(size);
-  std::vector<std::vector<PetscInt>> remote_entry(size);
+  std::vector<std::vector<std::uint32_t>> remote_entry(size);
   const PetscInt first_node = row_begin / 3;
   std::vector<std::int64_t> block_row_of_node(blocks ? static_cast<std::size_t>(num_rows / 3) : 0, -1);
   if (blocks) {
@@ -133,7 +130,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
       for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k)
         blocks->for_each_entry(node, k, [&](std::size_t entry, std::int64_t row, std::int64_t col) {
           to[owner].push_back({static_cast<PetscInt>(row), static_cast<PetscInt>(col)});
-          remote_entry[owner].push_back(static_cast<PetscInt>(entry));
+          remote_entry[owner].push_back(static_cast<std::uint32_t>(entry));
         });
     }
   }
@@ -141,7 +138,7 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     if (!own_row(rows[k])) {
       const int owner = owner_of(rows[k]);
       to[owner].push_back({rows[k], cols[k]});
-      remote_entry[owner].push_back(static_cast<PetscInt>(nb + k));
+      remote_entry[owner].push_back(static_cast<std::uint32_t>(nb + k));
     }
   std::vector<int> from;
   const std::vector<Pair> received = exchange_records(std::move(to), comm, &from);
@@ -287,29 +284,8 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     for (std::uint32_t& p : slot_position_) finish(p);
   }
 
-  // Answers to the senders, and the star forest their values travel by.
-  std::vector<std::vector<std::uint32_t>> answers(size);
-  for (std::size_t k = 0; k < received.size(); ++k) answers[from[k]].push_back(received_slot[k]);
-  const std::vector<std::uint32_t> slots = exchange_records(std::move(answers), comm);
-  long long num_remote = static_cast<long long>(slots.size()), any_remote = 0;
-  PetscCallMPI(MPI_Allreduce(&num_remote, &any_remote, 1, MPI_LONG_LONG, MPI_SUM, comm));
-  PetscCall(PetscSFDestroy(&sf_));
-  if (any_remote > 0) {
-    std::vector<PetscInt> leaves;
-    std::vector<PetscSFNode> roots;
-    leaves.reserve(slots.size());
-    roots.reserve(slots.size());
-    std::size_t next = 0;
-    for (int r = 0; r < size; ++r)
-      for (PetscInt k : remote_entry[r]) {
-        leaves.push_back(k);
-        roots.push_back({r, static_cast<PetscInt>(slots[next++])});
-      }
-    PetscCall(PetscSFCreate(comm, &sf_));
-    PetscCall(PetscSFSetGraph(sf_, static_cast<PetscInt>(slot_position_.size()), static_cast<PetscInt>(leaves.size()),
-                              leaves.data(), PETSC_COPY_VALUES, roots.data(), PETSC_COPY_VALUES));
-    PetscCall(PetscSFSetUp(sf_));
-  }
+  // The values of other ranks' rows travel to their owners at every assembly, in the order sent.
+  remote_.setup(comm, remote_entry, from, std::move(received_slot), slot_position_.size(), on_device);
   PetscFunctionReturn(0);
 }
 
@@ -523,17 +499,14 @@ PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd) c
 PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
   PetscFunctionBeginUser;
   const std::size_t nd = num_diag_, ns = slot_position_.size();
+  slot_sums_.resize(ns);
+  remote_.sum(values, slot_sums_.data());
   if (kind_ == Kind::device_hypre) {
     double *diag = nullptr, *offd = nullptr;
     PetscCall(hypre_values(J, &diag, &offd));
     device::scatter_split(values, d_position_.data(), num_entries_, diag, nd, offd);
-    if (sf_) {
-      // PETSc's SF runs on its own stream: the values must be complete before it reads them.
-      device::synchronize();
-      d_slot_sums_.set_zero();
-      PetscCall(PetscSFReduceWithMemTypeBegin(sf_, MPIU_SCALAR, PETSC_MEMTYPE_DEVICE, values, PETSC_MEMTYPE_DEVICE,
-                                              d_slot_sums_.data(), MPI_SUM));
-      PetscCall(PetscSFReduceEnd(sf_, MPIU_SCALAR, values, d_slot_sums_.data(), MPI_SUM));
+    if (ns) {
+      d_slot_sums_.upload(slot_sums_);
       device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
     }
     device::synchronize();
@@ -547,14 +520,9 @@ PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
     const auto at = [&](std::uint32_t p) -> double& { return p < nd ? diag[p] : offd[p - nd]; };
     for (std::size_t k = 0; k < num_entries_; ++k)
       if (position_[k] != kRemote) at(position_[k]) = values[k];
-    if (sf_) {
-      slot_sums_.assign(ns, 0.0);
-      PetscCall(PetscSFReduceBegin(sf_, MPIU_SCALAR, values, slot_sums_.data(), MPI_SUM));
-      PetscCall(PetscSFReduceEnd(sf_, MPIU_SCALAR, values, slot_sums_.data(), MPI_SUM));
-      for (std::size_t s = 0; s < ns; ++s) {
-        double& v = at(slot_position_[s]);
-        v = (slot_keep_[s] ? v : 0.0) + slot_sums_[s];
-      }
+    for (std::size_t s = 0; s < ns; ++s) {
+      double& v = at(slot_position_[s]);
+      v = (slot_keep_[s] ? v : 0.0) + slot_sums_[s];
     }
     PetscCall(MatSeqAIJRestoreArray(A, &diag));
     if (B) PetscCall(MatSeqAIJRestoreArray(B, &offd));

@@ -8,9 +8,9 @@
 // hands PETSc (or hypre) arrays it does not copy, and keeps one 4 B position per entry.
 //
 // Entries of rows another rank owns (the ghost rows of a rank's elements) go to their owner
-// once at creation, which adds them to its pattern; at every assembly their values travel
-// through a PetscSF and are added to the owner's (owner's value first, then the other ranks' in
-// rank order: a fixed order, so runs on the same ranks give the same bits).
+// once at creation, which adds them to its pattern; at every assembly their values travel to
+// the owner (RemoteEntrySums) and are added to its own (the owner's value first, then the
+// other ranks' in rank order: a fixed order, so runs on the same ranks give the same bits).
 //
 // Two kinds of matrix are built this way (every other type keeps the COO path):
 //   host_aij      MATSEQAIJ (MatCreateSeqAIJWithArrays) or MATMPIAIJ
@@ -25,7 +25,6 @@
 // device_hypre.
 #pragma once
 #include <petscmat.h>
-#include <petscsf.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -34,6 +33,7 @@
 #include "device/device_runtime.hpp"
 #include "nonlinear/large_page_vector.hpp"
 #include "nonlinear/node_block_reduction.hpp"
+#include "nonlinear/remote_entry_sums.hpp"
 
 namespace dipc {
 
@@ -46,7 +46,6 @@ class DirectMatrix {
   DirectMatrix() = default;
   DirectMatrix(const DirectMatrix&) = delete;
   DirectMatrix& operator=(const DirectMatrix&) = delete;
-  ~DirectMatrix();
 
   // Collective. A new matrix *J of `kind` (not coo) over the rows and columns of `like` (sizes,
   // block size, options prefix), holding the rank's entries: those of the node blocks of
@@ -102,7 +101,7 @@ class DirectMatrix {
   // whether an entry of this rank is there too (then the slot's sum is added to it).
   std::vector<std::uint32_t> slot_position_;
   std::vector<std::uint8_t> slot_keep_;
-  PetscSF sf_ = nullptr;  // leaves: this rank's remote entries; roots: the owners' slots
+  RemoteEntrySums remote_;  // the values of this rank's entries of other ranks' rows, to their slots
   std::size_t num_diag_ = 0, num_offd_ = 0;
   std::vector<double> slot_sums_;
   device::Array<std::uint32_t> d_position_{"matrix positions"}, d_slot_position_{"matrix slot positions"};
