@@ -22,6 +22,7 @@
 #include "app/output_obstacles.hpp"
 #include "app/problem_builder.hpp"
 #include "app/scene_slice.hpp"
+#include "app/setup_heap.hpp"
 #include "app/stop_signals.hpp"
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
@@ -373,6 +374,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   DistributedMesh mesh;
   double diagonal = 0;
   std::uint64_t fingerprint = 0;
+  auto setup_heap = std::make_unique<SetupHeap>();  // until the setup is done (app/setup_heap.hpp)
   double t_partition = MPI_Wtime();
   DistributeReport distribution;
   Partitioner partitioner = Partitioner::metis;
@@ -417,6 +419,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     control.check_invariants = options.check_invariants;
     PetscCall(integrator.setup(mesh, problem, control, backend.space));
   }
+  setup_heap.reset();
   StepRecovery recovery(integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
   t_setup = MPI_Wtime() - t_setup;
