@@ -79,6 +79,7 @@ struct FaceHomes {
 // faces go straight to group_faces, without a record). Counted first, so that every list is
 // allocated once.
 std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, const FaceHomes& homes) {
+  if (homes.size == 1) return std::vector<std::vector<FaceRecord>>(1);  // every face is at home: no pass to count
   std::vector<std::size_t> count(homes.size, 0);
   for_each_face(slice, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t) { ++count[homes.of(nodes)]; });
   count[homes.rank] = 0;
