@@ -21,7 +21,7 @@
 #                                  and 512,000 elements (STRONG_SIZES), with STRONG_THREADS OpenMP threads per rank
 #                                  (default 1, dipc's setting; the cores' count is what the libraries take unset)
 #   bench/gpu_runs.sh setup        time to the first Newton iteration (bench/setup.py), device-resident, on 1 GPU and,
-#                                  where the machine has more, 4M elements on 4 ranks (CUDA PETSc build; SETUP_SIZES,
+#                                  where the machine has more, 4M elements on 4 ranks with METIS and RCB (CUDA PETSc build; SETUP_SIZES,
 #                                  default 1000000,4000000; SETUP_BASE: another dipc, e.g. before a change, run too)
 #   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
 #                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
@@ -83,7 +83,7 @@ case "${1:-}" in
       run python3 bench/setup.py --dipc "$d" --elements ${SETUP_SIZES:-1000000,4000000} --ranks 1 --partitioners metis \
         --tag "$tag" --out "$out" --timeout 300 -- "${device_opts[@]}"
       if ((gpus >= 4)); then
-        run python3 bench/setup.py --dipc "$d" --elements 4000000 --ranks 4 --partitioners metis \
+        run python3 bench/setup.py --dipc "$d" --elements 4000000 --ranks 4 --partitioners metis,rcb \
           --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
       fi
     done ;;
