@@ -35,8 +35,7 @@ class RemoteEntrySums {
   // Throws std::length_error where a message would exceed MPI's int counts.
   void setup(MPI_Comm comm, const std::vector<std::vector<std::uint32_t>>& send, const std::vector<int>& received_from,
              std::vector<std::uint32_t> received_slot, std::size_t num_slots, bool on_device);
-  std::size_t num_slots() const { return num_slots_; }
-  // Collective over the ranks this one exchanges with: sums[s] for s < num_slots(), host
+  // Collective over the ranks this one exchanges with: sums[s] for the num_slots of setup(), host
   // memory, from the values the other ranks hold. values: this rank's entries (host or device
   // memory, as setup() said).
   void sum(const double* values, double* sums);
