@@ -6,6 +6,8 @@ every rank, not only mpirun.
     text, status, cmd = run_dipc("build/src/app/dipc", 2, [scene, "-dipc_no_output"], timeout=300)
 
 text is stdout + stderr, status the exit status or "timeout", cmd the command line as a list.
+cores_per_rank binds each rank to that many cores (Open MPI's --map-by slot:PE=K), where dipc's
+setup threads run (-dipc_host_threads); without it Open MPI binds 1 or 2 ranks to one core each.
 """
 import os
 import signal
@@ -18,8 +20,9 @@ def mpi_env():
                 OMPI_MCA_rmaps_base_oversubscribe="1")
 
 
-def run_dipc(dipc, ranks, args, timeout=None):
-    cmd = ["mpirun", "-n", str(ranks), dipc] + [str(a) for a in args]
+def run_dipc(dipc, ranks, args, timeout=None, cores_per_rank=None):
+    binding = ["--map-by", "slot:PE=%d" % cores_per_rank] if cores_per_rank else []
+    cmd = ["mpirun", "-n", str(ranks)] + binding + [dipc] + [str(a) for a in args]
     # A session of its own, so that a timeout can end mpirun and its ranks together (killing
     # mpirun alone with SIGKILL leaves the ranks running).
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=mpi_env(),

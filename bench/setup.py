@@ -4,7 +4,8 @@ per phase, against the mesh size, for each rank count and partitioner.
 
   bench/setup.py [--dipc build/src/app/dipc] [--elements 100000,1000000,4000000,16000000]
                  [--ranks 1,2] [--partitioners metis,ptscotch,rcb] [--source generated,hdf5]
-                 [--tag cpu] [--out bench/results] [--timeout 600] [-- extra dipc options]
+                 [--tag cpu] [--out bench/results] [--timeout 600] [--cores-per-rank K]
+                 [-- extra dipc options]
 
 The scene: one cube of n^3 hexes (n = round(elements^(1/3))), rubber (E = 1 MPa), resting 1 cm
 above the contact plane z = 0 under gravity, contact on, so the setup builds the contact surface
@@ -16,6 +17,8 @@ which builds everything up to the first Newton iteration and stops. From its rep
   partition_s, setup_s        the timing table's rows (slowest rank); first_iteration_s = their sum
   slices_s .. surface_s       the partition's phases (run header, slowest rank per phase)
   edge_cut, interior_faces, imbalance   the partition's quality (run header)
+  setup_threads               rank 0's threads for the partition's and the setup's host loops
+                              (run header; --cores-per-rank K binds each rank to K cores for them)
   rss_*_mib                   peak resident memory (ru_maxrss) after partition / after setup,
                               largest and smallest rank; mib_per_melement_rank = largest rank's
                               peak over its share of the elements in millions
@@ -35,7 +38,7 @@ import time
 
 from run_dipc import run_dipc
 
-FIELDS = ["elements", "ranks", "partitioner", "source", "first_iteration_s", "partition_s", "setup_s", "slices_s",
+FIELDS = ["elements", "ranks", "partitioner", "source", "setup_threads", "first_iteration_s", "partition_s", "setup_s", "slices_s",
           "faces_s", "partitioner_s", "quality_s", "elements_s", "nodes_s", "surface_s", "edge_cut", "interior_faces",
           "imbalance", "rss_partition_max_mib", "rss_setup_max_mib", "rss_setup_min_mib", "mib_per_melement_rank",
           "cpu_s", "wall_s", "status"]
@@ -87,6 +90,9 @@ def parse(text):
     if m:
         row["rss_partition_max_mib"] = float(m.group(1))
         row["rss_setup_max_mib"], row["rss_setup_min_mib"] = float(m.group(3)), float(m.group(4))
+    m = re.search(r"setup threads (\d+)", text)
+    if m:
+        row["setup_threads"] = int(m.group(1))
     m = re.search(r"elements (\d+) \(", text)
     if m:
         row["elements"] = int(m.group(1))
@@ -106,7 +112,7 @@ def run_one(args, n, ranks, partitioner, source, workdir):
     start = time.time()
     text, status, cmd = run_dipc(args.dipc, ranks, [scene, "-dipc_setup_only", "-dipc_no_output",
                                                     "-dipc_partitioner", partitioner] + args.extra,
-                                 timeout=args.timeout)
+                                 timeout=args.timeout, cores_per_rank=args.cores_per_rank)
     wall = time.time() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     row = {"elements": n ** 3, "ranks": ranks, "partitioner": partitioner, "source": source, "status": status,
@@ -175,6 +181,8 @@ def main():
     ap.add_argument("--tag", default="cpu")
     ap.add_argument("--out", default="bench/results")
     ap.add_argument("--timeout", type=float, default=600)
+    ap.add_argument("--cores-per-rank", type=int, default=None,
+                    help="bind each rank to this many cores (mpirun --map-by slot:PE=K) for the setup threads")
     ap.add_argument("extra", nargs="*", help="after --: more dipc options")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)

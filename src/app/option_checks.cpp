@@ -113,6 +113,7 @@ const std::vector<OptionSpec>& dipc_option_specs() {
       text("-dipc_restart"),
       one_of("-dipc_partitioner", "metis ptscotch rcb auto"),
       integer_at_least("-dipc_metis_max_elements", 1),
+      integer_at_least("-dipc_host_threads", 0),
   };
   return specs;
 }

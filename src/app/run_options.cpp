@@ -30,7 +30,7 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscReal dt_min = o->dt_min > 0 ? o->dt_min : scene.dt / 1024;
   PetscBool no_output = o->write_output ? PETSC_FALSE : PETSC_TRUE, quiet = o->quiet ? PETSC_TRUE : PETSC_FALSE;
   PetscBool setup_only = o->setup_only ? PETSC_TRUE : PETSC_FALSE;
-  PetscInt partitioner = 3, metis_max = static_cast<PetscInt>(o->metis_max_elements);
+  PetscInt partitioner = 3, metis_max = static_cast<PetscInt>(o->metis_max_elements), host_threads = o->host_threads;
   for (PetscInt i = 0; i < 4; ++i)
     if (o->partitioner == kPartitioners[i]) partitioner = i;
   PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
@@ -69,6 +69,10 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscCall(PetscOptionsInt("-dipc_metis_max_elements",
                             "Largest mesh (elements) that -dipc_partitioner auto partitions with METIS on rank 0", kManual,
                             metis_max, &metis_max, nullptr));
+  PetscCall(PetscOptionsInt("-dipc_host_threads",
+                            "Threads per rank of the partition's and the setup's host loops (0: the cores this rank may "
+                            "run on, shared with the node's other ranks on them)",
+                            kManual, host_threads, &host_threads, nullptr));
   PetscCall(PetscOptionsBool("-dipc_setup_only",
                              "Build the mesh, partition and solver setup, report them and take no step (setup benchmarks)",
                              kManual, setup_only, &setup_only, nullptr));
@@ -106,6 +110,7 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   o->auto_gpu_min_elements = crossover;
   o->partitioner = kPartitioners[partitioner];
   o->metis_max_elements = metis_max;
+  o->host_threads = static_cast<int>(host_threads);
   o->setup_only = setup_only;
   o->dt_min = dt_min;
   o->output_substeps = substeps;

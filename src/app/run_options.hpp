@@ -40,6 +40,9 @@ struct RunOptions {
   // on rank 0 up to metis_max_elements elements; above, PT-Scotch where PETSc has it, RCB otherwise.
   std::string partitioner = "auto";
   long metis_max_elements = 4000000;
+  // Threads of the partition's and the setup's host loops (-dipc_host_threads; 0: automatic,
+  // app/openmp_threads.hpp: choose_host_threads).
+  int host_threads = 0;
   std::string restart;  // -dipc_restart FILE | auto (the newest checkpoint in the output directory); "": none
 };
 

@@ -294,7 +294,7 @@ struct DeviceUse {
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
                             TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
                             double dt_min, const BackendChoice& backend, const DeviceUse& device_use,
-                            const OpenMpThreads& threads) {
+                            const OpenMpThreads& threads, const HostThreads& host_threads) {
   PetscFunctionBeginUser;
   int size;
   MPI_Comm_size(comm, &size);
@@ -314,10 +314,11 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   const std::string per_rank_threads =
       !threads.available ? "library default (built without OpenMP)"
                          : std::to_string(threads.threads) + (threads.from_environment ? " (OMP_NUM_THREADS)" : "");
-  PetscCall(PetscPrintf(comm, "  ranks %d | OpenMP threads per rank %s | backend %s | elements %lld (%d..%d per rank) | "
-                        "nodes %lld | dofs %d\n",
-                        size, per_rank_threads.c_str(), backend.description.c_str(), (long long)mesh.num_global_elements,
-                        ne_min, ne_max, (long long)mesh.num_global_nodes, (int)integrator.num_dofs()));
+  PetscCall(PetscPrintf(comm, "  ranks %d | OpenMP threads per rank %s | setup threads %d (%s) | backend %s | "
+                        "elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
+                        size, per_rank_threads.c_str(), host_threads.threads, host_threads.why.c_str(),
+                        backend.description.c_str(), (long long)mesh.num_global_elements, ne_min, ne_max,
+                        (long long)mesh.num_global_nodes, (int)integrator.num_dofs()));
   if (backend.space == MemorySpace::device) {
     // Measured on each rank as the drop in free device memory over the setup; the largest shown.
     double used = static_cast<double>(device_use.free_before) - static_cast<double>(device_use.free_after), max_used;
@@ -361,6 +362,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   *result = RunResult{};
   const OpenMpThreads threads = limit_openmp_threads();
   result->openmp_threads = threads.threads;
+  const HostThreads host_threads = choose_host_threads(comm, options.host_threads, threads);
   const LogStages& stages = log_stages();
   PetscBool device_types;
   PetscCall(default_types_for_device_hypre(&device_types));
@@ -428,7 +430,8 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   // nothing read is misspelt or unknown, and would otherwise be ignored.
   check_no_unknown_options(comm);
   if (options.report) {
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads));
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads,
+                           host_threads));
     // The partition's quality and where the partition phase's time went (slowest rank per part).
     double parts[7] = {t_slices, distribution.match_faces, distribution.partition, distribution.quality_check,
                        distribution.elements, distribution.nodes, distribution.surface};

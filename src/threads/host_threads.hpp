@@ -1,0 +1,43 @@
+// Host threads for the loops of the partition and the setup (issue 14: each GPU of the hosts
+// dipc runs on comes with 16 or more cores, and the setup's host work ran on one of them).
+//
+// A loop over [0, n) is cut into contiguous chunks, one per thread: chunk c of k covers
+// [n c / k, n (c + 1) / k). Callers write their results so that they do not depend on k (each
+// item's own output, or per-chunk lists joined in chunk order), which the tests check by
+// running the same input on 1 and on several threads. The count is set once by the program
+// (app/openmp_threads.hpp); the libraries' default is 1, so that a test or a tool that does
+// not ask runs as before.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+namespace dipc {
+
+// Threads for the host loops below (>= 1).
+int host_threads();
+void set_host_threads(int threads);
+// False where dipc was built without OpenMP: the chunks then run one after the other.
+bool host_threads_available();
+
+// Runs body(chunk, begin, end) for each of the k chunks of [0, n) and returns k: at most
+// host_threads(), and fewer when chunks would hold less than `grain` items (a thread's start
+// costs microseconds). Chunks run at once, each on its own thread. An exception thrown by a
+// chunk is rethrown after every chunk has ended (that of the lowest chunk, when several throw).
+int parallel_chunks(std::size_t n, const std::function<void(int chunk, std::size_t begin, std::size_t end)>& body,
+                    std::size_t grain = 4096);
+
+// parallel_chunks for a body that does not need its chunk's index.
+inline void parallel_for(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body,
+                         std::size_t grain = 4096) {
+  parallel_chunks(n, [&body](int, std::size_t begin, std::size_t end) { body(begin, end); }, grain);
+}
+
+// `value` += `add` atomically (relaxed order: a count or a slot whose final value, not the
+// order of the additions, is what the caller uses). Returns the value before the addition.
+template <class T>
+T atomic_fetch_add(T& value, T add) {
+  return __atomic_fetch_add(&value, add, __ATOMIC_RELAXED);
+}
+
+}  // namespace dipc
