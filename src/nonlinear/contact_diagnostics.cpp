@@ -11,6 +11,7 @@
 #include "contact/segment_triangle.hpp"
 #include "math/aabb.hpp"
 #include "nonlinear/contact_set.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -129,35 +130,51 @@ long ContactSet::count_intersections(const double* x, std::string* first) const 
   // the tree; it is picked as the edges are visited (sorting every edge's overlaps by that key
   // took most of the 0.2 s this check cost at setup for a 1M-hex cube's 180K surface edges).
   std::vector<Aabb> face_box(faces_.size());
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    face_box[f] = aabb_empty();
-    for (int k = 0; k < 3; ++k) aabb_add_point(&face_box[f], x + 3 * faces_[f].node[k]);
-  }
+  parallel_for(faces_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      face_box[f] = aabb_empty();
+      for (int k = 0; k < 3; ++k) aabb_add_point(&face_box[f], x + 3 * faces_[f].node[k]);
+    }
+  });
   const contact::Bvh tree(face_box);
   const auto before = [&face_box](std::size_t f, std::size_t g) {
     return face_box[f].lo[0] != face_box[g].lo[0] ? face_box[f].lo[0] < face_box[g].lo[0] : f < g;
   };
+  // The edges in chunks on the host threads; a chunk's first crossing is that of its first edge
+  // with one, so the lowest chunk with a crossing holds the first overall.
+  struct Found {
+    long count = 0;
+    std::size_t edge = 0, face = 0;
+  };
+  std::vector<Found> found(static_cast<std::size_t>(host_threads()));
+  parallel_chunks(owned_edges_, [&](int chunk, std::size_t begin, std::size_t end) {
+    Found& mine = found[static_cast<std::size_t>(chunk)];
+    for (std::size_t e = begin; e < end; ++e) {
+      const Primitive& edge = edges_[e];
+      Aabb eb = aabb_empty();
+      aabb_add_point(&eb, x + 3 * edge.node[0]);
+      aabb_add_point(&eb, x + 3 * edge.node[1]);
+      tree.for_each_overlap(eb, [&](std::int32_t fi) {
+        const std::size_t f = static_cast<std::size_t>(fi);
+        const Primitive& face = faces_[f];
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 3; ++b)
+            if (edge.node[a] == face.node[b]) return;
+        if (!segment_crosses_triangle(x + 3 * edge.node[0], x + 3 * edge.node[1], x + 3 * face.node[0],
+                                      x + 3 * face.node[1], x + 3 * face.node[2]))
+          return;
+        if (mine.count++ == 0)
+          mine.edge = e, mine.face = f;
+        else if (e == mine.edge && before(f, mine.face))
+          mine.face = f;
+      });
+    }
+  }, 256);
   long count = 0;
   std::size_t first_edge = 0, first_face = 0;
-  for (std::size_t e = 0; e < owned_edges_; ++e) {
-    const Primitive& edge = edges_[e];
-    Aabb eb = aabb_empty();
-    aabb_add_point(&eb, x + 3 * edge.node[0]);
-    aabb_add_point(&eb, x + 3 * edge.node[1]);
-    tree.for_each_overlap(eb, [&](std::int32_t fi) {
-      const std::size_t f = static_cast<std::size_t>(fi);
-      const Primitive& face = faces_[f];
-      for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 3; ++b)
-          if (edge.node[a] == face.node[b]) return;
-      if (!segment_crosses_triangle(x + 3 * edge.node[0], x + 3 * edge.node[1], x + 3 * face.node[0],
-                                    x + 3 * face.node[1], x + 3 * face.node[2]))
-        return;
-      if (count++ == 0)
-        first_edge = e, first_face = f;
-      else if (e == first_edge && before(f, first_face))
-        first_face = f;
-    });
+  for (const Found& chunk : found) {
+    if (count == 0 && chunk.count > 0) first_edge = chunk.edge, first_face = chunk.face;
+    count += chunk.count;
   }
   if (count > 0 && first) {
     const Primitive &edge = edges_[first_edge], &face = faces_[first_face];

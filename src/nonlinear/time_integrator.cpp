@@ -12,6 +12,7 @@
 #include "nonlinear/inertia_form.hpp"
 #include "nonlinear/log_stages.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -31,11 +32,22 @@ PetscErrorCode assemble_node_masses(const DistributedMesh& mesh, const ElementDa
   PetscScalar* m;
   PetscCall(VecZeroEntries(local));
   PetscCall(VecGetArray(local, &m));
-  for (int e = 0; e < elements.num_elements(); ++e) {
-    double X[24], me[8];
-    elements.gather_reference(e, X);
-    hex8_lumped_mass(X, elements.rho[e], me);
-    for (int a = 0; a < 8; ++a) m[bs * elements.nodes[8 * static_cast<std::size_t>(e) + a]] += me[a];
+  // The element masses of a batch on the host threads, then their sums in element order on
+  // one, so that every node's sum has the same terms in the same order for any thread count.
+  const std::size_t ne = static_cast<std::size_t>(elements.num_elements()), batch = std::size_t{1} << 16;
+  std::vector<double> element_mass(8 * std::min(ne, batch));
+  for (std::size_t first = 0; first < ne; first += batch) {
+    const std::size_t count = std::min(batch, ne - first);
+    parallel_for(count, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const int e = static_cast<int>(first + i);
+        double X[24];
+        elements.gather_reference(e, X);
+        hex8_lumped_mass(X, elements.rho[e], &element_mass[8 * i]);
+      }
+    });
+    for (std::size_t i = 0; i < count; ++i)
+      for (int a = 0; a < 8; ++a) m[bs * elements.nodes[8 * (first + i) + a]] += element_mass[8 * i + a];
   }
   PetscCall(VecRestoreArray(local, &m));
   PetscCall(VecZeroEntries(global));

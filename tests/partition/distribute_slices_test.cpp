@@ -1,7 +1,7 @@
 // distribute_slices under MPI (1, 2 and 3 ranks): with METIS it rebuilds distribute_mesh's
 // parts field by field from slices; with PT-Scotch its parts are consistent with the input
 // mesh and balanced; RCB cuts boxes where the geometry says, balanced to the element, whatever
-// the numbering; slices round-trip; errors stop every rank.
+// the numbering; slices round-trip; errors stop every rank; the host threads change nothing.
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
@@ -13,6 +13,7 @@
 #include "partition/distributed_mesh.hpp"
 #include "partition/mesh_slice.hpp"
 #include "partition/partition_error.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -166,6 +167,53 @@ TEST(DistributeSlices, FaceOfThreeElementsThrowsOnEveryRank) {
   } catch (const PartitionError& e) {
     EXPECT_NE(std::string(e.what()).find("3 elements share one face"), std::string::npos) << e.what();
   }
+}
+
+// The partition's loops on 1 and on 4 host threads: the same parts, field by field, and the same
+// quality report. The meshes are large enough (27,000 and 16,000 elements) for several chunks
+// per loop, and one has scattered node ids (TouchedNodes' sorted path).
+TEST(DistributeSlices, HostThreadsGiveTheSameParts) {
+  const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+  for (const HexMesh& mesh : {test::structured_box(30, 30, 30),
+                              test::scattered_node_ids(test::concatenate(test::structured_box(25, 20, 20),
+                                                                         test::structured_box(10, 10, 10, {0, 0, 21}, 1)),
+                                                       7)}) {
+    const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+    for (Partitioner p : {Partitioner::metis, Partitioner::rcb}) {
+      DistributeReport one, four;
+      set_host_threads(1);
+      const DistributedMesh expected = distribute_slices(slice, p, true, &one);
+      set_host_threads(4);
+      const DistributedMesh part = distribute_slices(slice, p, true, &four);
+      set_host_threads(1);
+      test::expect_identical(expected, part);
+      EXPECT_EQ(one.quality.edge_cut, four.quality.edge_cut);
+      EXPECT_EQ(one.quality.dual_edges, four.quality.dual_edges);
+    }
+  }
+}
+
+// A face of three elements late in a large mesh: 4 threads name the same elements as one.
+TEST(DistributeSlices, HostThreadsReportTheSameSharedFace) {
+  HexMesh mesh = test::structured_box(30, 30, 20);
+  const std::size_t copied = mesh.hexes.size() - 100;
+  mesh.hexes.push_back(mesh.hexes[copied]);
+  mesh.body.push_back(0);
+  const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
+  const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
+  std::string messages[2];
+  for (int threads : {1, 4}) {
+    set_host_threads(threads);
+    try {
+      distribute_slices(slice, Partitioner::metis);
+      ADD_FAILURE() << "expected PartitionError";
+    } catch (const PartitionError& e) {
+      messages[threads == 4] = e.what();
+    }
+  }
+  set_host_threads(1);
+  EXPECT_NE(messages[0].find(", " + std::to_string(copied) + ","), std::string::npos) << "[" << messages[0] << "]";
+  EXPECT_EQ(messages[0], messages[1]);
 }
 
 TEST(DistributeSlices, UnknownPartitionerIsNamed) {
