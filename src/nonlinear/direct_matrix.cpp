@@ -6,7 +6,9 @@
 #include <utility>
 
 #include "assembly/cuda/block_rows.hpp"
+#include "nonlinear/log_stages.hpp"
 #include "partition/mpi_exchange.hpp"
+#include "threads/host_threads.hpp"
 
 // PetscObjectStateIncrease: PETSc's objects count their changes in a state that the solvers
 // compare (a preconditioner is set up again when its matrix's state moved); values written
@@ -73,7 +75,11 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   PetscCallMPI(MPI_Allgather(&m, 1, MPIU_INT, row_starts_.data() + 1, 1, MPIU_INT, comm));
   for (int r = 0; r < size; ++r) row_starts_[r + 1] += row_starts_[r];
   row_begin_ = row_starts_[rank];
-  PetscCall(build_pattern(comm, m, blocks, rows, cols, n));
+  {
+    EventScope event(log_events().matrix_rows);
+    PetscCall(build_pattern(comm, m, blocks, rows, cols, n));
+  }
+  EventScope event(log_events().matrix_make);
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
@@ -168,110 +174,157 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   };
 
   // Per row: its distinct columns in the kind's order, each given the next position of its
-  // block; an own entry takes that position, received ones a slot there.
+  // block; an own entry takes that position, received ones a slot there. The rows go in chunks
+  // on the host threads, in two passes: the first counts each row's columns (and keeps the
+  // sorted entries of the rows that are not node blocks alone), the second writes every row at
+  // the place the counts give. The arrays are those of one pass in row order, for any number
+  // of threads.
+  const PetscInt node_begin = col_begin / 3, node_end = col_end / 3;
+  const auto is_diag = [&](PetscInt col) { return col >= col_begin && col < col_end; };
+  const auto block_row = [&](PetscInt r) { return blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1; };
+  // Rows made of node blocks alone (most rows): distinct and ascending, read in place.
+  const auto blocks_only = [&](PetscInt r) { return block_row(r) >= 0 && row_count[r] == row_count[r + 1]; };
+  using Entry = std::pair<PetscInt, std::uint32_t>;  // (column, source)
+  struct Chunk {
+    std::vector<Entry> line;              // the other rows' entries: by column, own first, row after row
+    std::vector<std::size_t> line_start;  // where each of those rows starts in `line`, and the end
+    // What the chunk's rows add to the lists kept in row order: counted, then their starts.
+    std::size_t slots = 0, side_diag = 0, side_offd = 0, side_position = 0;
+  };
+  std::vector<Chunk> chunk(static_cast<std::size_t>(host_threads()));
   diag_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
-  diag_j_.clear();
-  offd_j_.clear();
-  if (!on_device) diag_j_.reserve(total + received.size());  // at most: remote entries and repeats fewer
-  slot_position_.clear();
-  slot_keep_.clear();
   device_block_row_.assign(on_device ? static_cast<std::size_t>(num_rows) : 0, -1);
-  side_diag_.clear(), side_offd_.clear(), side_position_.clear();
-  std::vector<std::uint32_t> received_slot(received.size());
-  std::vector<std::pair<PetscInt, std::uint32_t>> line;
-  std::uint32_t num_diag = 0, num_offd = 0;
-  // A column's place in its block (a provisional one in the off-diagonal block), and an own
-  // entry's position: in the host's arrays, or (on_device) listed for the device.
-  const auto next_position = [&](PetscInt col) {
-    if (col >= col_begin && col < col_end) {
-      if (on_device)
-        side_diag_.push_back({num_diag, col - col_begin});
-      else
-        diag_j_.push_back(col - col_begin);
-      return num_diag++;
-    }
-    if (on_device)
-      side_offd_.push_back({num_offd, col});
-    else
-      offd_j_.push_back(col);
-    return kOffdFlag | num_offd++;
-  };
-  const auto set_position = [&](std::size_t entry, std::uint32_t p) {
-    if (on_device)
-      side_position_.push_back({static_cast<std::uint32_t>(entry), p});
-    else
-      position_[entry] = p;
-  };
-  for (PetscInt r = 0; r < num_rows; ++r) {
-    line.clear();
-    const PetscInt row = row_begin + r;
-    // Row 3 node + i of a node block row: the i-th row of each of its blocks, columns ascending.
-    const std::int64_t s = blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1;
-    if (s >= 0 && row_count[r] == row_count[r + 1] && on_device) {
-      // The blocks' entries alone, written on the device (device::write_block_rows): counted here.
+  const std::size_t row_grain = 512;
+  const int chunks = parallel_chunks(static_cast<std::size_t>(num_rows), [&](int c, std::size_t r0, std::size_t r1) {
+    Chunk& mine = chunk[static_cast<std::size_t>(c)];
+    std::vector<Entry> line;
+    for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
+      const std::int64_t s = block_row(r);
       const int i = static_cast<int>(r % 3);
-      const std::int64_t node_begin = col_begin / 3, node_end = col_end / 3;
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-        const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
-        const std::int64_t c = blocks->block_col[k];
-        (c >= node_begin && c < node_end ? num_diag : num_offd) += present;
-      }
-      device_block_row_[static_cast<std::size_t>(r)] = s;
-      diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
-      offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
-      continue;
-    }
-    if (s >= 0 && row_count[r] == row_count[r + 1]) {
-      // The blocks' entries alone (most rows): distinct and ascending, written where they lie;
-      // the order the general path below gives.
-      const int i = static_cast<int>(r % 3);
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-        const unsigned mask = blocks->block_mask[k];
-        for (int j = 0; j < 3; ++j)
-          if (mask >> (3 * i + j) & 1u)
-            position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
-                next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
-      }
-      diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
-      offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
-      continue;
-    }
-    if (s >= 0) {
-      const int i = static_cast<int>(r % 3);
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-        const unsigned mask = blocks->block_mask[k];
-        for (int j = 0; j < 3; ++j) {
-          const int bit = 3 * i + j;
-          if (mask >> bit & 1u)
-            line.emplace_back(static_cast<PetscInt>(3 * blocks->block_col[k] + j),
-                              static_cast<std::uint32_t>(blocks->block_start[k] + entry_in_block(mask, bit)));
+      PetscInt n_diag = 0, n_offd = 0;
+      if (blocks_only(r)) {
+        for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+          const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
+          const std::int64_t col_node = blocks->block_col[k];
+          (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
+        }
+        if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
+      } else {
+        line.clear();
+        if (s >= 0)
+          for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+            const unsigned mask = blocks->block_mask[k];
+            for (int j = 0; j < 3; ++j) {
+              const int bit = 3 * i + j;
+              if (mask >> bit & 1u)
+                line.emplace_back(static_cast<PetscInt>(3 * blocks->block_col[k] + j),
+                                  static_cast<std::uint32_t>(blocks->block_start[k] + entry_in_block(mask, bit)));
+            }
+          }
+        for (std::size_t k = row_count[r]; k < row_count[r + 1]; ++k) line.emplace_back(column_of(source[k]), source[k]);
+        // By column; own entries, then received ones in arrival order. The element blocks give
+        // most rows already sorted.
+        if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
+        const PetscInt row = row_begin + r;
+        if (on_device) std::stable_partition(line.begin(), line.end(), [&](const Entry& e) { return e.first == row; });
+        mine.line_start.push_back(mine.line.size());
+        mine.line.insert(mine.line.end(), line.begin(), line.end());
+        for (std::size_t a = 0; a < line.size();) {
+          std::size_t b = a + 1;
+          while (b < line.size() && line[b].first == line[a].first) ++b;
+          const bool own = !is_received(line[a].second);
+          (is_diag(line[a].first) ? n_diag : n_offd) += 1;
+          if (on_device) (is_diag(line[a].first) ? mine.side_diag : mine.side_offd) += 1, mine.side_position += own;
+          mine.slots += b > a + (own ? 1 : 0);
+          a = b;
         }
       }
+      diag_i_[r + 1] = n_diag;
+      offd_i_[r + 1] = n_offd;
     }
-    for (std::size_t k = row_count[r]; k < row_count[r + 1]; ++k) line.emplace_back(column_of(source[k]), source[k]);
-    // By column; own entries, then received ones in arrival order. The element blocks give
-    // most rows already sorted.
-    if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
-    if (on_device)
-      std::stable_partition(line.begin(), line.end(), [&](const auto& e) { return e.first == row; });
-    for (std::size_t a = 0; a < line.size();) {
-      std::size_t b = a + 1;
-      while (b < line.size() && line[b].first == line[a].first) ++b;
-      const std::uint32_t p = next_position(line[a].first);
-      const bool own = !is_received(line[a].second);
-      if (own) set_position(line[a].second, p);
-      if (b > a + (own ? 1 : 0)) {
-        for (std::size_t c = a + (own ? 1 : 0); c < b; ++c)
-          received_slot[line[c].second - total] = static_cast<std::uint32_t>(slot_position_.size());
-        slot_position_.push_back(p);
-        slot_keep_.push_back(own ? 1 : 0);
-      }
-      a = b;
-    }
-    diag_i_[r + 1] = static_cast<PetscInt>(num_diag);
-    offd_i_[r + 1] = static_cast<PetscInt>(num_offd);
+    mine.line_start.push_back(mine.line.size());
+  }, row_grain);
+  for (PetscInt r = 0; r < num_rows; ++r) diag_i_[r + 1] += diag_i_[r], offd_i_[r + 1] += offd_i_[r];
+  const std::uint32_t num_diag = static_cast<std::uint32_t>(diag_i_[num_rows]);
+  const std::uint32_t num_offd = static_cast<std::uint32_t>(offd_i_[num_rows]);
+  std::size_t total_slots = 0, total_side_diag = 0, total_side_offd = 0, total_side_position = 0;
+  for (int c = 0; c < chunks; ++c) {
+    Chunk& k = chunk[static_cast<std::size_t>(c)];
+    total_slots += std::exchange(k.slots, total_slots);
+    total_side_diag += std::exchange(k.side_diag, total_side_diag);
+    total_side_offd += std::exchange(k.side_offd, total_side_offd);
+    total_side_position += std::exchange(k.side_position, total_side_position);
   }
+  if (on_device) {
+    diag_j_.clear(), offd_j_.clear();
+  } else {
+    diag_j_.resize(num_diag);
+    offd_j_.resize(num_offd);
+  }
+  side_diag_.resize(total_side_diag), side_offd_.resize(total_side_offd), side_position_.resize(total_side_position);
+  slot_position_.resize(total_slots);
+  slot_keep_.resize(total_slots);
+  std::vector<std::uint32_t> received_slot(received.size());
+  parallel_chunks(static_cast<std::size_t>(num_rows), [&](int c, std::size_t r0, std::size_t r1) {
+    Chunk& mine = chunk[static_cast<std::size_t>(c)];
+    std::size_t general = 0;
+    for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
+      // A column's place in its block (a provisional one in the off-diagonal block).
+      std::uint32_t d = static_cast<std::uint32_t>(diag_i_[r]), o = static_cast<std::uint32_t>(offd_i_[r]);
+      const auto next_position = [&](PetscInt col) {
+        if (is_diag(col)) {
+          if (on_device)
+            side_diag_[mine.side_diag++] = {d, col - col_begin};
+          else
+            diag_j_[d] = col - col_begin;
+          return d++;
+        }
+        if (on_device)
+          side_offd_[mine.side_offd++] = {o, col};
+        else
+          offd_j_[o] = col;
+        return kOffdFlag | o++;
+      };
+      if (blocks_only(r)) {
+        if (on_device) continue;
+        const std::int64_t s = block_row(r);
+        const int i = static_cast<int>(r % 3);
+        for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+          const unsigned mask = blocks->block_mask[k];
+          for (int j = 0; j < 3; ++j)
+            if (mask >> (3 * i + j) & 1u)
+              position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
+                  next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
+        }
+        continue;
+      }
+      const Entry* line = mine.line.data() + mine.line_start[general];
+      const std::size_t size = mine.line_start[general + 1] - mine.line_start[general];
+      ++general;
+      for (std::size_t a = 0; a < size;) {
+        std::size_t b = a + 1;
+        while (b < size && line[b].first == line[a].first) ++b;
+        const std::uint32_t p = next_position(line[a].first);
+        const bool own = !is_received(line[a].second);
+        if (own) {
+          if (on_device)
+            side_position_[mine.side_position++] = {line[a].second, p};
+          else
+            position_[line[a].second] = p;
+        }
+        if (b > a + (own ? 1 : 0)) {
+          const std::size_t slot = mine.slots++;
+          for (std::size_t c2 = a + (own ? 1 : 0); c2 < b; ++c2)
+            received_slot[line[c2].second - total] = static_cast<std::uint32_t>(slot);
+          slot_position_[slot] = p;
+          slot_keep_[slot] = own ? 1 : 0;
+        }
+        a = b;
+      }
+    }
+  }, row_grain);
+  chunk.clear();
   std::vector<std::uint32_t>().swap(source);
   num_diag_ = num_diag;
   num_offd_ = num_offd;
@@ -279,7 +332,9 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     if (p != kRemote && (p & kOffdFlag)) p = num_diag + (p & ~kOffdFlag);
   };
   if (num_offd > 0) {
-    for (std::uint32_t& p : position_) finish(p);
+    parallel_for(position_.size(), [&](std::size_t k0, std::size_t k1) {
+      for (std::size_t k = k0; k < k1; ++k) finish(position_[k]);
+    });
     for (auto& [entry, p] : side_position_) finish(p);
     for (std::uint32_t& p : slot_position_) finish(p);
   }
@@ -370,22 +425,34 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   const PetscInt M = row_starts_.back(), begin = row_begin_;
   // The off-diagonal block's columns through its map: the distinct global columns, ascending.
   // Those of the rows the device writes are the blocks' outside the own nodes, which sit at
-  // either end of a block row (its columns ascend).
+  // either end of a block row (its columns ascend). The rows go in chunks on the host threads,
+  // each chunk's columns sorted and made distinct before they are joined.
+  const std::int64_t node_begin = begin / 3, node_end = (begin + m) / 3;
+  std::vector<std::vector<std::int64_t>> chunk_columns(static_cast<std::size_t>(host_threads()));
+  const int chunks = parallel_chunks(device_block_row_.size(), [&](int c, std::size_t r0, std::size_t r1) {
+    std::vector<std::int64_t>& columns = chunk_columns[static_cast<std::size_t>(c)];
+    for (std::size_t r = r0; r < r1; ++r) {
+      const std::int64_t s = device_block_row_[r];
+      if (s < 0) continue;
+      const int i = static_cast<int>(r % 3);
+      const auto add = [&](std::size_t k) {
+        for (int j = 0; j < 3; ++j)
+          if (blocks->block_mask[k] >> (3 * i + j) & 1u) columns.push_back(3 * blocks->block_col[k] + j);
+      };
+      std::size_t k = blocks->row_start[s], e = blocks->row_start[s + 1];
+      while (k < e && blocks->block_col[k] < node_begin) add(k++);
+      while (e > k && blocks->block_col[e - 1] >= node_end) add(--e);
+    }
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+  });
   std::vector<std::int64_t> col_map;
   for (const auto& entry : side_offd_) col_map.push_back(entry.second);
-  const std::int64_t node_begin = begin / 3, node_end = (begin + m) / 3;
-  for (std::size_t r = 0; r < device_block_row_.size(); ++r) {
-    const std::int64_t s = device_block_row_[r];
-    if (s < 0) continue;
-    const int i = static_cast<int>(r % 3);
-    const auto add = [&](std::size_t k) {
-      for (int j = 0; j < 3; ++j)
-        if (blocks->block_mask[k] >> (3 * i + j) & 1u) col_map.push_back(3 * blocks->block_col[k] + j);
-    };
-    std::size_t k = blocks->row_start[s], e = blocks->row_start[s + 1];
-    while (k < e && blocks->block_col[k] < node_begin) add(k++);
-    while (e > k && blocks->block_col[e - 1] >= node_end) add(--e);
+  for (int c = 0; c < chunks; ++c) {
+    const std::vector<std::int64_t>& columns = chunk_columns[static_cast<std::size_t>(c)];
+    col_map.insert(col_map.end(), columns.begin(), columns.end());
   }
+  chunk_columns.clear();
   std::sort(col_map.begin(), col_map.end());
   col_map.erase(std::unique(col_map.begin(), col_map.end()), col_map.end());
   PetscHYPREInitialize();
@@ -452,11 +519,14 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
     std::vector<int> columns;
     for (const auto& [p, col] : side_diag_) index.push_back(p), columns.push_back(static_cast<int>(col));
     scatter(hypre_CSRMatrixJ(diag), index, columns);
-    index.clear(), columns.clear();
-    for (const auto& [p, col] : side_offd_) {
-      index.push_back(p);
-      columns.push_back(static_cast<int>(std::lower_bound(col_map.begin(), col_map.end(), col) - col_map.begin()));
-    }
+    index.resize(side_offd_.size()), columns.resize(side_offd_.size());
+    parallel_for(side_offd_.size(), [&](std::size_t k0, std::size_t k1) {
+      for (std::size_t k = k0; k < k1; ++k) {
+        index[k] = side_offd_[k].first;
+        columns[k] = static_cast<int>(std::lower_bound(col_map.begin(), col_map.end(), side_offd_[k].second) -
+                                      col_map.begin());
+      }
+    });
     scatter(hypre_CSRMatrixJ(offd), index, columns);
     std::vector<std::uint32_t> entries, positions;
     for (const auto& [entry, p] : side_position_) entries.push_back(entry), positions.push_back(p);

@@ -4,10 +4,12 @@
 #include <limits>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "nonlinear/device_matrix.hpp"
 #include "nonlinear/log_stages.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -261,19 +263,34 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
   // added.
   num_block_entries_ = blocks_.num_entries();
   std::vector<PetscInt> extra_rows, extra_cols;
+  // In chunks on the host threads (the lumped mass gives 3 entries per node), each with its own
+  // row hint; a chunk's extra entries are numbered after the lower chunks', in row order.
   const std::size_t num_scalar = reduction_.num_unique();
   scalar_target_.resize(num_scalar);
-  std::size_t row_hint = 0;  // the unique entries ascend by row
-  for (std::size_t v = 0; v < num_scalar; ++v) {
-    const std::int64_t k = blocks_.find(reduction_.rows[v], reduction_.cols[v], &row_hint);
-    if (k >= 0) {
-      scalar_target_[v] = static_cast<std::size_t>(k);
-    } else {
-      scalar_target_[v] = num_block_entries_ + extra_rows.size();
-      extra_rows.push_back(reduction_.rows[v]);
-      extra_cols.push_back(reduction_.cols[v]);
+  constexpr std::size_t kInNoBlock = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> chunk_extras(static_cast<std::size_t>(host_threads()), 0);
+  const int chunks = parallel_chunks(num_scalar, [&](int c, std::size_t v0, std::size_t v1) {
+    std::size_t row_hint = 0, extras = 0;  // the unique entries ascend by row
+    for (std::size_t v = v0; v < v1; ++v) {
+      const std::int64_t k = blocks_.find(reduction_.rows[v], reduction_.cols[v], &row_hint);
+      scalar_target_[v] = k >= 0 ? static_cast<std::size_t>(k) : kInNoBlock;
+      extras += k < 0;
     }
-  }
+    chunk_extras[static_cast<std::size_t>(c)] = extras;
+  });
+  std::size_t num_extras = 0;
+  for (int c = 0; c < chunks; ++c) num_extras += std::exchange(chunk_extras[static_cast<std::size_t>(c)], num_extras);
+  extra_rows.resize(num_extras), extra_cols.resize(num_extras);
+  parallel_chunks(num_scalar, [&](int c, std::size_t v0, std::size_t v1) {
+    std::size_t next = chunk_extras[static_cast<std::size_t>(c)];
+    for (std::size_t v = v0; v < v1; ++v)
+      if (scalar_target_[v] == kInNoBlock) {
+        scalar_target_[v] = num_block_entries_ + next;
+        extra_rows[next] = reduction_.rows[v];
+        extra_cols[next] = reduction_.cols[v];
+        ++next;
+      }
+  });
   std::vector<PetscInt>().swap(reduction_.rows);
   std::vector<PetscInt>().swap(reduction_.cols);
   num_unique_ = num_block_entries_ + extra_rows.size();

@@ -27,6 +27,8 @@ const LogEvents& log_events() {
     PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
     PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
     PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
+    PetscLogEventRegister("dipcMatrixRows", id, &r.matrix_rows);
+    PetscLogEventRegister("dipcMatrixMake", id, &r.matrix_make);
     PetscLogEventRegister("dipcSetupElements", id, &r.setup_elements);
     PetscLogEventRegister("dipcSetupMasses", id, &r.setup_masses);
     PetscLogEventRegister("dipcSetupForms", id, &r.setup_forms);

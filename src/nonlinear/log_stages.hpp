@@ -14,6 +14,7 @@ const LogStages& log_stages();
 // phase of the time integrator's setup (TimeIntegrator::setup).
 struct LogEvents {
   PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix;
+  PetscLogEvent matrix_rows, matrix_make;  // direct_matrix's parts: its rows' pattern, the Mat from it
   PetscLogEvent setup_elements, setup_masses, setup_forms, setup_state, setup_solver, contact_check;
 };
 const LogEvents& log_events();

@@ -25,6 +25,7 @@
 #include "partition/partition_error.hpp"
 #include "partition/slice_partition.hpp"
 #include "partition/touched_nodes.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -359,16 +360,18 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   part.elements.resize(mine.size());
   part.element_body.resize(mine.size());
   part.element_input_id.resize(mine.size());
-  for (std::size_t e = 0; e < mine.size(); ++e) {
-    for (int k = 0; k < 8; ++k)
-      part.elements[e][k] = local_of_touched[static_cast<std::size_t>(touched_nodes.position(mine[e].hex[k]))];
-    part.element_body[e] = mine[e].body;
-    part.element_input_id[e] = mine[e].input;
-    if (with_surface) {
-      part.boundary_face_mask[e] = mine[e].mask;
-      first_quad[e] = mine[e].first_quad;
+  parallel_for(mine.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      for (int k = 0; k < 8; ++k)
+        part.elements[e][k] = local_of_touched[static_cast<std::size_t>(touched_nodes.position(mine[e].hex[k]))];
+      part.element_body[e] = mine[e].body;
+      part.element_input_id[e] = mine[e].input;
+      if (with_surface) {
+        part.boundary_face_mask[e] = mine[e].mask;
+        first_quad[e] = mine[e].first_quad;
+      }
     }
-  }
+  });
   mine = std::vector<ElementRecord>();
   lap(times.nodes);
   if (with_surface) build_owned_surface(part, first_quad, touched_nodes, local_of_touched, num_quads, nn_input, rank, size);

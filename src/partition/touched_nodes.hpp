@@ -4,7 +4,8 @@
 // index over the range builds the list without a sort and finds an id in one step; otherwise
 // (scattered ids, as in a part of a shuffled numbering on many ranks) a sort and binary
 // searches. On a 1M-hex cube on one rank the sort of the 8M corner ids and the binary search
-// per corner took most of the 1.1 s of distribute_slices' nodes phase.
+// per corner took most of the 1.1 s of distribute_slices' nodes phase. The dense path runs on
+// the host threads.
 #pragma once
 #include <algorithm>
 #include <climits>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "mesh/hex_mesh.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -21,9 +23,16 @@ class TouchedNodes {
   template <class HexOf>
   TouchedNodes(std::size_t count, HexOf hex_of) {
     if (count == 0) return;
-    std::int64_t lowest = hex_of(0)[0], highest = lowest;
-    for (std::size_t e = 0; e < count; ++e)
-      for (std::int64_t n : hex_of(e)) lowest = std::min(lowest, n), highest = std::max(highest, n);
+    // The id range, per chunk of elements on the host threads (threads/host_threads.hpp).
+    std::vector<std::int64_t> low(static_cast<std::size_t>(host_threads())), high(low.size());
+    const int chunks = parallel_chunks(count, [&](int c, std::size_t begin, std::size_t end) {
+      std::int64_t lo = hex_of(begin)[0], hi = lo;
+      for (std::size_t e = begin; e < end; ++e)
+        for (std::int64_t n : hex_of(e)) lo = std::min(lo, n), hi = std::max(hi, n);
+      low[static_cast<std::size_t>(c)] = lo, high[static_cast<std::size_t>(c)] = hi;
+    });
+    const std::int64_t lowest = *std::min_element(low.begin(), low.begin() + chunks);
+    const std::int64_t highest = *std::max_element(high.begin(), high.begin() + chunks);
     const std::int64_t span = highest - lowest + 1;
     // The index costs 4 bytes per id of the span: at most what the sort's list of 8 corner ids
     // (8 bytes each) per element would take.
@@ -44,17 +53,31 @@ class TouchedNodes {
   }
 
  private:
+  // Marks the touched ids in the index (threads write the same 0 to shared slots, atomically),
+  // then numbers them in increasing order: each chunk of the span counts its marks, and numbers
+  // its own after the lower chunks'.
   template <class HexOf>
   void index_range(std::size_t count, HexOf& hex_of, std::int64_t lowest, std::int64_t span) {
     lowest_ = lowest;
     index_.assign(static_cast<std::size_t>(span), -1);
-    for (std::size_t e = 0; e < count; ++e)
-      for (std::int64_t n : hex_of(e)) index_[static_cast<std::size_t>(n - lowest)] = 0;
-    for (std::size_t i = 0; i < index_.size(); ++i)
-      if (index_[i] == 0) {
-        index_[i] = static_cast<std::int32_t>(ids_.size());
-        ids_.push_back(lowest + static_cast<std::int64_t>(i));
-      }
+    parallel_for(count, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e)
+        for (std::int64_t n : hex_of(e)) __atomic_store_n(&index_[static_cast<std::size_t>(n - lowest)], 0, __ATOMIC_RELAXED);
+    });
+    std::vector<std::size_t> first(static_cast<std::size_t>(host_threads()) + 1, 0);
+    const int chunks = parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {
+      first[static_cast<std::size_t>(c) + 1] = static_cast<std::size_t>(std::count(index_.begin() + begin, index_.begin() + end, 0));
+    });
+    for (int c = 0; c < chunks; ++c) first[static_cast<std::size_t>(c) + 1] += first[static_cast<std::size_t>(c)];
+    ids_.resize(first[static_cast<std::size_t>(chunks)]);
+    parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {
+      std::size_t next = first[static_cast<std::size_t>(c)];
+      for (std::size_t i = begin; i < end; ++i)
+        if (index_[i] == 0) {
+          index_[i] = static_cast<std::int32_t>(next);
+          ids_[next++] = lowest + static_cast<std::int64_t>(i);
+        }
+    });
   }
   template <class HexOf>
   void sort_corners(std::size_t count, HexOf& hex_of) {

@@ -13,6 +13,7 @@
 namespace dipc {
 namespace {
 int threads_for_loops = 1;
+std::size_t grain_cap = 0;
 }
 
 int host_threads() { return threads_for_loops; }
@@ -25,12 +26,14 @@ bool host_threads_available() {
 #endif
 }
 
-void set_host_threads(int threads) {
+void set_host_threads(int threads, std::size_t grain_limit) {
   if (threads < 1) throw std::invalid_argument("set_host_threads: " + std::to_string(threads) + " threads");
   threads_for_loops = threads;
+  grain_cap = grain_limit;
 }
 
 int parallel_chunks(std::size_t n, const std::function<void(int, std::size_t, std::size_t)>& body, std::size_t grain) {
+  if (grain_cap > 0) grain = std::min(grain, grain_cap);
   const std::size_t by_grain = std::max<std::size_t>(1, n / std::max<std::size_t>(1, grain));
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads_for_loops), by_grain));
   auto begin_of = [n, k](int c) { return n * static_cast<std::size_t>(c) / static_cast<std::size_t>(k); };

@@ -14,9 +14,10 @@
 
 namespace dipc {
 
-// Threads for the host loops below (>= 1).
+// Threads for the host loops below (>= 1). grain_limit > 0 caps every loop's grain (tests set
+// 1, so that their small inputs take several chunks too); 0 keeps the loops' own.
 int host_threads();
-void set_host_threads(int threads);
+void set_host_threads(int threads, std::size_t grain_limit = 0);
 // False where dipc was built without OpenMP: the chunks then run one after the other.
 bool host_threads_available();
 

@@ -3,6 +3,7 @@
 // mesh generate_box and HexMesh::append give, bit for bit — coordinates, connectivity, bodies
 // and node sets — whatever the cut between ranks (the rows of a rank start inside a grid row,
 // a layer, or the next body).
+// The same on 3 host threads, in chunks of a few rows.
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
@@ -10,11 +11,14 @@
 #include "io/scene.hpp"
 #include "mesh/box_generator.hpp"
 #include "partition/mesh_slice.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
 
-TEST(SceneSlice, GeneratedBoxesAreGenerateBoxRows) {
+// threads > 1: the rows are generated in chunks of a few rows on that many host threads.
+void generated_boxes_are_generate_box_rows(int threads) {
+  set_host_threads(threads, threads > 1 ? 1 : 0);
   // Odd resolutions and origins, so that rank cuts fall inside rows and coordinates are not
   // round numbers; a second box whose rows follow the first's.
   const Scene scene = parse_scene_text(
@@ -26,6 +30,7 @@ TEST(SceneSlice, GeneratedBoxesAreGenerateBoxRows) {
       R"( "time": {"dt": 0.01, "steps": 1}})",
       "scene_slice_test", ".");
   const MeshSlice slice = build_scene_slice(scene, PETSC_COMM_WORLD);
+  set_host_threads(1);
   check_slice_layout(slice);
   const HexMesh whole = gather_whole_mesh(slice);
   int rank = 0;
@@ -40,6 +45,10 @@ TEST(SceneSlice, GeneratedBoxesAreGenerateBoxRows) {
   EXPECT_EQ(whole.body, expected.body);
   EXPECT_EQ(whole.node_sets, expected.node_sets);
 }
+
+TEST(SceneSlice, GeneratedBoxesAreGenerateBoxRows) { generated_boxes_are_generate_box_rows(1); }
+
+TEST(SceneSlice, GeneratedBoxesOnThreadsAreGenerateBoxRows) { generated_boxes_are_generate_box_rows(3); }
 
 }  // namespace
 }  // namespace dipc

@@ -18,6 +18,7 @@
 
 #include "device/device_runtime.hpp"
 #include "nonlinear/direct_matrix.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -157,7 +158,13 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
   for (Vec* v : {&x, &y, &z, &xd, &zd}) PetscCallAbort(PETSC_COMM_WORLD, VecDestroy(v));
 }
 
-void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool node_blocks = false) {
+// threads > 1: the pattern is built on that many host threads, in chunks of a few rows.
+void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool node_blocks = false,
+                       int threads = 1) {
+  struct Threads {  // restores the default, one thread, whatever the test's outcome
+    explicit Threads(int n) { set_host_threads(n, n > 1 ? 1 : 0); }
+    ~Threads() { set_host_threads(1); }
+  } use(threads);
   int rank, size;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
@@ -209,6 +216,16 @@ TEST(DirectMatrix, HostAijEqualsCooMatrix) { check_against_coo(MATAIJ, DirectMat
 // Node blocks, read in place for own rows and expanded for ghost rows, beside a list.
 TEST(DirectMatrix, NodeBlocksEqualCooMatrix) { check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true); }
 
+// The rows in chunks on 3 host threads: the same matrix (rows of blocks alone, rows with list
+// entries and received ones fall in different chunks).
+TEST(DirectMatrix, NodeBlocksOnThreadsEqualCooMatrix) {
+  check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true, 3);
+}
+
+TEST(DirectMatrix, ListOnThreadsEqualsCooMatrix) {
+  check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false, false, 3);
+}
+
 TEST(DirectMatrix, MpiAijOnAnyRankCountEqualsCooMatrix) {
   check_against_coo(MATMPIAIJ, DirectMatrix::Kind::host_aij, false);
 }
@@ -246,6 +263,12 @@ TEST(DirectMatrix, DeviceHypreNodeBlocksEqualCooMatrix) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
   check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true);
+}
+
+TEST(DirectMatrix, DeviceHypreNodeBlocksOnThreadsEqualCooMatrix) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true, 3);
 }
 
 }  // namespace
