@@ -219,23 +219,40 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   std::int64_t num_quads = 0;
   std::int64_t next_quad = exclusive_prefix(slice_quads, comm, &num_quads);
 
-  // Elements to their parts.
-  std::vector<std::vector<ElementRecord>> outgoing(size);
-  {
-    std::vector<std::size_t> count(size, 0);
-    for (int p : element_part) ++count[p];
-    for (int p = 0; p < size; ++p) outgoing[p].reserve(count[p]);
+  // Elements to their parts, in chunks on the host threads: each chunk counts its elements per
+  // part and its quads, then writes its records after the lower chunks' (as one pass would).
+  const auto parts = static_cast<std::size_t>(size);
+  std::vector<std::size_t> count(static_cast<std::size_t>(host_threads()) * parts, 0);
+  std::vector<std::int64_t> chunk_quads(static_cast<std::size_t>(host_threads()), 0);
+  const auto mask_of = [&](std::size_t e) { return with_surface ? faces.boundary_mask[e] : std::uint8_t{0}; };
+  const int chunks = parallel_chunks(slice.hexes.size(), [&](int c, std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      ++count[static_cast<std::size_t>(c) * parts + static_cast<std::size_t>(element_part[e])];
+      chunk_quads[static_cast<std::size_t>(c)] += static_cast<std::int64_t>(std::bitset<8>(mask_of(e)).count());
+    }
+  });
+  std::vector<std::vector<ElementRecord>> outgoing(parts);
+  for (std::size_t p = 0; p < parts; ++p) {
+    std::size_t total = 0;
+    for (int c = 0; c < chunks; ++c) total += std::exchange(count[static_cast<std::size_t>(c) * parts + p], total);
+    outgoing[p].resize(total);
   }
-  for (std::size_t e = 0; e < slice.hexes.size(); ++e) {
-    ElementRecord r{};
-    r.input = slice.element_begin + static_cast<std::int64_t>(e);
-    r.hex = slice.hexes[e];
-    r.body = slice.body[e];
-    r.mask = with_surface ? faces.boundary_mask[e] : 0;
-    r.first_quad = next_quad;
-    next_quad += static_cast<std::int64_t>(std::bitset<8>(r.mask).count());
-    outgoing[element_part[e]].push_back(r);
-  }
+  for (int c = 0; c < chunks; ++c) next_quad += std::exchange(chunk_quads[static_cast<std::size_t>(c)], next_quad);
+  parallel_chunks(slice.hexes.size(), [&](int c, std::size_t begin, std::size_t end) {
+    std::int64_t quad = chunk_quads[static_cast<std::size_t>(c)];
+    std::size_t* next = &count[static_cast<std::size_t>(c) * parts];
+    for (std::size_t e = begin; e < end; ++e) {
+      ElementRecord r{};
+      r.input = slice.element_begin + static_cast<std::int64_t>(e);
+      r.hex = slice.hexes[e];
+      r.body = slice.body[e];
+      r.mask = mask_of(e);
+      r.first_quad = quad;
+      quad += static_cast<std::int64_t>(std::bitset<8>(r.mask).count());
+      const auto p = static_cast<std::size_t>(element_part[e]);
+      outgoing[p][next[p]++] = r;
+    }
+  });
   faces = FaceMatching();
   std::vector<ElementRecord> mine = exchange_records(std::move(outgoing), comm);
   // `mine` is sorted by input id without a sort: records arrive by sending rank, ranks hold

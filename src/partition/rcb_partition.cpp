@@ -6,9 +6,11 @@
 #include <cstring>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include "partition/mpi_exchange.hpp"
 #include "partition/touched_nodes.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -46,9 +48,22 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
   Selection s{std::vector<std::uint64_t>(groups, 0), std::vector<std::int64_t>(groups, 0)};
   std::vector<std::int64_t> histogram(256 * groups);
   std::vector<std::uint64_t> digit(groups, 0);
+  // Per chunk of candidates on the host threads: histograms (summed after), kept candidates
+  // (joined in chunk order).
+  std::vector<std::vector<std::int64_t>> chunk_histogram(static_cast<std::size_t>(host_threads()));
+  std::vector<std::vector<std::size_t>> chunk_kept(chunk_histogram.size());
   for (int shift = 56; shift >= 0; shift -= 8) {
+    const int chunks = parallel_chunks(candidates.size(), [&](int c, std::size_t begin, std::size_t end) {
+      std::vector<std::int64_t>& h = chunk_histogram[static_cast<std::size_t>(c)];
+      h.assign(256 * groups, 0);
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::size_t e = candidates[k];
+        ++h[256 * static_cast<std::size_t>(group[e]) + (value_of(e) >> shift & 255)];
+      }
+    });
     std::fill(histogram.begin(), histogram.end(), 0);
-    for (std::size_t e : candidates) ++histogram[256 * static_cast<std::size_t>(group[e]) + (value_of(e) >> shift & 255)];
+    for (int c = 0; c < chunks; ++c)
+      for (std::size_t i = 0; i < histogram.size(); ++i) histogram[i] += chunk_histogram[static_cast<std::size_t>(c)][i];
     MPI_Allreduce(MPI_IN_PLACE, histogram.data(), static_cast<int>(histogram.size()), MPI_INT64_T, MPI_SUM, comm);
     for (std::size_t g = 0; g < groups; ++g) {
       if (target[g] <= 0) continue;
@@ -57,10 +72,18 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
       digit[g] = d;
       s.value[g] |= d << shift;
     }
-    std::size_t kept = 0;
-    for (std::size_t e : candidates)
-      if ((value_of(e) >> shift & 255) == digit[static_cast<std::size_t>(group[e])]) candidates[kept++] = e;
-    candidates.resize(kept);
+    const int chunks_kept = parallel_chunks(candidates.size(), [&](int c, std::size_t begin, std::size_t end) {
+      std::vector<std::size_t>& kept = chunk_kept[static_cast<std::size_t>(c)];
+      kept.clear();
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::size_t e = candidates[k];
+        if ((value_of(e) >> shift & 255) == digit[static_cast<std::size_t>(group[e])]) kept.push_back(e);
+      }
+    });
+    candidates.clear();
+    for (int c = 0; c < chunks_kept; ++c)
+      candidates.insert(candidates.end(), chunk_kept[static_cast<std::size_t>(c)].begin(),
+                        chunk_kept[static_cast<std::size_t>(c)].end());
   }
   return s;
 }
@@ -82,14 +105,16 @@ std::vector<Vec3> element_centroids(const MeshSlice& slice) {
   // order asked: the coordinates line up with touched.ids().
   const std::vector<Vec3> x = exchange_records(std::move(replies), slice.comm);
   std::vector<Vec3> centroids(slice.hexes.size());
-  for (std::size_t e = 0; e < slice.hexes.size(); ++e) {
-    Vec3 c{0, 0, 0};
-    for (std::int64_t n : slice.hexes[e]) {
-      const Vec3& p = x[static_cast<std::size_t>(touched.position(n))];
-      for (int d = 0; d < 3; ++d) c[d] += p[d];
+  parallel_for(slice.hexes.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      Vec3 c{0, 0, 0};
+      for (std::int64_t n : slice.hexes[e]) {
+        const Vec3& p = x[static_cast<std::size_t>(touched.position(n))];
+        for (int d = 0; d < 3; ++d) c[d] += p[d];
+      }
+      for (int d = 0; d < 3; ++d) centroids[e][d] = c[d] / 8;
     }
-    for (int d = 0; d < 3; ++d) centroids[e][d] = c[d] / 8;
-  }
+  });
   return centroids;
 }
 
@@ -103,16 +128,30 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
   while (std::any_of(groups.begin(), groups.end(), [](const Group& g) { return g.parts > 1; })) {
     const std::size_t count = groups.size();
     // Global element counts and centroid boxes: one MIN reduction of (min, -max) per axis.
+    // Per chunk of elements on the host threads, then over the chunks (counts and minima: exact).
+    std::vector<std::vector<std::int64_t>> chunk_members(static_cast<std::size_t>(host_threads()));
+    std::vector<std::vector<double>> chunk_box(chunk_members.size());
+    const int chunks = parallel_chunks(n, [&](int c, std::size_t begin, std::size_t end) {
+      std::vector<std::int64_t>& m = chunk_members[static_cast<std::size_t>(c)];
+      std::vector<double>& b = chunk_box[static_cast<std::size_t>(c)];
+      m.assign(count, 0);
+      b.assign(6 * count, std::numeric_limits<double>::infinity());
+      for (std::size_t e = begin; e < end; ++e) {
+        const std::size_t g = static_cast<std::size_t>(group[e]);
+        ++m[g];
+        for (int d = 0; d < 3; ++d) {
+          b[6 * g + d] = std::min(b[6 * g + d], centroid[e][d]);
+          b[6 * g + 3 + d] = std::min(b[6 * g + 3 + d], -centroid[e][d]);
+        }
+      }
+    });
     std::vector<std::int64_t> members(count, 0);
     std::vector<double> box(6 * count, std::numeric_limits<double>::infinity());
-    for (std::size_t e = 0; e < n; ++e) {
-      const std::size_t g = static_cast<std::size_t>(group[e]);
-      ++members[g];
-      for (int d = 0; d < 3; ++d) {
-        box[6 * g + d] = std::min(box[6 * g + d], centroid[e][d]);
-        box[6 * g + 3 + d] = std::min(box[6 * g + 3 + d], -centroid[e][d]);
+    for (int c = 0; c < chunks; ++c)
+      for (std::size_t g = 0; g < count; ++g) {
+        members[g] += chunk_members[static_cast<std::size_t>(c)][g];
+        for (int k = 0; k < 6; ++k) box[6 * g + k] = std::min(box[6 * g + k], chunk_box[static_cast<std::size_t>(c)][6 * g + k]);
       }
-    }
     MPI_Allreduce(MPI_IN_PLACE, members.data(), static_cast<int>(count), MPI_INT64_T, MPI_SUM, comm);
     MPI_Allreduce(MPI_IN_PLACE, box.data(), static_cast<int>(box.size()), MPI_DOUBLE, MPI_MIN, comm);
     // Per group: the axis, and how many elements go low. Only a group that is split with
@@ -130,12 +169,19 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
       split[g] = q > 1 && low_count[g] > 0 && low_count[g] < members[g];
       if (split[g]) target[g] = low_count[g];
     }
+    std::vector<std::vector<std::size_t>> chunk_candidates(static_cast<std::size_t>(host_threads()));
+    const int candidate_chunks = parallel_chunks(n, [&](int c, std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e) {
+        const std::size_t g = static_cast<std::size_t>(group[e]);
+        key[e] = ordered_bits(centroid[e][axis[g]]);
+        if (split[g]) chunk_candidates[static_cast<std::size_t>(c)].push_back(e);
+      }
+    });
     std::vector<std::size_t> candidates;
-    for (std::size_t e = 0; e < n; ++e) {
-      const std::size_t g = static_cast<std::size_t>(group[e]);
-      key[e] = ordered_bits(centroid[e][axis[g]]);
-      if (split[g]) candidates.push_back(e);
-    }
+    for (int c = 0; c < candidate_chunks; ++c)
+      candidates.insert(candidates.end(), chunk_candidates[static_cast<std::size_t>(c)].begin(),
+                        chunk_candidates[static_cast<std::size_t>(c)].end());
+    chunk_candidates.clear();
     // The cut key K: the low_count-th smallest key. Of the elements on it (key == K, the
     // candidates left), the low side takes those with the smallest input ids, as many as the
     // elements below K leave to low_count.
@@ -160,17 +206,19 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
       high_group[g] = static_cast<int>(next.size());
       next.push_back({groups[g].first + q_low, groups[g].parts - q_low});
     }
-    for (std::size_t e = 0; e < n; ++e) {
-      const std::size_t g = static_cast<std::size_t>(group[e]);
-      if (groups[g].parts == 1) {
-        group[e] = low_group[g];
-        continue;
+    parallel_for(n, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t e = begin; e < end; ++e) {
+        const std::size_t g = static_cast<std::size_t>(group[e]);
+        if (groups[g].parts == 1) {
+          group[e] = low_group[g];
+          continue;
+        }
+        const std::uint64_t id = static_cast<std::uint64_t>(slice.element_begin) + e;
+        const bool low = split[g] ? key[e] < cut.value[g] || (key[e] == cut.value[g] && id <= last_id.value[g])
+                                  : low_count[g] > 0;
+        group[e] = low ? low_group[g] : high_group[g];
       }
-      const std::uint64_t id = static_cast<std::uint64_t>(slice.element_begin) + e;
-      const bool low = split[g] ? key[e] < cut.value[g] || (key[e] == cut.value[g] && id <= last_id.value[g])
-                                : low_count[g] > 0;
-      group[e] = low ? low_group[g] : high_group[g];
-    }
+    });
     groups = std::move(next);
   }
   std::vector<int> part(n);
