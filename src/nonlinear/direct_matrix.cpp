@@ -429,9 +429,7 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   // either end of a block row (its columns ascend). The rows go in chunks on the host threads,
   // each chunk's columns sorted and made distinct before they are joined.
   const std::int64_t node_begin = begin / 3, node_end = (begin + m) / 3;
-  std::vector<std::vector<std::int64_t>> chunk_columns(static_cast<std::size_t>(host_threads()));
-  const int chunks = parallel_chunks(device_block_row_.size(), [&](int c, std::size_t r0, std::size_t r1) {
-    std::vector<std::int64_t>& columns = chunk_columns[static_cast<std::size_t>(c)];
+  const auto block_columns = [&](std::size_t r0, std::size_t r1, std::vector<std::int64_t>& columns) {
     for (std::size_t r = r0; r < r1; ++r) {
       const std::int64_t s = device_block_row_[r];
       if (s < 0) continue;
@@ -446,14 +444,9 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
     }
     std::sort(columns.begin(), columns.end());
     columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
-  });
-  std::vector<std::int64_t> col_map;
+  };
+  std::vector<std::int64_t> col_map = parallel_collect<std::int64_t>(device_block_row_.size(), block_columns);
   for (const auto& entry : side_offd_) col_map.push_back(entry.second);
-  for (int c = 0; c < chunks; ++c) {
-    const std::vector<std::int64_t>& columns = chunk_columns[static_cast<std::size_t>(c)];
-    col_map.insert(col_map.end(), columns.begin(), columns.end());
-  }
-  chunk_columns.clear();
   std::sort(col_map.begin(), col_map.end());
   col_map.erase(std::unique(col_map.begin(), col_map.end()), col_map.end());
   PetscHYPREInitialize();

@@ -51,7 +51,6 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
   // Per chunk of candidates on the host threads: histograms (summed after), kept candidates
   // (joined in chunk order).
   std::vector<std::vector<std::int64_t>> chunk_histogram(static_cast<std::size_t>(host_threads()));
-  std::vector<std::vector<std::size_t>> chunk_kept(chunk_histogram.size());
   for (int shift = 56; shift >= 0; shift -= 8) {
     const int chunks = parallel_chunks(candidates.size(), [&](int c, std::size_t begin, std::size_t end) {
       std::vector<std::int64_t>& h = chunk_histogram[static_cast<std::size_t>(c)];
@@ -72,18 +71,13 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
       digit[g] = d;
       s.value[g] |= d << shift;
     }
-    const int chunks_kept = parallel_chunks(candidates.size(), [&](int c, std::size_t begin, std::size_t end) {
-      std::vector<std::size_t>& kept = chunk_kept[static_cast<std::size_t>(c)];
-      kept.clear();
+    candidates = parallel_collect<std::size_t>(candidates.size(), [&](std::size_t begin, std::size_t end,
+                                                                       std::vector<std::size_t>& kept) {
       for (std::size_t k = begin; k < end; ++k) {
         const std::size_t e = candidates[k];
         if ((value_of(e) >> shift & 255) == digit[static_cast<std::size_t>(group[e])]) kept.push_back(e);
       }
     });
-    candidates.clear();
-    for (int c = 0; c < chunks_kept; ++c)
-      candidates.insert(candidates.end(), chunk_kept[static_cast<std::size_t>(c)].begin(),
-                        chunk_kept[static_cast<std::size_t>(c)].end());
   }
   return s;
 }
@@ -169,19 +163,14 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
       split[g] = q > 1 && low_count[g] > 0 && low_count[g] < members[g];
       if (split[g]) target[g] = low_count[g];
     }
-    std::vector<std::vector<std::size_t>> chunk_candidates(static_cast<std::size_t>(host_threads()));
-    const int candidate_chunks = parallel_chunks(n, [&](int c, std::size_t begin, std::size_t end) {
-      for (std::size_t e = begin; e < end; ++e) {
-        const std::size_t g = static_cast<std::size_t>(group[e]);
-        key[e] = ordered_bits(centroid[e][axis[g]]);
-        if (split[g]) chunk_candidates[static_cast<std::size_t>(c)].push_back(e);
-      }
-    });
-    std::vector<std::size_t> candidates;
-    for (int c = 0; c < candidate_chunks; ++c)
-      candidates.insert(candidates.end(), chunk_candidates[static_cast<std::size_t>(c)].begin(),
-                        chunk_candidates[static_cast<std::size_t>(c)].end());
-    chunk_candidates.clear();
+    std::vector<std::size_t> candidates =
+        parallel_collect<std::size_t>(n, [&](std::size_t begin, std::size_t end, std::vector<std::size_t>& out) {
+          for (std::size_t e = begin; e < end; ++e) {
+            const std::size_t g = static_cast<std::size_t>(group[e]);
+            key[e] = ordered_bits(centroid[e][axis[g]]);
+            if (split[g]) out.push_back(e);
+          }
+        });
     // The cut key K: the low_count-th smallest key. Of the elements on it (key == K, the
     // candidates left), the low side takes those with the smallest input ids, as many as the
     // elements below K leave to low_count.

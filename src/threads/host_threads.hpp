@@ -11,6 +11,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <utility>
+#include <vector>
 
 namespace dipc {
 
@@ -32,6 +34,25 @@ int parallel_chunks(std::size_t n, const std::function<void(int chunk, std::size
 inline void parallel_for(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body,
                          std::size_t grain = 4096) {
   parallel_chunks(n, [&body](int, std::size_t begin, std::size_t end) { body(begin, end); }, grain);
+}
+
+// The items that body(begin, end, out) appends to `out` for the chunks of [0, n), joined in
+// chunk order: the list one pass over [0, n) in order gives, for any number of threads.
+template <class T, class Body>
+std::vector<T> parallel_collect(std::size_t n, Body body, std::size_t grain = 4096) {
+  std::vector<std::vector<T>> parts(static_cast<std::size_t>(host_threads()));
+  const int chunks = parallel_chunks(
+      n, [&](int c, std::size_t begin, std::size_t end) { body(begin, end, parts[static_cast<std::size_t>(c)]); }, grain);
+  if (chunks == 1) return std::move(parts[0]);
+  std::size_t total = 0;
+  for (int c = 0; c < chunks; ++c) total += parts[static_cast<std::size_t>(c)].size();
+  std::vector<T> all;
+  all.reserve(total);
+  for (int c = 0; c < chunks; ++c) {
+    const std::vector<T>& part = parts[static_cast<std::size_t>(c)];
+    all.insert(all.end(), part.begin(), part.end());
+  }
+  return all;
 }
 
 // `value` += `add` atomically (relaxed order: a count or a slot whose final value, not the
