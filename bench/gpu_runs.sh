@@ -77,14 +77,16 @@ case "${1:-}" in
     done ;;
   setup)
     device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0)
+    # Each rank bound to its GPU's share of the cores, where the setup's host threads run.
+    cores=$(( $(nproc) / gpus ))
     for d in ${SETUP_BASE:-} "$bin/dipc"; do
       card=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1 | awk '{print tolower($2)}')
       tag=${card}_$( [[ $d == "$bin/dipc" ]] && echo new || echo base )
       run python3 bench/setup.py --dipc "$d" --elements ${SETUP_SIZES:-1000000,4000000} --ranks 1 --partitioners metis \
-        --tag "$tag" --out "$out" --timeout 300 -- "${device_opts[@]}"
+        --cores-per-rank $cores --tag "$tag" --out "$out" --timeout 300 -- "${device_opts[@]}"
       if ((gpus >= 4)); then
         run python3 bench/setup.py --dipc "$d" --elements 4000000 --ranks 4 --partitioners metis,rcb \
-          --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
+          --cores-per-rank $cores --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
       fi
     done ;;
   assembly)
