@@ -32,12 +32,13 @@ OpenMpThreads limit_openmp_threads() {
 
 namespace {
 
-// The cores this process may run on, as a byte mask (empty when the system does not say).
+// The cores this process may run on, as a byte mask of sizeof(cpu_set_t) bytes (no core when
+// the system does not say, which gives one thread).
 std::vector<unsigned char> affinity_mask() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return {};
   std::vector<unsigned char> mask(sizeof set, 0);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return mask;
   for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
     if (CPU_ISSET(cpu, &set)) mask[static_cast<std::size_t>(cpu / 8)] |= static_cast<unsigned char>(1u << (cpu % 8));
   return mask;
@@ -51,6 +52,20 @@ int count_cores(const std::vector<unsigned char>& mask) {
 
 }  // namespace
 
+AffinityShare share_of_affinity(const std::vector<unsigned char>& mine,
+                                const std::vector<std::vector<unsigned char>>& node_masks) {
+  AffinityShare share;
+  share.cores = count_cores(mine);
+  for (const std::vector<unsigned char>& other : node_masks) {
+    bool overlaps = false;
+    for (std::size_t b = 0; b < std::min(mine.size(), other.size()); ++b) overlaps = overlaps || (mine[b] & other[b]);
+    share.sharing += overlaps;
+  }
+  share.sharing = std::max(1, share.sharing);
+  share.threads = std::max(1, share.cores / share.sharing);
+  return share;
+}
+
 HostThreads choose_host_threads(MPI_Comm comm, int requested, const OpenMpThreads& openmp) {
   HostThreads result;
   // Every rank takes part in the node's exchange, whichever way it decides.
@@ -58,9 +73,8 @@ HostThreads choose_host_threads(MPI_Comm comm, int requested, const OpenMpThread
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   int node_ranks = 1;
   MPI_Comm_size(node, &node_ranks);
-  std::vector<unsigned char> mine = affinity_mask();
+  const std::vector<unsigned char> mine = affinity_mask();
   const int bytes = static_cast<int>(sizeof(cpu_set_t));
-  if (mine.empty()) mine.assign(static_cast<std::size_t>(bytes), 0);
   std::vector<unsigned char> all(static_cast<std::size_t>(bytes) * static_cast<std::size_t>(node_ranks));
   MPI_Allgather(mine.data(), bytes, MPI_UNSIGNED_CHAR, all.data(), bytes, MPI_UNSIGNED_CHAR, node);
   MPI_Comm_free(&node);
@@ -73,15 +87,12 @@ HostThreads choose_host_threads(MPI_Comm comm, int requested, const OpenMpThread
     result.threads = openmp.threads;
     result.why = "OMP_NUM_THREADS";
   } else {
-    int sharing = 0;  // ranks of this node (this one included) that may run on a core of this rank's
-    for (int r = 0; r < node_ranks; ++r) {
-      bool overlaps = false;
-      for (int b = 0; b < bytes; ++b) overlaps = overlaps || (all[static_cast<std::size_t>(r * bytes + b)] & mine[b]);
-      sharing += overlaps;
-    }
-    const int cores = count_cores(mine);
-    result.threads = std::max(1, cores / std::max(1, sharing));
-    result.why = std::to_string(cores) + " cores / " + std::to_string(std::max(1, sharing)) + " ranks";
+    std::vector<std::vector<unsigned char>> node_masks(static_cast<std::size_t>(node_ranks));
+    for (int r = 0; r < node_ranks; ++r)
+      node_masks[static_cast<std::size_t>(r)].assign(all.begin() + r * bytes, all.begin() + (r + 1) * bytes);
+    const AffinityShare share = share_of_affinity(mine, node_masks);
+    result.threads = share.threads;
+    result.why = std::to_string(share.cores) + " cores / " + std::to_string(share.sharing) + " ranks";
   }
   set_host_threads(result.threads);
   return result;

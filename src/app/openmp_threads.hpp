@@ -13,6 +13,7 @@
 #include <mpi.h>
 
 #include <string>
+#include <vector>
 
 namespace dipc {
 
@@ -30,6 +31,15 @@ struct HostThreads {
   int threads = 1;
   std::string why;  // for the run header: "-dipc_host_threads", "OMP_NUM_THREADS" or the cores and ranks
 };
+
+// The automatic count: the cores of this rank's affinity mask `mine` (a byte per 8 CPUs),
+// divided by the node's ranks whose masks (`node_masks`, this rank's included) overlap it, at
+// least 1.
+struct AffinityShare {
+  int cores = 0, sharing = 0, threads = 1;
+};
+AffinityShare share_of_affinity(const std::vector<unsigned char>& mine,
+                                const std::vector<std::vector<unsigned char>>& node_masks);
 
 // The threads of the host loops on this rank, and set_host_threads with them: `requested` (from
 // -dipc_host_threads) when > 0; else OMP_NUM_THREADS where set; else the cores of this rank's

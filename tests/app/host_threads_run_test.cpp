@@ -2,13 +2,16 @@
 // through whole runs on 1 and 2 ranks: the same trajectory bit for bit (a cube resting on the
 // contact plane: face matching, lumped masses, the contact surface and the start's intersection
 // check all take several chunks), and the same report of an intersecting start (the first
-// crossing and their count).
+// crossing and their count). The automatic count shares each rank's cores among the node's
+// ranks bound to them; -dipc_host_threads overrides it on every rank.
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "app/openmp_threads.hpp"
 #include "app/simulation.hpp"
 #include "io/scene.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -77,6 +80,41 @@ TEST(HostThreadsRun, SameIntersectionReportOnOneAndFourThreads) {
   }
   EXPECT_NE(message[0].find("edge-triangle crossing(s), e.g. edge"), std::string::npos) << "[" << message[0] << "]";
   EXPECT_EQ(message[0], message[1]);
+}
+
+// A byte mask of CPUs [first, first + count).
+std::vector<unsigned char> cpus(int first, int count) {
+  std::vector<unsigned char> mask(16, 0);
+  for (int c = first; c < first + count; ++c) mask[static_cast<std::size_t>(c / 8)] |= static_cast<unsigned char>(1u << (c % 8));
+  return mask;
+}
+
+TEST(HostThreadsChoice, CoresAreSharedByTheRanksBoundToThem) {
+  // mpirun -n 1 (bound to one core): one thread.
+  EXPECT_EQ(share_of_affinity(cpus(0, 1), {cpus(0, 1)}).threads, 1);
+  // One rank per GPU with 16 cores each (--map-by slot:PE=16): 16 threads each.
+  const auto a = cpus(0, 16), b = cpus(16, 16), c = cpus(32, 16), d = cpus(48, 16);
+  EXPECT_EQ(share_of_affinity(b, {a, b, c, d}).threads, 16);
+  // Two ranks bound to each 32-core socket (Open MPI's socket binding for more than 2 ranks).
+  const auto s0 = cpus(0, 32), s1 = cpus(32, 32);
+  const AffinityShare socket = share_of_affinity(s1, {s0, s0, s1, s1});
+  EXPECT_EQ(socket.cores, 32);
+  EXPECT_EQ(socket.sharing, 2);
+  EXPECT_EQ(socket.threads, 16);
+  // Unbound ranks: the node's cores shared by all; more ranks than cores still get one.
+  EXPECT_EQ(share_of_affinity(cpus(0, 64), {cpus(0, 64), cpus(0, 64), cpus(0, 64)}).threads, 21);
+  EXPECT_EQ(share_of_affinity(cpus(0, 2), {cpus(0, 2), cpus(0, 2), cpus(0, 2)}).threads, 1);
+}
+
+TEST(HostThreadsChoice, RequestedCountWins) {
+  OpenMpThreads openmp;
+  const HostThreads chosen = choose_host_threads(PETSC_COMM_WORLD, 3, openmp);
+  if (host_threads_available()) {
+    EXPECT_EQ(chosen.threads, 3);
+    EXPECT_EQ(chosen.why, "-dipc_host_threads");
+    EXPECT_EQ(host_threads(), 3);
+  }
+  set_host_threads(1);
 }
 
 }  // namespace
