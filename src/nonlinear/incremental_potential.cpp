@@ -278,8 +278,7 @@ PetscErrorCode IncrementalPotential::rebuild_pattern(bool template_matrix) {
     }
     chunk_extras[static_cast<std::size_t>(c)] = extras;
   });
-  std::size_t num_extras = 0;
-  for (int c = 0; c < chunks; ++c) num_extras += std::exchange(chunk_extras[static_cast<std::size_t>(c)], num_extras);
+  const std::size_t num_extras = chunk_starts(chunk_extras, chunks)[0];
   extra_rows.resize(num_extras), extra_cols.resize(num_extras);
   parallel_chunks(num_scalar, [&](int c, std::size_t v0, std::size_t v1) {
     std::size_t next = chunk_extras[static_cast<std::size_t>(c)];

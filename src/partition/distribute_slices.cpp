@@ -231,12 +231,9 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
       chunk_quads[static_cast<std::size_t>(c)] += static_cast<std::int64_t>(std::bitset<8>(mask_of(e)).count());
     }
   });
+  const std::vector<std::size_t> total = chunk_starts(count, chunks, parts);
   std::vector<std::vector<ElementRecord>> outgoing(parts);
-  for (std::size_t p = 0; p < parts; ++p) {
-    std::size_t total = 0;
-    for (int c = 0; c < chunks; ++c) total += std::exchange(count[static_cast<std::size_t>(c) * parts + p], total);
-    outgoing[p].resize(total);
-  }
+  for (std::size_t p = 0; p < parts; ++p) outgoing[p].resize(total[p]);
   for (int c = 0; c < chunks; ++c) next_quad += std::exchange(chunk_quads[static_cast<std::size_t>(c)], next_quad);
   parallel_chunks(slice.hexes.size(), [&](int c, std::size_t begin, std::size_t end) {
     std::int64_t quad = chunk_quads[static_cast<std::size_t>(c)];

@@ -94,16 +94,9 @@ std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, cons
       if (!homes.here(nodes)) ++mine[homes.of(nodes)];
     });
   });
+  const std::vector<std::size_t> total = chunk_starts(count, chunks, ranks);
   std::vector<std::vector<FaceRecord>> to_home(ranks);
-  for (std::size_t r = 0; r < ranks; ++r) {
-    std::size_t total = 0;
-    for (int c = 0; c < chunks; ++c) {
-      const std::size_t n = count[static_cast<std::size_t>(c) * ranks + r];
-      count[static_cast<std::size_t>(c) * ranks + r] = total;
-      total += n;
-    }
-    to_home[r].resize(total);
-  }
+  for (std::size_t r = 0; r < ranks; ++r) to_home[r].resize(total[r]);
   parallel_chunks(slice.hexes.size(), [&](int c, std::size_t begin, std::size_t end) {
     std::size_t* next = &count[static_cast<std::size_t>(c) * ranks];
     for_each_face(slice, begin, end, [&](const std::array<std::int64_t, 4>& nodes, std::int64_t element_face) {

@@ -64,12 +64,11 @@ class TouchedNodes {
       for (std::size_t e = begin; e < end; ++e)
         for (std::int64_t n : hex_of(e)) __atomic_store_n(&index_[static_cast<std::size_t>(n - lowest)], 0, __ATOMIC_RELAXED);
     });
-    std::vector<std::size_t> first(static_cast<std::size_t>(host_threads()) + 1, 0);
+    std::vector<std::size_t> first(static_cast<std::size_t>(host_threads()), 0);
     const int chunks = parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {
-      first[static_cast<std::size_t>(c) + 1] = static_cast<std::size_t>(std::count(index_.begin() + begin, index_.begin() + end, 0));
+      first[static_cast<std::size_t>(c)] = static_cast<std::size_t>(std::count(index_.begin() + begin, index_.begin() + end, 0));
     });
-    for (int c = 0; c < chunks; ++c) first[static_cast<std::size_t>(c) + 1] += first[static_cast<std::size_t>(c)];
-    ids_.resize(first[static_cast<std::size_t>(chunks)]);
+    ids_.resize(chunk_starts(first, chunks)[0]);
     parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {
       std::size_t next = first[static_cast<std::size_t>(c)];
       for (std::size_t i = begin; i < end; ++i)

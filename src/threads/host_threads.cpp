@@ -32,6 +32,18 @@ void set_host_threads(int threads, std::size_t grain_limit) {
   grain_cap = grain_limit;
 }
 
+std::vector<std::size_t> chunk_starts(std::vector<std::size_t>& count, int chunks, std::size_t width) {
+  std::vector<std::size_t> total(width, 0);
+  for (int c = 0; c < chunks; ++c)
+    for (std::size_t p = 0; p < width; ++p) {
+      std::size_t& n = count[static_cast<std::size_t>(c) * width + p];
+      const std::size_t items = n;
+      n = total[p];
+      total[p] += items;
+    }
+  return total;
+}
+
 int parallel_chunks(std::size_t n, const std::function<void(int, std::size_t, std::size_t)>& body, std::size_t grain) {
   if (grain_cap > 0) grain = std::min(grain, grain_cap);
   const std::size_t by_grain = std::max<std::size_t>(1, n / std::max<std::size_t>(1, grain));

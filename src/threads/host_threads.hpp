@@ -30,6 +30,11 @@ bool host_threads_available();
 int parallel_chunks(std::size_t n, const std::function<void(int chunk, std::size_t begin, std::size_t end)>& body,
                     std::size_t grain = 4096);
 
+// Per-chunk counts to per-chunk starts: count[c * width + p], chunk c's items for list p
+// (c < chunks), becomes where chunk c's items start in list p, after the lower chunks' (the
+// place one pass in order would put them). Returns each list's total.
+std::vector<std::size_t> chunk_starts(std::vector<std::size_t>& count, int chunks, std::size_t width = 1);
+
 // parallel_chunks for a body that does not need its chunk's index.
 inline void parallel_for(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body,
                          std::size_t grain = 4096) {

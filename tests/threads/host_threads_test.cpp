@@ -1,5 +1,6 @@
 // parallel_chunks: contiguous chunks that cover [0, n) in order, as many as the threads and the
-// grain allow, run at once; an exception of a chunk comes back to the caller after all chunks.
+// grain allow, run at once; an exception of a chunk comes back to the caller after all chunks;
+// per-chunk counts become the starts one pass in order gives.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -59,6 +60,17 @@ TEST(HostThreads, LowestChunksExceptionIsRethrown) {
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "chunk 1");
   }
+}
+
+TEST(HostThreads, ChunkStartsFollowTheLowerChunks) {
+  // 3 chunks, 2 lists: chunk c's count for list p at [c * 2 + p].
+  std::vector<std::size_t> count{2, 0, 1, 5, 3, 1};
+  const std::vector<std::size_t> total = chunk_starts(count, 3, 2);
+  EXPECT_EQ(total, (std::vector<std::size_t>{6, 6}));
+  EXPECT_EQ(count, (std::vector<std::size_t>{0, 0, 2, 0, 3, 5}));
+  std::vector<std::size_t> one{4, 0, 7, 9};  // only the first 3 are chunks
+  EXPECT_EQ(chunk_starts(one, 3)[0], 11u);
+  EXPECT_EQ(one, (std::vector<std::size_t>{0, 4, 4, 9}));
 }
 
 TEST(HostThreads, ZeroThreadsAreRefused) { EXPECT_THROW(set_host_threads(0), std::invalid_argument); }
