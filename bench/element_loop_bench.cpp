@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "assembly/element_loops.hpp"
-#include "assembly/neo_hookean.hpp"
+#include "physics/neo_hookean.hpp"
 
 namespace {
 

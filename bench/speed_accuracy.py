@@ -22,7 +22,7 @@ default changes none of them:
              kappa the reference reached, and 10x that; a scene with a fixed kappa gets
              "adaptive" and 10x its kappa
   fric_its   contact.friction_iterations 2 and 3 (where contact.friction > 0)
-The CCD step fraction (0.8, src/nonlinear/contact_parameters.hpp) has no option, so no row.
+The CCD step fraction (0.8, src/contact/distributed/contact_parameters.hpp) has no option, so no row.
 
 Errors against the reference (u = displacement, over the output times both runs have, t > 0):
   err_max      max_t max_node |u - u_ref| / max_t max_node |u_ref|  (error relative to the motion)

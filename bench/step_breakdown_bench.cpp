@@ -19,7 +19,7 @@
 #include "app/run_options.hpp"
 #include "app/simulation.hpp"
 #include "app/solver_presets.hpp"
-#include "nonlinear/log_stages.hpp"
+#include "logging/log_stages.hpp"
 
 namespace {
 

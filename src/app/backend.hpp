@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "nonlinear/form.hpp"
+#include "forms/form.hpp"
 
 namespace dipc {
 

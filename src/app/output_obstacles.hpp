@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "io/xdmf_writer.hpp"
-#include "nonlinear/contact_parameters.hpp"
+#include "contact/distributed/contact_parameters.hpp"
 
 namespace dipc {
 

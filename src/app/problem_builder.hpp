@@ -2,7 +2,7 @@
 // initial velocities, gravity, and Dirichlet conditions resolved to this rank's local nodes.
 #pragma once
 #include "io/scene.hpp"
-#include "nonlinear/problem.hpp"
+#include "forms/problem.hpp"
 #include "partition/distributed_mesh.hpp"
 
 namespace dipc {

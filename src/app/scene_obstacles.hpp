@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "io/scene.hpp"
-#include "nonlinear/contact_parameters.hpp"
+#include "contact/distributed/contact_parameters.hpp"
 
 namespace dipc {
 

@@ -6,8 +6,8 @@
 #include <limits>
 #include <type_traits>
 
-#include "assembly/hex8_mean_dilatation.hpp"
-#include "assembly/hex8_mass.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
+#include "physics/hex8_mass.hpp"
 
 namespace dipc {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "assembly/hex8_mean_dilatation.hpp"
-#include "assembly/materials.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
+#include "physics/materials.hpp"
 #include "math/host_device.hpp"
 
 namespace dipc {

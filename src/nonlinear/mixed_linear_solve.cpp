@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "nonlinear/device_matrix.hpp"
+#include "assembly/device_matrix.hpp"
 
 namespace dipc {
 

@@ -41,7 +41,7 @@
 
 #include <vector>
 
-#include "nonlinear/form.hpp"
+#include "forms/form.hpp"
 
 namespace dipc {
 

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "nonlinear/log_stages.hpp"
+#include "logging/log_stages.hpp"
 
 namespace dipc {
 

@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "nonlinear/device_matrix.hpp"
-#include "nonlinear/incremental_potential.hpp"
+#include "assembly/device_matrix.hpp"
+#include "potential/incremental_potential.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 #include "nonlinear/preconditioner_reuse.hpp"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "nonlinear/device_matrix.hpp"
+#include "assembly/device_matrix.hpp"
 
 namespace dipc {
 

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <optional>
 
-#include "assembly/hex8_mass.hpp"
+#include "physics/hex8_mass.hpp"
 #include "math/vector3.hpp"
-#include "nonlinear/body_force_form.hpp"
-#include "nonlinear/elastic_form.hpp"
-#include "nonlinear/friction_form.hpp"
-#include "nonlinear/inertia_form.hpp"
-#include "nonlinear/log_stages.hpp"
+#include "forms/body_force_form.hpp"
+#include "forms/elastic_form.hpp"
+#include "forms/friction_form.hpp"
+#include "forms/inertia_form.hpp"
+#include "logging/log_stages.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 #include "threads/host_threads.hpp"
 

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "nonlinear/contact_form.hpp"
-#include "nonlinear/element_data.hpp"
+#include "forms/contact_form.hpp"
+#include "forms/element_data.hpp"
 #include "nonlinear/newton_solver.hpp"
-#include "nonlinear/problem.hpp"
+#include "forms/problem.hpp"
 
 namespace dipc {
 

@@ -12,7 +12,7 @@
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/element_loops.hpp"
-#include "assembly/hex8_mass.hpp"
+#include "physics/hex8_mass.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {

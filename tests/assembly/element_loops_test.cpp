@@ -11,9 +11,9 @@
 #include <random>
 #include <vector>
 
-#include "assembly/hex8_elasticity.hpp"
-#include "assembly/hex8_mass.hpp"
-#include "assembly_test_support.hpp"
+#include "physics/hex8_elasticity.hpp"
+#include "physics/hex8_mass.hpp"
+#include "physics/physics_test_support.hpp"
 
 namespace dipc {
 namespace {

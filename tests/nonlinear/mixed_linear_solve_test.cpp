@@ -17,9 +17,9 @@
 #include <tuple>
 
 #include "mesh/box_generator.hpp"
-#include "nonlinear/elastic_form.hpp"
-#include "nonlinear/incremental_potential.hpp"
-#include "nonlinear/inertia_form.hpp"
+#include "forms/elastic_form.hpp"
+#include "potential/incremental_potential.hpp"
+#include "forms/inertia_form.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 
 namespace dipc {

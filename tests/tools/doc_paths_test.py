@@ -35,7 +35,7 @@ def main():
     with tempfile.TemporaryDirectory() as work:
         doc = os.path.join(work, "bad.md")
         with open(doc, "w", encoding="utf-8") as f:
-            f.write("# references that exist\n\n`src/nonlinear/form.hpp` `Form::max_step` `add_psd_correction`\n\n")
+            f.write("# references that exist\n\n`src/forms/form.hpp` `Form::max_step` `add_psd_correction`\n\n")
             for kind, text in bad.items():
                 f.write(f"{kind}: {text}\n")
         # The bad document lives outside the tree, so its link is resolved from there.

@@ -17,10 +17,10 @@
 //      accumulators), written straight into the COO value array at elastic_coo_offset, whose
 //      order makes the 8 threads of an element store 8 consecutive doubles at a time.
 #include "assembly/cuda/element_kernels.hpp"
-#include "assembly/hex8_elasticity.hpp"
-#include "assembly/hex8_mean_dilatation.hpp"
-#include "assembly/hex8_mass.hpp"
-#include "assembly/materials.hpp"
+#include "physics/hex8_elasticity.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
+#include "physics/hex8_mass.hpp"
+#include "physics/materials.hpp"
 #include "device/cuda_check.cuh"
 
 namespace dipc::device {

@@ -1,0 +1,112 @@
+// DirectMatrix: the Hessian's PETSc matrix built from dipc's own list of entries, its values
+// written straight into the matrix's arrays.
+//
+// PETSc's COO path (MatSetPreallocationCOO / MatSetValuesCOO) sorts every entry it is given and
+// keeps a permutation and offsets (16 B) per entry beside the matrix. At 125,000 hexes on one
+// rank it was 78 % of the setup (3.6 of 4.6 s) and at 1M hexes on one H100 most of the 28 s
+// (docs/performance.md, "Setup"). Here each rank sorts only its rows' short column lists once,
+// hands PETSc (or hypre) arrays it does not copy, and keeps one 4 B position per entry.
+//
+// Entries of rows another rank owns (the ghost rows of a rank's elements) go to their owner
+// once at creation, which adds them to its pattern; at every assembly their values travel to
+// the owner (RemoteEntrySums) and are added to its own (the owner's value first, then the
+// other ranks' in rank order: a fixed order, so runs on the same ranks give the same bits).
+//
+// Two kinds of matrix are built this way (every other type keeps the COO path):
+//   host_aij      MATSEQAIJ (MatCreateSeqAIJWithArrays) or MATMPIAIJ
+//                 (MatCreateMPIAIJWithSplitArrays): columns ascending in each row;
+//   device_hypre  MATHYPRE whose hypre runs on the GPU: a hypre ParCSR matrix made on the
+//                 device (MatCreateFromParCSR), the diagonal first in each row of its diagonal
+//                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
+//                 through its ascending column map. The rows made of node blocks alone (nearly
+//                 all) are written on the device (device::write_block_rows); the host counts
+//                 them and writes the others.
+// Values are given in the entry order of create(): host memory for host_aij, device memory for
+// device_hypre.
+#pragma once
+#include <petscmat.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "device/device_runtime.hpp"
+#include "assembly/large_page_vector.hpp"
+#include "assembly/node_block_reduction.hpp"
+#include "assembly/remote_entry_sums.hpp"
+
+namespace dipc {
+
+class DirectMatrix {
+ public:
+  enum class Kind { coo, host_aij, device_hypre };
+  // The kind that serves J (type set, not yet preallocated); coo where none does.
+  static Kind kind_of(Mat J);
+
+  DirectMatrix() = default;
+  DirectMatrix(const DirectMatrix&) = delete;
+  DirectMatrix& operator=(const DirectMatrix&) = delete;
+
+  // Collective. A new matrix *J of `kind` (not coo) over the rows and columns of `like` (sizes,
+  // block size, options prefix), holding the rank's entries: those of the node blocks of
+  // `blocks` (may be null) in its entry order (dof 3 node + component; the rank's rows then
+  // must start and end at a node), then (rows[k], cols[k]), k < n. Global dof ids, no pair
+  // twice on a rank, rows of any rank. The blocks are read as given, never expanded into
+  // (row, col) lists: at 1M hexes those lists alone were 2 GB. Replaces what an earlier
+  // create() set up; the arrays of an earlier matrix live as long as that matrix.
+  PetscErrorCode create(Mat like, Kind kind, const NodeBlockReduction* blocks, const PetscInt* rows,
+                        const PetscInt* cols, std::size_t n, Mat* J);
+  PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J) {
+    return create(like, kind, nullptr, rows, cols, n, J);
+  }
+  // Collective. J's values from values[k] for the entries k of create() (on the host for
+  // host_aij, on the device for device_hypre). J must be the matrix create() made last.
+  PetscErrorCode set_values(Mat J, const double* values);
+
+ private:
+  // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
+  // of other ranks' rows.
+  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
+                               const PetscInt* rows, const PetscInt* cols, std::size_t n);
+  PetscErrorCode make_host_aij(Mat like, Mat* J);
+  PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
+  // device_hypre: J's value arrays on the device.
+  PetscErrorCode hypre_values(Mat J, double** diag, double** offd) const;
+  // host_aij: J's diagonal and off-diagonal blocks (offd null on a SEQAIJ) and the latter's
+  // global columns.
+  static PetscErrorCode aij_blocks(Mat J, Mat* diag, Mat* offd, const PetscInt** garray);
+  // host_aij: checks that PETSc kept the pattern as given (the positions depend on it).
+  PetscErrorCode check_host_pattern(Mat J, const std::vector<PetscInt>& offd_columns) const;
+
+  Kind kind_ = Kind::coo;
+  std::size_t num_entries_ = 0;
+  std::vector<PetscInt> row_starts_;  // every rank's first row, and the number of rows at the end
+  PetscInt row_begin_ = 0;
+  // The pattern of this rank's rows (CSR): the diagonal block's columns relative to the first
+  // owned column, the off-diagonal block's as global ids, each row's in the kind's order.
+  std::vector<PetscInt> diag_i_, offd_i_, offd_j_;
+  LargePageVector<PetscInt> diag_j_;
+  // Per entry of create(): its position among the values (diagonal block, then off-diagonal
+  // block), or kRemote where another rank owns its row.
+  static constexpr std::uint32_t kRemote = 0xffffffffu;
+  LargePageVector<std::uint32_t> position_;
+  // device_hypre writes the rows made of node blocks alone on the device
+  // (device::write_block_rows): per row, its node block row there (-1 for the other rows), and
+  // the other rows' columns (position in the block, column) and own entries' (entry, position),
+  // written by the host. position_, diag_j_ and offd_j_ then stay empty.
+  std::vector<std::int64_t> device_block_row_;
+  std::vector<std::pair<std::uint32_t, PetscInt>> side_diag_, side_offd_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> side_position_;
+  // Entries other ranks send here: one slot per distinct (row, column), its position, and
+  // whether an entry of this rank is there too (then the slot's sum is added to it).
+  std::vector<std::uint32_t> slot_position_;
+  std::vector<std::uint8_t> slot_keep_;
+  RemoteEntrySums remote_;  // the values of this rank's entries of other ranks' rows, to their slots
+  std::size_t num_diag_ = 0, num_offd_ = 0;
+  std::vector<double> slot_sums_;
+  device::Array<std::uint32_t> d_position_{"matrix positions"}, d_slot_position_{"matrix slot positions"};
+  device::Array<std::uint8_t> d_slot_keep_{"matrix slot flags"};
+  device::Array<double> d_slot_sums_{"matrix slot sums"};
+};
+
+}  // namespace dipc

@@ -1,0 +1,240 @@
+// ContactForm (contact_form.hpp): κ and its bounds, the device pair lists, and the Form
+// evaluations (value, gradient, Hessian, CCD step bound) on the host and the device over the
+// pairs of its ContactSet; the active-pair queries for friction and the step reports.
+#include "forms/contact_form.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "contact/contact_pair_terms.hpp"
+#include "contact/geometry/barrier.hpp"
+
+namespace dipc {
+
+MemorySpace ContactForm::checked_space(MemorySpace space) {
+  if (space == MemorySpace::device && device::device_count() == 0)
+    throw device::DeviceError(device::built_with_cuda()
+                                  ? "contact barrier on the device: no CUDA device is visible to this process"
+                                  : "contact barrier on the device: dipc was built without CUDA "
+                                    "(configure with -DDIPC_WITH_CUDA=ON)");
+  return space;
+}
+
+ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space,
+                         const GhostExchange* nodal)
+    : parameters_(std::move(parameters)), space_(checked_space(space)), set_(mesh, parameters_, space_, &stats_, nodal) {}
+
+void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
+  // IPC supplement (adaptive barrier stiffness): κ_min makes the barrier's stiffness at a
+  // tiny distance d₀ = (1e-8 L)² comparable to the inertia of an average node,
+  // κ_min = 1e11 · m̄ / (4 d₀ b''(d₀)), and κ_max = 100 κ_min. dipc's barrier is weighted by
+  // rest vertex areas, so a node's barrier stiffness is κ Ā b'': the mass is taken per unit
+  // area, m̄ / Ā (Ā the average vertex area), which keeps κ_min independent of the mesh size.
+  const double average_area = set_.average_vertex_area();
+  const double dhat2 = parameters_.dhat * parameters_.dhat;
+  double d0 = 1e-8 * bbox_diagonal;
+  d0 *= d0;
+  if (d0 >= dhat2) d0 = 0.5 * dhat2;
+  kappa_min_ = 1e11 * (average_mass / average_area) / (4.0 * d0 * contact::barrier_second_derivative(d0, dhat2));
+  kappa_max_ = 100.0 * kappa_min_;
+  min_distance_eps2_ = (1e-9 * bbox_diagonal) * (1e-9 * bbox_diagonal);
+  if (parameters_.kappa_adaptive && parameters_.kappa < kappa_min_) parameters_.kappa = kappa_min_;
+}
+
+void ContactForm::prepare_segment(const double* x, const double* p) {
+  set_.find_candidates(x, p);
+  if (space_ != MemorySpace::device) return;
+  const double start = MPI_Wtime();
+  device::ContactPairList list;
+  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    append(&list, set_.describe(kind, i));
+    return true;
+  });
+  device_candidates_.upload(list);
+  stats_.transfer_seconds += MPI_Wtime() - start;
+}
+
+void ContactForm::update_pattern(const double* x) {
+  set_.update_pattern([&](CandidateKind kind, std::size_t i) {
+    bool active;
+    ContactPairTerms t;
+    terms(set_.describe(kind, i), x, false, false, &active, &t);
+    return active;
+  });
+  if (space_ != MemorySpace::device) return;
+  // The pattern's device list also changes when exchanges renumber its nodes, so compare the
+  // list itself, not only the key.
+  const double start = MPI_Wtime();
+  device::ContactPairList list;
+  for (const auto& pe : set_.pattern_pairs()) append(&list, set_.describe(pe.kind, pe.index));
+  if (list != uploaded_pattern_) {
+    device_pattern_.upload(list);
+    uploaded_pattern_ = std::move(list);
+  }
+  stats_.transfer_seconds += MPI_Wtime() - start;
+}
+
+bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
+                        ContactPairTerms* t) const {
+  double X[12];
+  set_.gather(x, info, X);
+  return contact_pair_terms(info.kind, X, info.plane_point(), info.plane_normal(), parameters_.dhat * parameters_.dhat,
+                            parameters_.kappa, info.weight, info.eps_x, want_g, want_H, parameters_.project_hessian,
+                            active, t);
+}
+
+void ContactForm::append(device::ContactPairList* list, const PairInfo& info) const {
+  list->add(info.kind, info.nodes.data(), info.weight, info.eps_x,
+            info.plane ? static_cast<int>(info.plane - parameters_.planes.data()) : -1);
+}
+
+device::BarrierConstants ContactForm::barrier_constants() const {
+  device::BarrierConstants c;
+  c.dhat2 = parameters_.dhat * parameters_.dhat;
+  c.kappa = parameters_.kappa;
+  c.project = parameters_.project_hessian;
+  return c;
+}
+
+bool ContactForm::value(const double* x, double* energy) {
+  const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::contact_barrier_energy(device_candidates_, set_.device_obstacles(), barrier_constants(), x, reducer_, energy);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
+  double e = 0;
+  const bool ok = set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    bool active;
+    ContactPairTerms t;
+    if (!terms(set_.describe(kind, i), x, false, false, &active, &t)) return false;
+    e += t.energy;
+    return true;
+  });
+  *energy = e;
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+bool ContactForm::gradient(const double* x, double* g) {
+  const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::add_contact_barrier_gradient(device_candidates_, set_.device_obstacles(), barrier_constants(), x, g, reducer_);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
+  const bool ok = set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    const PairInfo info = set_.describe(kind, i);
+    bool active;
+    ContactPairTerms t;
+    if (!terms(info, x, true, false, &active, &t)) return false;
+    if (!active) return true;
+    for (int k = 0; k < info.count; ++k)
+      if (!is_obstacle_node(info.nodes[k]))
+        for (int c = 0; c < 3; ++c) g[3 * info.nodes[k] + c] += t.g[3 * k + c];
+    return true;
+  });
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+bool ContactForm::hessian(const double* x, double* values) {
+  const double start = MPI_Wtime();
+  if (space_ == MemorySpace::device) {
+    const bool ok =
+        device::contact_barrier_hessian(device_pattern_, set_.device_obstacles(), barrier_constants(), x, values, reducer_);
+    stats_.barrier_seconds += MPI_Wtime() - start;
+    return ok;
+  }
+  std::size_t offset = 0;
+  bool ok = true;
+  for (const auto& pe : set_.pattern_pairs()) {
+    const PairInfo info = set_.describe(pe.kind, pe.index);
+    int slots[4];
+    const int n = 3 * body_slots(info.nodes.data(), info.count, slots);
+    bool active;
+    ContactPairTerms t;
+    ok = terms(info, x, true, true, &active, &t) && ok;
+    if (active)
+      body_block(t.H, info.count, slots, n / 3, values + offset);
+    else
+      std::fill(values + offset, values + offset + n * n, 0.0);
+    offset += static_cast<std::size_t>(n) * n;
+  }
+  stats_.barrier_seconds += MPI_Wtime() - start;
+  return ok;
+}
+
+double ContactForm::max_step(const double* x, const double* p) {
+  const double start = MPI_Wtime();
+  double t = 1.0;
+  if (space_ == MemorySpace::device) {
+    t = device::contact_min_time_of_impact(device_candidates_, set_.device_obstacles(), x, p, 1.0, reducer_);
+  } else {
+    // Every pair on [0, 1], as on the device (see the header).
+    set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+      const PairInfo info = set_.describe(kind, i);
+      double X0[12], X1[12];
+      set_.gather_segment(x, p, info, X0, X1);
+      t = std::min(t, contact_pair_time_of_impact(info.kind, X0, X1, info.plane_point(), info.plane_normal(), 1.0));
+      return true;
+    });
+  }
+  stats_.ccd_seconds += MPI_Wtime() - start;
+  // IPC starts the line search at a fraction of the time of impact, so that the new state
+  // keeps a positive distance even before the barrier pushes back.
+  return t < 1.0 ? parameters_.ccd_fraction * t : 1.0;
+}
+
+double ContactForm::squared_distance(const PairInfo& info, const double* X) {
+  return contact_pair_squared_distance(info.kind, X, info.plane_point(), info.plane_normal());
+}
+
+double ContactForm::min_distance(const double* x) const {
+  double d2 = std::numeric_limits<double>::infinity();
+  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    const PairInfo info = set_.describe(kind, i);
+    double X[12];
+    set_.gather(x, info, X);
+    d2 = std::min(d2, squared_distance(info, X));
+    return true;
+  });
+  return std::sqrt(d2);
+}
+
+std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) const {
+  std::vector<ActivePair> out;
+  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    const PairInfo info = set_.describe(kind, i);
+    bool active;
+    ContactPairTerms t;
+    terms(info, x, false, false, &active, &t);
+    if (active) out.push_back({info, set_.global_node(info.nodes[0])});
+    return true;
+  });
+  return out;
+}
+
+const char* ContactForm::pair_kind_name(int kind) {
+  static const char* const names[num_pair_kinds] = {"point_triangle",          "edge_edge",
+                                                    "point_plane",             "point_obstacle_triangle",
+                                                    "edge_obstacle_edge",      "obstacle_point_triangle"};
+  return kind >= 0 && kind < num_pair_kinds ? names[kind] : "unknown";
+}
+
+std::array<long, ContactForm::num_pair_kinds> ContactForm::active_pair_counts(const double* x) const {
+  std::array<long, num_pair_kinds> counts{};
+  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    bool active;
+    ContactPairTerms t;
+    terms(set_.describe(kind, i), x, false, false, &active, &t);
+    if (active) ++counts[static_cast<int>(kind)];
+    return true;
+  });
+  return counts;
+}
+
+}  // namespace dipc

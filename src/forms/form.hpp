@@ -1,0 +1,123 @@
+// Form: one term of the incremental potential E(x) (docs/design.md §3, "The Form contract").
+//
+// Forms see this rank's *local* nodal arrays (owned nodes then ghosts, 3 values per node,
+// see partition/distributed_mesh.hpp); IncrementalPotential gathers x once per evaluation,
+// sums the forms and scatters gradients back to the owners once. Each contribution must be
+// counted exactly once over all ranks: element terms loop over this rank's elements (each
+// element lives on one rank), nodal terms over owned nodes only.
+//
+// A form carries its own scale (h² for elastic and body terms in implicit Euler), so the
+// potential is the plain sum of its forms.
+//
+// Memory spaces. A form evaluates either on the host or on the CUDA device (memory_space()).
+// The evaluations — value, gradient, hessian, is_valid, max_step — receive x, p, g and the
+// Hessian values in the form's own space; the potential copies a local array across at most
+// once per evaluation, whatever the number of forms. prepare_segment also receives x and p in
+// the form's space (the potential keeps the segment in every space its forms use), so a device
+// form can search its segment on the device. The other hooks (begin_step, begin_iteration,
+// update_extra_nodes, update_pattern), called once per step or Newton iteration, always receive
+// host arrays.
+#pragma once
+#include <petscsys.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "assembly/element_pattern.hpp"
+#include "device/memory_space.hpp"
+
+namespace dipc {
+
+// The stiff volumetric part of a Hessian kept apart as rank-one terms d_e b_e b_eᵀ, one row per
+// mean-dilatation element of this rank (hex8_mean_dilatation.hpp, mixed_linear_solve.hpp).
+struct VolumetricPart {
+  int rows = 0;
+  std::vector<std::int32_t> local_dofs;  // 24 per row: 3 * local node + component
+  std::vector<PetscInt> global_dofs;     // 24 per row
+  std::vector<double> gradient;          // 24 per row: b_e = dv_e/dx at the last hessian()
+  std::vector<double> curvature;         // per row: d_e = the form's scale times f''_e (>= 0)
+  std::vector<double> weight;            // per row: V_e / (scale mu_e), the pressure mass over the shear modulus
+};
+
+class Form {
+ public:
+  virtual ~Form() = default;
+  virtual std::string name() const = 0;
+  virtual MemorySpace memory_space() const { return MemorySpace::host; }
+
+  // This rank's contribution to E at x. Returns false if x is not admissible for this
+  // form (an inverted element), in which case E(x) = +inf.
+  virtual bool value(const double* x, double* energy) = 0;
+  // Adds ∂E/∂x into g (3 per local node). Returns false as value().
+  virtual bool gradient(const double* x, double* g) = 0;
+  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern (for
+  // element forms the expansion of element_pattern(), which the potential does not ask for).
+  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
+  // Writes the Hessian values in coo_pattern() order. Returns false as value().
+  virtual bool hessian(const double* x, double* values) = 0;
+  // Element forms (elastic, consistent inertia) also describe their pattern as node blocks and
+  // return true: the potential then builds the matrix from the blocks and never expands
+  // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
+  // pattern must not change (pattern_may_change() false).
+  virtual bool element_pattern(ElementPattern* pattern) const { return false; }
+  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
+  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
+  // of every element's values (576 per hex) exists. Returns false as value(). A form that
+  // returns true from element_pattern() and evaluates on the host must implement it.
+  virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
+
+  // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
+  // contact). 1 for forms without such a limit.
+  virtual double max_step(const double* x, const double* p) { return 1.0; }
+  // True for forms whose max_step can be below 1 (contact): without any, the potential skips
+  // the bound and its reduction over the ranks.
+  virtual bool limits_step() const { return false; }
+  // False if x must be rejected outright (an inverted element at a corner or quadrature
+  // point), whatever the energy says.
+  virtual bool is_valid(const double* x) { return true; }
+  // Hooks: start of a time step (x̂ = predicted positions, local array) and of a Newton
+  // iteration.
+  virtual void begin_step(const double* x_hat) {}
+  // The time step h changed (step recovery halves it, then lets it grow back): forms whose
+  // definition holds h (h²Ψ, h²fᵀx, friction's ε_v·h) rescale. Never called in static solves,
+  // whose potential has no h.
+  virtual void set_time_step(double h) {}
+  // Returns true if the form changed its own definition (e.g. the barrier stiffness), so that
+  // the gradient at x must be evaluated again.
+  virtual bool begin_iteration(const double* x) { return false; }
+
+  // --- Forms that reach beyond the mesh's local nodes (contact across ranks) ---------------
+  // Global ids of nodes this form needs in addition to the mesh's local nodes; the potential
+  // appends them to the local arrays in this order (nullptr: none).
+  virtual const std::vector<std::int64_t>* extra_nodes() const { return nullptr; }
+  // Collective. Called before the potential is evaluated anywhere on the segment x + αp,
+  // α ∈ [0, 1] (p = 0 at the start of a step), with arrays over the current local nodes. The
+  // form decides which remote data it needs for that segment; returns true if extra_nodes()
+  // changed, after which the potential re-gathers and calls prepare_segment again.
+  virtual bool update_extra_nodes(const double* x, const double* p) { return false; }
+  // Called once the arrays cover extra_nodes(), with x and p in the form's memory space: the
+  // form finds what it will evaluate along the segment (contact: candidate pairs).
+  virtual void prepare_segment(const double* x, const double* p) {}
+  // Called before every Hessian evaluation at x, before pattern_version() is read: a form
+  // whose pattern depends on the state (the contact active set) updates it here.
+  virtual void update_pattern(const double* x) {}
+  // Increases whenever coo_pattern() would return a different pattern.
+  virtual long pattern_version() const { return 0; }
+  // True for forms whose pattern can change after setup (contact's active set, friction's
+  // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
+  // made at setup is the only one.
+  virtual bool pattern_may_change() const { return false; }
+
+  // --- A stiff volumetric part kept out of the Hessian (mixed_linear_solve.hpp) -------------
+  // Forms whose Hessian holds rank-one terms d_e b_e b_eᵀ with d_e ~ lambda / V_e (mean-dilatation
+  // elements) may hand them over: after split_volumetric(), hessian() leaves them out (same
+  // pattern) and volumetric_part() holds b_e and d_e at the state of the last hessian().
+  virtual bool can_split_volumetric() const { return false; }
+  // Largest lambda / mu among the elements whose terms can be split (0: none).
+  virtual double split_stiffness_ratio() const { return 0; }
+  virtual void split_volumetric() {}
+  virtual const VolumetricPart* volumetric_part() const { return nullptr; }
+};
+
+}  // namespace dipc

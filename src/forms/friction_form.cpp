@@ -1,0 +1,121 @@
+#include "forms/friction_form.hpp"
+
+#include <cmath>
+
+#include "contact/friction/friction_potential.hpp"
+#include "contact/geometry/barrier.hpp"
+
+namespace dipc {
+
+void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
+  pairs_.clear();
+  const double dhat2 = contact_.dhat() * contact_.dhat();
+  std::vector<std::int64_t> pinned;
+  for (const auto& active : contact_.active_pairs(x_lag)) {
+    const auto& info = active.info;
+    Pair p;
+    p.count = info.count;
+    double X[12];
+    for (int k = 0; k < info.count; ++k) {
+      p.global[k] = contact_.set().global_node(info.nodes[k]);
+      if (!is_obstacle_node(p.global[k])) pinned.push_back(p.global[k]);
+      const double* lagged = contact_.set().position(x_lag, info.nodes[k]);
+      const double* started = contact_.set().step_start_position(x_start, info.nodes[k]);
+      for (int c = 0; c < 3; ++c) {
+        X[3 * k + c] = lagged[c];
+        p.x_start[3 * k + c] = started[c];
+      }
+    }
+    // Normal force λ = −κ w b'(d) 2√d at the lagged positions (IPC §5).
+    const double d = ContactForm::squared_distance(info, X);
+    const double lambda = contact::friction_normal_force(contact_.kappa() * info.weight,
+                                                         contact::barrier_first_derivative(d, dhat2), d);
+    if (info.kind == PairKind::vertex_triangle)
+      p.pair = contact::point_triangle_lagged_friction(X, mu_, lambda, eps_u_);
+    else if (info.kind == PairKind::edge_edge)
+      p.pair = contact::edge_edge_lagged_friction(X, mu_, lambda, eps_u_);
+    else
+      p.plane = contact::point_plane_lagged_friction(info.plane->normal.data(), mu_, lambda, eps_u_);
+    pairs_.push_back(p);
+  }
+  contact_.set().pin_nodes(std::move(pinned));
+  ++pattern_version_;
+}
+
+bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_t* local) const {
+  for (int k = 0; k < p.count; ++k) {
+    local[k] = contact_.set().local_node(p.global[k]);
+    if (local[k] == -1) return false;
+    const double* xk = contact_.set().position(x, local[k]);
+    for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
+  }
+  return true;
+}
+
+bool FrictionForm::value(const double* x, double* energy) {
+  double e = 0;
+  for (const Pair& p : pairs_) {
+    double X[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    e += p.count == 1 ? contact::friction_energy(X, p.x_start.data(), p.plane)
+                      : contact::friction_energy(X, p.x_start.data(), p.pair);
+  }
+  *energy = e;
+  return true;
+}
+
+bool FrictionForm::gradient(const double* x, double* g) {
+  for (const Pair& p : pairs_) {
+    double X[12], gp[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    if (p.count == 1)
+      contact::friction_gradient(X, p.x_start.data(), p.plane, gp);
+    else
+      contact::friction_gradient(X, p.x_start.data(), p.pair, gp);
+    for (int k = 0; k < p.count; ++k)
+      if (!is_obstacle_node(local[k]))
+        for (int c = 0; c < 3; ++c) g[3 * local[k] + c] += gp[3 * k + c];
+  }
+  return true;
+}
+
+void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  rows->clear(), cols->clear();
+  for (const Pair& p : pairs_) {
+    int slots[4];
+    const int n = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int b = 0; b < n; ++b)
+          for (int j = 0; j < 3; ++j) {
+            rows->push_back(static_cast<PetscInt>(3 * p.global[slots[a]] + i));
+            cols->push_back(static_cast<PetscInt>(3 * p.global[slots[b]] + j));
+          }
+  }
+}
+
+bool FrictionForm::hessian(const double* x, double* values) {
+  std::size_t offset = 0;
+  for (const Pair& p : pairs_) {
+    double X[12];
+    std::int32_t local[4];
+    if (!gather(p, x, X, local)) return false;
+    int slots[4];
+    const int n = 3 * body_slots(p.global.data(), p.count, slots);
+    if (p.count == 1) {
+      contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
+    } else if (n == 3 * p.count) {
+      contact::friction_hessian(X, p.x_start.data(), p.pair, values + offset);
+    } else {  // a pair with an obstacle: the body nodes' block
+      double H[144];
+      contact::friction_hessian(X, p.x_start.data(), p.pair, H);
+      body_block(H, p.count, slots, n / 3, values + offset);
+    }
+    offset += static_cast<std::size_t>(n) * n;
+  }
+  return true;
+}
+
+}  // namespace dipc

@@ -1,0 +1,59 @@
+// FrictionForm: lazily lagged IPC friction (Li et al. 2020, §5). At each lag update the
+// active contact pairs are frozen with their tangent bases, closest-point weights and normal
+// force magnitudes λ_k (from the barrier at the lagged positions); within the lag iteration
+//   D(x) = Σ_k μ λ_k f0(‖u_k‖),  u_k = P_kᵀ Γ_k (x − x_n),
+// smoothed below the sliding displacement ε_u = ε_v·h, is an ordinary smooth potential that
+// Newton minimises together with the others. Built only when μ > 0.
+//
+// Pairs are kept by global node ids and evaluated on the rank that evaluates the contact pair,
+// so every pair counts once; their nodes stay among the contact form's extra nodes while the
+// lag lasts. Obstacle vertices (contact_obstacles.hpp) keep their obstacle ids: their positions
+// come from the contact form (at the step's start for x_start), and only the body nodes get
+// gradient and Hessian entries, so a moving obstacle drags what rests on it.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "contact/friction/lagged_friction.hpp"
+#include "forms/contact_form.hpp"
+
+namespace dipc {
+
+class FrictionForm : public Form {
+ public:
+  // μ the friction coefficient; smoothing below ε_u = ε_v · h (h the time step).
+  FrictionForm(ContactForm& contact, double mu, double eps_v, double h)
+      : contact_(contact), mu_(mu), eps_v_(eps_v), eps_u_(eps_v * h) {}
+  std::string name() const override { return "friction (lagged)"; }
+  bool value(const double* x, double* energy) override;
+  bool gradient(const double* x, double* g) override;
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool hessian(const double* x, double* values) override;
+  long pattern_version() const override { return pattern_version_; }
+  bool pattern_may_change() const override { return true; }
+  // Takes effect at the next update_lag (the start of every step).
+  void set_time_step(double h) override { eps_u_ = eps_v_ * h; }
+
+  // Freezes the friction pairs at x_lag (the active contact pairs there); x_start holds the
+  // positions at the start of the step. Both are local arrays of the potential.
+  void update_lag(const double* x_lag, const double* x_start);
+  std::size_t num_pairs() const { return pairs_.size(); }
+
+ private:
+  struct Pair {
+    int count = 0;                          // 4 (point–triangle, edge–edge) or 1 (point–plane)
+    std::array<std::int64_t, 4> global{};   // global node ids
+    std::array<double, 12> x_start{};       // their positions at the start of the step
+    contact::LaggedPairFriction pair{};
+    contact::LaggedPointPlaneFriction plane{};
+  };
+  bool gather(const Pair& p, const double* x, double* X, std::int32_t* local) const;
+
+  ContactForm& contact_;
+  double mu_, eps_v_, eps_u_;
+  std::vector<Pair> pairs_;
+  long pattern_version_ = 0;
+};
+
+}  // namespace dipc

@@ -1,0 +1,43 @@
+#include "logging/log_stages.hpp"
+
+namespace dipc {
+
+const LogStages& log_stages() {
+  static LogStages s = [] {
+    LogStages r{};
+    PetscLogStageRegister("dipc: partition", &r.partition);
+    PetscLogStageRegister("dipc: setup", &r.setup);
+    PetscLogStageRegister("dipc: solve", &r.solve);
+    PetscLogStageRegister("dipc: assembly", &r.assembly);
+    PetscLogStageRegister("dipc: output", &r.output);
+    return r;
+  }();
+  return s;
+}
+
+const LogEvents& log_events() {
+  static LogEvents e = [] {
+    LogEvents r{};
+    PetscClassId id;
+    PetscClassIdRegister("dipc", &id);
+    PetscLogEventRegister("dipcEnergy", id, &r.energy);
+    PetscLogEventRegister("dipcGradient", id, &r.gradient);
+    PetscLogEventRegister("dipcHessian", id, &r.hessian);
+    PetscLogEventRegister("dipcValidity", id, &r.validity);
+    PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
+    PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
+    PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
+    PetscLogEventRegister("dipcMatrixRows", id, &r.matrix_rows);
+    PetscLogEventRegister("dipcMatrixMake", id, &r.matrix_make);
+    PetscLogEventRegister("dipcSetupElements", id, &r.setup_elements);
+    PetscLogEventRegister("dipcSetupMasses", id, &r.setup_masses);
+    PetscLogEventRegister("dipcSetupForms", id, &r.setup_forms);
+    PetscLogEventRegister("dipcSetupState", id, &r.setup_state);
+    PetscLogEventRegister("dipcSetupSolver", id, &r.setup_solver);
+    PetscLogEventRegister("dipcContactCheck", id, &r.contact_check);
+    return r;
+  }();
+  return e;
+}
+
+}  // namespace dipc

@@ -1,0 +1,237 @@
+// IncrementalPotential: E(x) = Σ forms, evaluated on distributed PETSc Vecs.
+//
+// Per evaluation it gathers x to this rank's local nodes once (GhostExchange), lets every
+// form work on local arrays, reduces the energy over ranks once and scatters gradient
+// contributions of ghost nodes back to their owners once. The local nodes are the mesh's
+// (owned, then element ghosts) followed by the extra nodes forms ask for (contact surfaces of
+// other ranks); the exchange is rebuilt when those change. The Hessian is assembled with
+// MatSetValuesCOO, preallocated again only when a form's pattern changes (the contact active
+// set), never per iteration otherwise. Forms write their raw values into one array: the element
+// forms' (elastic, consistent mass) first, element by element in their layouts, then the other
+// forms' in their COO patterns' order. PETSc is given only the distinct entries: the element
+// forms' node blocks (NodeBlockReduction, built once: their patterns never change, and are never
+// expanded to 576 scalar entries per hex), then the other forms' entries outside those blocks
+// (CooReduction over their small lists); the raw values are summed into them before each
+// MatSetValuesCOO.
+//
+// Forms evaluate in their own memory space (form.hpp): the potential hands each the local
+// arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
+// device gradients into host ones (or the reverse) once, and assembles Hessian values where
+// the matrix lives: on the device for a device matrix (device_matrix.hpp) when device forms
+// exist, else on the host. Along a line-search segment x + αp the start x and direction p are kept in both spaces,
+// so a trial evaluation moves only α and scalars (segment_objective, segment_is_valid).
+//
+// Dirichlet dofs are eliminated symmetrically: their gradient entries are zero, their Hessian
+// rows and columns are zero with a unit diagonal, so Newton never moves them and CG sees an
+// SPD matrix. The time integrator sets their prescribed values in x before each solve.
+#pragma once
+#include <petscmat.h>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "device/device_runtime.hpp"
+#include "assembly/coo_reduction.hpp"
+#include "assembly/direct_matrix.hpp"
+#include "forms/form.hpp"
+#include "assembly/large_page_vector.hpp"
+#include "potential/local_views.hpp"
+#include "assembly/node_block_reduction.hpp"
+#include "partition/ghost_exchange.hpp"
+
+namespace dipc {
+
+// Wall time spent in each kind of evaluation on this rank (seconds), and PETSc log events
+// of the same names so -log_view shows them. The intervals are disjoint (none is counted
+// inside another, apart from coo_insert, which is part of hessian), so that a caller can
+// subtract them all from a wall time that encloses them (the timing table's remainder).
+struct EvaluationTimes {
+  double energy = 0, gradient = 0, hessian = 0, validity = 0;
+  double coo_insert = 0;      // summing duplicates and MatSetValuesCOO (part of hessian)
+  double preallocation = 0;   // making the matrix: CooReduction::build, MatSetPreallocationCOO
+  long preallocations = 0;    // how many times the pattern was set (1 at setup, then pattern changes)
+  double segment = 0;         // gathering a line-search segment's x and p where the forms evaluate
+  double neighbourhood = 0;   // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
+  double max_step = 0;        // forms' max_step (CCD); zero without a form that limits the step
+};
+// after − before, field by field (the counts too).
+EvaluationTimes operator-(const EvaluationTimes& after, const EvaluationTimes& before);
+EvaluationTimes& operator+=(EvaluationTimes& sum, const EvaluationTimes& add);
+// The wall time of all the disjoint intervals (coo_insert is inside hessian).
+inline double evaluation_seconds(const EvaluationTimes& t) {
+  return t.energy + t.gradient + t.hessian + t.validity + t.preallocation + t.segment + t.neighbourhood + t.max_step;
+}
+
+class IncrementalPotential {
+ public:
+  IncrementalPotential() = default;
+  ~IncrementalPotential();
+  IncrementalPotential(const IncrementalPotential&) = delete;
+  IncrementalPotential& operator=(const IncrementalPotential&) = delete;
+
+  // dirichlet_dof: 3 flags per mesh-local node (owned and ghost) marking prescribed dofs.
+  // nodal (optional): a set-up exchange of the mesh's nodes with 3 values per node, shared
+  // instead of building the same scatter again.
+  PetscErrorCode setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
+                       std::vector<char> dirichlet_dof,
+                       const GhostExchange* nodal = nullptr);
+  // A matrix with the combined COO pattern preallocated (type from -mat_type, default aij).
+  // The potential keeps a reference to re-preallocate it when a pattern changes.
+  PetscErrorCode create_matrix(Mat* J);
+  PetscErrorCode create_global_vec(Vec* v) const { return exchange_.create_global_vec(v); }
+
+  // E(x) over all ranks; +inf when x is not admissible (inverted element).
+  PetscErrorCode objective(Vec x, PetscReal* energy);
+  // E split into the contributions of each form (summed over ranks), at x.
+  PetscErrorCode form_values(Vec x, std::vector<double>* values);
+  PetscErrorCode gradient(Vec x, Vec g);
+  // Gradient of the forms for which include(form) is true; Dirichlet rows zeroed unless
+  // keep_prescribed (output: the contact force on a kinematic body's nodes is its reaction).
+  PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
+                                  bool keep_prescribed = false);
+  PetscErrorCode hessian(Vec x, Mat J);
+  // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when the combined
+  // pattern differs from the current matrix's, which the caller must then replace with
+  // create_matrix().
+  PetscErrorCode refresh_pattern(Vec x, PetscBool* changed);
+  // True on every rank iff every form accepts x on every rank.
+  PetscErrorCode is_valid(Vec x, PetscBool* valid);
+  // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then
+  // returns min over forms and ranks of the admissible step fraction along p.
+  PetscErrorCode max_step(Vec x, Vec p, PetscReal* alpha);
+  // E(x + αp) and is_valid(x + αp) on the segment of the last max_step(x, p); the trial state
+  // is built in each form's memory space from the kept x and p, entry by entry as VecWAXPY
+  // builds it, so it equals the state the caller then forms with VecWAXPY.
+  PetscErrorCode segment_objective(PetscReal alpha, PetscReal* energy);
+  PetscErrorCode segment_is_valid(PetscReal alpha, PetscBool* valid);
+  // Prepares the forms for evaluations at x alone (start of a step).
+  PetscErrorCode prepare_point(Vec x);
+  // Passes the predicted positions x̂ (distributed) to every form.
+  PetscErrorCode begin_step(Vec x_hat);
+  // Calls every form's begin_iteration at x; *changed is true on every rank if any form
+  // changed its definition there.
+  PetscErrorCode begin_iteration(Vec x, PetscBool* changed);
+
+  // Gathers x over the local nodes (mesh and extra) and calls f with the local array.
+  // f(local array, its length).
+  PetscErrorCode with_local(Vec x, const std::function<void(const double*, std::size_t)>& f);
+
+  const std::vector<std::unique_ptr<Form>>& forms() const { return forms_; }
+  // What the forms need beyond element and nodal terms (set by setup): nodes of other ranks
+  // (contact's ghost surfaces), a bound on the step (CCD), a pattern that changes after setup.
+  // Without them the potential skips those hooks and their reductions over the ranks.
+  bool has_extra_nodes() const { return any_extra_nodes_; }
+  bool has_step_limit() const { return any_step_limit_; }
+  bool has_changing_pattern() const { return any_pattern_change_; }
+  // 3 flags per local node (mesh nodes first), the Dirichlet dofs.
+  const std::vector<char>& prescribed_dofs() const { return dirichlet_dof_; }
+  // Raw Hessian values the forms write per assembly (576 per hex for the elastic form).
+  std::int64_t num_hessian_entries() const { return static_cast<std::int64_t>(num_raw_entries_); }
+  const EvaluationTimes& times() const { return times_; }
+
+ private:
+  PetscErrorCode gather(Vec x);                    // x -> x_local_
+  PetscErrorCode assemble_hessian(Vec x, Mat J);   // hessian() without its timer
+  bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
+  // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
+  bool local_values(const double* x_host, const double* x_device, double* values);
+  bool local_valid(const double* x_host, const double* x_device);
+  // Sums the forms' local values (and a rejection anywhere) over the ranks: values[f] per form,
+  // all +inf when any rank rejected its state.
+  PetscErrorCode reduce_values(const std::vector<double>& local, bool ok, std::vector<double>* values);
+  // *all = ok on every rank.
+  PetscErrorCode all_ranks(bool ok, PetscBool* all);
+  // Builds w = x + αp of the kept segment in every space the forms use.
+  void segment_point(PetscReal alpha);
+  // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix);
+  // host forms of a device matrix go through host_block_.
+  bool assemble_values(LocalViews& x, bool on_device);
+  // Element form f's values chunk by chunk into unique_values_ (chunked_); false as hessian().
+  bool add_element_chunks(std::size_t f, const double* x);
+  // The raw values summed into the matrix's entries, eliminated; returns them (device memory
+  // for a device matrix).
+  double* sum_values(bool on_device);
+  PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
+  PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
+  // The element forms' node-block map and their place in the raw values (once).
+  PetscErrorCode build_element_blocks();
+  // The other forms' COO pattern, the matrix's entries, the Dirichlet elimination and the
+  // preallocation of J_ (set by create_matrix before the first call).
+  // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
+  // it), else the matrix in use (a direct matrix takes over its contents).
+  PetscErrorCode rebuild_pattern(bool template_matrix);
+  // zero_entries_ and one_entries_ of the Dirichlet elimination, among the blocks' entries and
+  // the extra ones after them (rebuild_pattern()).
+  void find_dirichlet_entries(const std::vector<PetscInt>& extra_rows, const std::vector<PetscInt>& extra_cols);
+  bool pattern_changed() const;
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  const DistributedMesh* mesh_ = nullptr;
+  GhostExchange exchange_;
+  std::vector<std::int64_t> local_to_global_;  // mesh local nodes, then the forms' extra nodes
+  std::vector<std::unique_ptr<Form>> forms_;
+  std::vector<long> pattern_versions_;
+  std::vector<char> dirichlet_dof_;            // over local_to_global_ (3 per node)
+  Vec dirichlet_global_ = nullptr;             // 1 at prescribed dofs, to flag extra nodes
+  int num_owned_dofs_ = 0;
+  Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
+  Mat J_ = nullptr;                            // not owned
+  // Each form's values in the raw array: start and count; element forms first.
+  std::vector<std::size_t> form_begin_, form_size_;
+  std::vector<int> element_map_;               // per form: its index among blocks_.forms, or -1
+  // Host element forms of a host matrix: their values are summed element chunk by chunk
+  // (add_element_chunks), never all held; values_ then starts at the other forms' values.
+  bool chunked_ = false;
+  std::vector<double> chunk_values_;
+  std::size_t host_raw_offset() const { return chunked_ ? num_element_raw_ : 0; }
+  std::size_t num_element_raw_ = 0;            // raw values of the element forms (the array's start)
+  std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
+  std::size_t num_raw_entries_ = 0;            // element forms, other forms, Dirichlet diagonal
+  bool device_matrix_ = false;                 // values are summed on the device (device forms and matrix)
+  // The raw values on the host: only for a host matrix, and without the element forms' when
+  // chunked_. With a device matrix the host keeps neither these nor the maps, only the block of
+  // the largest host form (friction) in host_block_.
+  LargePageVector<PetscScalar> values_;
+  std::vector<PetscScalar> host_block_;
+  // Raw values -> the matrix's entries. Per hex element (576 raw elastic values, 192 more with a
+  // consistent mass; about 27 node blocks, 243 entries): 4 B per element node pair (64 per hex
+  // and element form) and, per block, 4 B per element form, 2 B of mask and 8 B of start, where
+  // the values are summed (the host, or the device with a device matrix); the summed values
+  // take 8 B per entry.
+  bool blocks_built_ = false;
+  NodeBlockReduction blocks_;
+  std::size_t num_block_entries_ = 0;          // the matrix's entries held by node blocks (its first)
+  DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
+  DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
+  bool direct_matrix_allowed_ = true;          // -dipc_direct_matrix, read at setup
+  CooReduction reduction_;                     // the other forms' raw values (and the Dirichlet diagonal)
+  std::vector<std::size_t> scalar_target_;     // reduction_'s unique entry -> the matrix's entry
+  std::vector<double> scalar_sums_;
+  std::vector<std::size_t> zero_entries_, one_entries_;  // Dirichlet elimination of the matrix's entries
+  std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
+  LargePageVector<PetscScalar> unique_values_;
+  bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
+  bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
+  LocalViews x_views_;
+  Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
+  std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)
+  device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
+  device::Array<double> d_values_{"Hessian COO values"};
+  device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
+  device::Array<std::uint64_t> d_block_start_{"node-block starts"};
+  std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form
+  device::Array<CooReduction::Index> d_reduction_offsets_{"COO reduction offsets"},
+      d_reduction_sources_{"COO reduction sources"};
+  device::Array<double> d_scalar_sums_{"summed COO values of the other forms"};
+  device::Array<std::size_t> d_scalar_target_{"COO entries in the matrix"}, d_zero_entries_{"Dirichlet zero entries"},
+      d_one_entries_{"Dirichlet diagonal entries"};
+  device::Array<double> d_unique_values_{"Hessian unique COO values"};
+  // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
+  std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;
+  device::Array<double> seg_x_device_{"segment start"}, seg_p_device_{"segment direction"},
+      seg_w_device_{"trial state"};
+  EvaluationTimes times_;
+};
+
+}  // namespace dipc

@@ -1,0 +1,215 @@
+// device::reduce_coo against CooReduction::reduce on a random element-like pattern, and
+// device::reduce_element_blocks against NodeBlockReduction::reduce on random elements of an
+// elastic and a consistent-mass layout: the same sums in the same order, so the same bits; the
+// node-block pattern built on the device against the host build, array for array; the
+// Hessian's other device steps (add_at, eliminate) against their host loops. Skips where no GPU
+// is present.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "assembly/cuda/element_kernels.hpp"
+#include "device/device_runtime.hpp"
+#include "assembly/coo_reduction.hpp"
+#include "assembly/node_block_reduction.hpp"
+
+namespace dipc {
+namespace {
+
+TEST(CooReductionGpu, DeviceSumsEqualHostSumsBitForBit) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  std::mt19937_64 rng(11);
+  const PetscInt owned_begin = 3000, owned_end = 9000;
+  std::uniform_int_distribution<PetscInt> owned(owned_begin, owned_end - 1), any(0, 12000);
+  std::uniform_int_distribution<int> pick(0, 19);
+  std::vector<PetscInt> rows, cols;
+  for (int block = 0; block < 3000; ++block) {
+    PetscInt dofs[24];
+    for (PetscInt& d : dofs) d = pick(rng) == 0 ? any(rng) : owned(rng);
+    for (PetscInt r : dofs)
+      for (PetscInt c : dofs) rows.push_back(r), cols.push_back(pick(rng) == 0 && pick(rng) == 0 ? -1 : c);
+  }
+  const CooReduction reduction =
+      CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_end);
+  // Values over many magnitudes, so that a different summation order would change the bits.
+  std::uniform_real_distribution<double> mantissa(-1, 1), exponent(-12, 12);
+  std::vector<double> raw(rows.size());
+  for (double& v : raw) v = mantissa(rng) * std::pow(10.0, exponent(rng));
+  std::vector<double> host(reduction.num_unique());
+  reduction.reduce(raw.data(), host.data());
+
+  device::Array<double> d_raw("raw"), d_unique("unique");
+  device::Array<CooReduction::Index> d_offsets("offsets"), d_sources("sources");
+  d_raw.upload(raw);
+  d_offsets.upload(reduction.offsets);
+  d_sources.upload(reduction.sources);
+  d_unique.resize(reduction.num_unique());
+  device::reduce_coo(d_raw.data(), d_offsets.data(), d_sources.data(), reduction.num_unique(), d_unique.data());
+  const std::vector<double> device_sums = d_unique.to_host();
+  ASSERT_EQ(device_sums.size(), host.size());
+  ASSERT_GT(host.size(), 0u);
+  EXPECT_EQ(std::memcmp(device_sums.data(), host.data(), host.size() * sizeof(double)), 0);
+  for (std::size_t u = 0; u < host.size(); ++u) ASSERT_EQ(device_sums[u], host[u]) << "unique entry " << u;
+}
+
+// Values over many magnitudes, so that a different summation order would change the bits.
+std::vector<double> spread_values(std::mt19937_64& rng, std::size_t n) {
+  std::uniform_real_distribution<double> mantissa(-1, 1), exponent(-12, 12);
+  std::vector<double> v(n);
+  for (double& x : v) x = mantissa(rng) * std::pow(10.0, exponent(rng));
+  return v;
+}
+
+// Local nodes 0 .. n - 1 numbered globally from 500 on, shuffled.
+std::vector<std::int64_t> shuffled_global_ids(std::mt19937_64& rng, int n) {
+  std::vector<std::int64_t> l2g(static_cast<std::size_t>(n));
+  std::iota(l2g.begin(), l2g.end(), 500);
+  std::shuffle(l2g.begin(), l2g.end(), rng);
+  return l2g;
+}
+
+// `count` elements of 8 distinct local nodes drawn from [first, first + span).
+std::vector<std::int32_t> random_elements(std::mt19937_64& rng, int count, int first, int span) {
+  std::vector<std::int32_t> pool(static_cast<std::size_t>(span)), nodes;
+  std::iota(pool.begin(), pool.end(), first);
+  for (int e = 0; e < count; ++e) {
+    std::shuffle(pool.begin(), pool.end(), rng);
+    nodes.insert(nodes.end(), pool.begin(), pool.begin() + 8);
+  }
+  return nodes;
+}
+
+TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  std::mt19937_64 rng(12);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
+  // Elastic elements over nodes [0, 2500), mass elements over [2000, 3000): some blocks hold the
+  // mass's diagonal only.
+  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
+  const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
+  const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
+  // The forms' values behind 7 values of something else, as in the potential's raw array.
+  const NodeBlockReduction blocks = NodeBlockReduction::build(
+      {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7},
+       {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 7 + elastic_raw}},
+      1000, 2500);
+  const std::vector<double> raw = spread_values(rng, 7 + elastic_raw + mass_raw);
+  std::vector<double> host(blocks.num_entries());
+  blocks.reduce(raw.data(), host.data());
+
+  device::Array<double> d_raw("raw"), d_unique("unique");
+  device::Array<std::uint16_t> d_mask("mask");
+  device::Array<std::uint64_t> d_start("start");
+  device::Array<std::uint32_t> d_off0("offsets"), d_src0("sources"), d_off1("offsets"), d_src1("sources");
+  d_raw.upload(raw);
+  d_mask.upload(blocks.block_mask);
+  d_start.upload(blocks.block_start);
+  d_off0.upload(blocks.forms[0].offsets);
+  d_src0.upload(blocks.forms[0].sources);
+  d_off1.upload(blocks.forms[1].offsets);
+  d_src1.upload(blocks.forms[1].sources);
+  const device::ElementBlockMap maps[2] = {
+      {ElementLayout::elastic, blocks.forms[0].raw_begin, d_off0.data(), d_src0.data()},
+      {ElementLayout::consistent_mass, blocks.forms[1].raw_begin, d_off1.data(), d_src1.data()}};
+  d_unique.resize(blocks.num_entries());
+  device::reduce_element_blocks(d_raw.data(), blocks.num_blocks(), d_mask.data(), d_start.data(), maps, 2,
+                                d_unique.data());
+  const std::vector<double> device_sums = d_unique.to_host();
+  ASSERT_EQ(device_sums.size(), host.size());
+  ASSERT_GT(host.size(), 0u);
+  EXPECT_EQ(std::memcmp(device_sums.data(), host.data(), host.size() * sizeof(double)), 0);
+  for (std::size_t k = 0; k < host.size(); ++k) ASSERT_EQ(device_sums[k], host[k]) << "entry " << k;
+}
+
+// NodeBlockReduction::build_on_device against build(): two forms (elastic, and consistent mass
+// whose blocks hold the diagonal only) or the elastic one alone (the device's one-form path),
+// ghost nodes on both sides of the owned range and owned nodes of no element (empty rows).
+void expect_device_build_equals_host_build(bool with_mass) {
+  std::mt19937_64 rng(14);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
+  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
+  std::vector<NodeBlockReduction::Input> inputs = {
+      {{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7}};
+  if (with_mass)
+    inputs.push_back(
+        {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 99});
+  // Owned nodes [300, 2500): those below 500 are in no element.
+  const NodeBlockReduction host = NodeBlockReduction::build(inputs, 300, 2500);
+  device::NodeBlocks on_device;
+  const NodeBlockReduction dev = NodeBlockReduction::build_on_device(inputs, 300, 2500, &on_device);
+  ASSERT_GT(host.num_blocks(), 0u);
+  EXPECT_EQ(dev.row_nodes, host.row_nodes);
+  EXPECT_EQ(dev.row_start, host.row_start);
+  EXPECT_TRUE(dev.block_col == host.block_col);
+  EXPECT_TRUE(dev.block_mask == host.block_mask);
+  EXPECT_TRUE(dev.block_start == host.block_start);
+  EXPECT_EQ(on_device.num_blocks, host.num_blocks());
+  EXPECT_TRUE(on_device.mask.to_host() == std::vector<std::uint16_t>(host.block_mask.begin(), host.block_mask.end()));
+  EXPECT_TRUE(on_device.start.to_host() ==
+              std::vector<std::uint64_t>(host.block_start.begin(), host.block_start.end()));
+  ASSERT_EQ(dev.forms.size(), host.forms.size());
+  ASSERT_EQ(on_device.offsets.size(), host.forms.size());
+  for (std::size_t f = 0; f < host.forms.size(); ++f) {
+    EXPECT_EQ(dev.forms[f].layout, host.forms[f].layout);
+    EXPECT_EQ(dev.forms[f].raw_begin, host.forms[f].raw_begin);
+    EXPECT_TRUE(dev.forms[f].sources.empty());
+    EXPECT_TRUE(on_device.offsets[f].to_host() ==
+                std::vector<std::uint32_t>(host.forms[f].offsets.begin(), host.forms[f].offsets.end()))
+        << "form " << f;
+    EXPECT_TRUE(on_device.sources[f].to_host() ==
+                std::vector<std::uint32_t>(host.forms[f].sources.begin(), host.forms[f].sources.end()))
+        << "form " << f;
+  }
+}
+
+TEST(CooReductionGpu, NodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  expect_device_build_equals_host_build(true);
+}
+
+TEST(CooReductionGpu, OneFormsNodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  expect_device_build_equals_host_build(false);
+}
+
+TEST(CooReductionGpu, AddAtAndEliminateEqualTheHostLoops) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  std::mt19937_64 rng(13);
+  const std::size_t n = 5000, fresh_from = 4000;
+  std::vector<double> values = spread_values(rng, n);
+  // Distinct targets, some among the first fresh_from entries (added onto), some after (set).
+  std::vector<std::size_t> index(n);
+  std::iota(index.begin(), index.end(), 0);
+  std::shuffle(index.begin(), index.end(), rng);
+  index.resize(1500);
+  const std::vector<double> add = spread_values(rng, index.size());
+  std::vector<std::size_t> zero(index.begin(), index.begin() + 300), one(index.begin() + 300, index.begin() + 400);
+  std::vector<double> want = values;
+  for (std::size_t k = 0; k < index.size(); ++k)
+    want[index[k]] = (index[k] < fresh_from ? want[index[k]] : 0.0) + add[k];
+  for (std::size_t u : zero) want[u] = 0;
+  for (std::size_t u : one) want[u] = 1;
+
+  device::Array<double> d_values("values"), d_add("add");
+  device::Array<std::size_t> d_index("index"), d_zero("zero"), d_one("one");
+  d_values.upload(values);
+  d_add.upload(add);
+  d_index.upload(index);
+  d_zero.upload(zero);
+  d_one.upload(one);
+  device::add_at(d_values.data(), d_index.data(), d_add.data(), index.size(), fresh_from);
+  device::eliminate(d_values.data(), d_zero.data(), zero.size(), d_one.data(), one.size());
+  const std::vector<double> got = d_values.to_host();
+  ASSERT_EQ(got.size(), n);
+  EXPECT_EQ(std::memcmp(got.data(), want.data(), n * sizeof(double)), 0);
+}
+
+}  // namespace
+}  // namespace dipc
