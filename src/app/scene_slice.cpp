@@ -197,56 +197,185 @@ std::pair<int, int> nested_boxes(const Scene& scene) {
   return {-1, -1};
 }
 
+// Sizes one body's rows (r.num_nodes, r.num_elements) and opens its source: a box generated
+// where its rows live, a dipc HDF5 file read in slices, or a body built whole on rank 0.
+void size_body_rows(const Scene& scene, std::size_t b, MPI_Comm comm, int rank, BodyRows& r) {
+  const Body& body = scene.bodies[b];
+  const bool on_root = !body.box ? !is_hdf5_mesh_path(body.mesh_file) : !body.face_selections.empty();
+  if (body.box && !on_root) {
+    const auto& res = body.box->resolution;
+    r.num_nodes = std::int64_t(res[0] + 1) * (res[1] + 1) * (res[2] + 1);
+    r.num_elements = std::int64_t(res[0]) * res[1] * res[2];
+    // generate_box's own checks (resolution, size, origin) on rank 0 only: the rows need no more.
+    std::string error;
+    if (rank == 0) try {
+        generate_box(body.box->size, {1, 1, 1}, body.box->origin, static_cast<int>(b), body.name);
+        for (int c = 0; c < 3; ++c)
+          if (res[c] < 1) throw MeshError("generate_box('" + body.name + "'): resolution must be >= 1");
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    throw_if_failed_anywhere(comm, error);
+  } else if (!on_root) {
+    std::string error;
+    if (!body.face_selections.empty())
+      error = scene.source + ": body \"" + body.name + "\": PolyFEM surface selections need a Gmsh mesh or a box, not " +
+              body.mesh_file;
+    throw_if_failed_anywhere(comm, error);
+    r.hdf5 = std::make_unique<MeshFileReader>(comm, body.mesh_file);
+    r.num_nodes = r.hdf5->num_nodes();
+    r.num_elements = r.hdf5->num_elements();
+  } else {
+    std::string error;
+    std::int64_t counts[2] = {0, 0};
+    if (rank == 0) try {
+        r.whole = whole_body(scene, b);
+        counts[0] = static_cast<std::int64_t>(r.whole.num_nodes());
+        counts[1] = static_cast<std::int64_t>(r.whole.num_elements());
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    throw_if_failed_anywhere(comm, error);
+    MPI_Bcast(counts, 2, MPI_INT64_T, 0, comm);
+    r.num_nodes = counts[0];
+    r.num_elements = counts[1];
+  }
+}
+
+// A dipc HDF5 body's rows in this rank's slice, read from the file, placed (x = scale·(linear·X)
+// + translation), and its selections, each read in blocks and sent to the ids' home ranks.
+void append_file_rows(const Body& body, int id, const BodyRows& r, MeshSlice& slice,
+                      std::pair<std::int64_t, std::int64_t> my_nodes, std::pair<std::int64_t, std::int64_t> my_elements,
+                      int rank, int size) {
+  std::vector<std::int64_t>& all = slice.node_sets[body.name];
+  for (std::int64_t g = my_nodes.first; g < my_nodes.first + my_nodes.second; ++g) all.push_back(g);
+  const std::vector<double> x = r.hdf5->read_coordinates(my_nodes.first - r.node_begin, my_nodes.second);
+  const std::array<double, 9>& L = body.linear;
+  for (std::size_t i = 0; i < x.size(); i += 3) {
+    Vec3 X;
+    for (int c = 0; c < 3; ++c)
+      X[c] = body.scale * (L[3 * c] * x[i] + L[3 * c + 1] * x[i + 1] + L[3 * c + 2] * x[i + 2]) + body.translation[c];
+    slice.nodes.push_back(X);
+  }
+  const std::vector<std::int64_t> t = r.hdf5->read_topology(my_elements.first - r.element_begin, my_elements.second);
+  std::string error;
+  for (std::size_t e = 0; e < t.size() / 8; ++e) {
+    Hex hex;
+    for (int k = 0; k < 8; ++k) {
+      const std::int64_t n = t[8 * e + k];
+      if ((n < 0 || n >= r.num_nodes) && error.empty())
+        error = body.mesh_file + ": element " + std::to_string(my_elements.first - r.element_begin + std::int64_t(e)) +
+                " node " + std::to_string(k) + " has id " + std::to_string(n) + ", outside [0, " +
+                std::to_string(r.num_nodes) + ")";
+      hex[k] = n + r.node_begin;
+    }
+    slice.hexes.push_back(hex);
+    slice.body.push_back(id);
+  }
+  throw_if_failed_anywhere(slice.comm, error);
+  // Selections: each rank reads a block of every set and sends the ids to their home ranks.
+  std::vector<std::vector<SetEntry>> to_home(size);
+  std::vector<std::string> names;
+  for (std::size_t s = 0; s < r.hdf5->set_names().size(); ++s) {
+    names.push_back(body.name + "." + r.hdf5->set_names()[s]);
+    slice.node_sets[names.back()];
+    const std::int64_t n = r.hdf5->set_size(s), begin = block_begin(n, size, rank);
+    for (std::int64_t node : r.hdf5->read_set(s, begin, block_begin(n, size, rank + 1) - begin)) {
+      if ((node < 0 || node >= r.num_nodes) && error.empty())
+        error = body.mesh_file + ": selection \"" + r.hdf5->set_names()[s] + "\" has node id " +
+                std::to_string(node) + ", outside [0, " + std::to_string(r.num_nodes) + ")";
+      else
+        to_home[block_of(node + r.node_begin, slice.num_global_nodes, size)].push_back(
+            {node + r.node_begin, std::int32_t(s), 0});
+    }
+  }
+  throw_if_failed_anywhere(slice.comm, error);
+  for (const SetEntry& m : exchange_records(to_home, slice.comm)) slice.node_sets[names[m.set]].push_back(m.node);
+}
+
+// A body built whole: rank 0 holds it and sends every rank its rows.
+void append_whole_body_rows(int id, const BodyRows& r, MeshSlice& slice, int rank, int size) {
+  const std::int64_t nodes = slice.num_global_nodes, elements = slice.num_global_elements;
+  std::vector<std::vector<Row3>> node_rows(size);
+  std::vector<std::vector<Hex>> hex_rows(size);
+  std::vector<std::vector<SetEntry>> set_rows(size);
+  std::string set_names;  // NUL-separated, broadcast
+  if (rank == 0) {
+    for (int q = 0; q < size; ++q) {
+      const auto n = overlap(block_begin(nodes, size, q), block_begin(nodes, size, q + 1), r.node_begin,
+                             r.node_begin + r.num_nodes);
+      for (std::int64_t g = n.first; g < n.first + n.second; ++g) node_rows[q].push_back({r.whole.nodes[g - r.node_begin]});
+      const auto e = overlap(block_begin(elements, size, q), block_begin(elements, size, q + 1), r.element_begin,
+                             r.element_begin + r.num_elements);
+      for (std::int64_t g = e.first; g < e.first + e.second; ++g) {
+        Hex hex = r.whole.hexes[g - r.element_begin];
+        for (std::int64_t& v : hex) v += r.node_begin;
+        hex_rows[q].push_back(hex);
+      }
+    }
+    std::int32_t s = 0;
+    for (const auto& [name, ids] : r.whole.node_sets) {
+      set_names += name + '\0';
+      for (std::int64_t node : ids)
+        set_rows[block_of(node + r.node_begin, nodes, size)].push_back({node + r.node_begin, s, 0});
+      ++s;
+    }
+  }
+  for (const Row3& x : exchange_records(node_rows, slice.comm)) slice.nodes.push_back(x.x);
+  for (const Hex& hex : exchange_records(hex_rows, slice.comm)) {
+    slice.hexes.push_back(hex);
+    slice.body.push_back(id);
+  }
+  int length = static_cast<int>(set_names.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, slice.comm);
+  set_names.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(set_names.data(), length, MPI_CHAR, 0, slice.comm);
+  std::vector<std::string> names;
+  for (std::size_t begin = 0; begin < set_names.size();) {
+    const std::size_t end = set_names.find('\0', begin);
+    names.push_back(set_names.substr(begin, end - begin));
+    slice.node_sets[names.back()];
+    begin = end + 1;
+  }
+  for (const SetEntry& m : exchange_records(set_rows, slice.comm)) slice.node_sets[names[m.set]].push_back(m.node);
+}
+
+// Without contact bodies pass through each other, so one inside another is no error there.
+void check_bodies_apart(const Scene& scene, const MeshSlice& slice, int rank) {
+  if (!scene.contact.enabled || scene.bodies.size() <= 1) return;
+  std::vector<std::string> names;
+  for (const Body& body : scene.bodies) names.push_back(body.name);
+  const bool all_boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return bool(b.box); });
+  std::string error;
+  if (all_boxes) {
+    const auto [inner, outer] = nested_boxes(scene);
+    if (inner >= 0)
+      error = scene.source + ": body \"" + names[inner] + "\" lies inside body \"" + names[outer] +
+              "\" (bodies must start apart for contact)";
+  } else {
+    // Meshes from files: the surface test needs the whole mesh, gathered on rank 0.
+    const HexMesh whole = gather_whole_mesh(slice);
+    if (rank == 0) try {
+        check_no_nested_bodies(whole, names, scene.source);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+  }
+  throw_if_failed_anywhere(slice.comm, error);
+}
+
 }  // namespace
 
 MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
+  // Every body's rows in the whole mesh, in scene order.
   std::vector<BodyRows> rows(scene.bodies.size());
   std::int64_t nodes = 0, elements = 0;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
-    const Body& body = scene.bodies[b];
     BodyRows& r = rows[b];
-    const bool on_root = !body.box ? !is_hdf5_mesh_path(body.mesh_file) : !body.face_selections.empty();
-    if (body.box && !on_root) {
-      const auto& res = body.box->resolution;
-      r.num_nodes = std::int64_t(res[0] + 1) * (res[1] + 1) * (res[2] + 1);
-      r.num_elements = std::int64_t(res[0]) * res[1] * res[2];
-      // generate_box's own checks (resolution, size, origin) on rank 0 only: the rows need no more.
-      std::string error;
-      if (rank == 0) try {
-          generate_box(body.box->size, {1, 1, 1}, body.box->origin, static_cast<int>(b), body.name);
-          for (int c = 0; c < 3; ++c)
-            if (res[c] < 1) throw MeshError("generate_box('" + body.name + "'): resolution must be >= 1");
-        } catch (const std::exception& e) {
-          error = e.what();
-        }
-      throw_if_failed_anywhere(comm, error);
-    } else if (!on_root) {
-      std::string error;
-      if (!body.face_selections.empty())
-        error = scene.source + ": body \"" + body.name + "\": PolyFEM surface selections need a Gmsh mesh or a box, not " +
-                body.mesh_file;
-      throw_if_failed_anywhere(comm, error);
-      r.hdf5 = std::make_unique<MeshFileReader>(comm, body.mesh_file);
-      r.num_nodes = r.hdf5->num_nodes();
-      r.num_elements = r.hdf5->num_elements();
-    } else {
-      std::string error;
-      std::int64_t counts[2] = {0, 0};
-      if (rank == 0) try {
-          r.whole = whole_body(scene, b);
-          counts[0] = static_cast<std::int64_t>(r.whole.num_nodes());
-          counts[1] = static_cast<std::int64_t>(r.whole.num_elements());
-        } catch (const std::exception& e) {
-          error = e.what();
-        }
-      throw_if_failed_anywhere(comm, error);
-      MPI_Bcast(counts, 2, MPI_INT64_T, 0, comm);
-      r.num_nodes = counts[0];
-      r.num_elements = counts[1];
-    }
+    size_body_rows(scene, b, comm, rank, r);
     r.node_begin = nodes;
     r.element_begin = elements;
     nodes += r.num_nodes;
@@ -267,127 +396,18 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
     const auto my_nodes = overlap(slice.node_begin, node_end, r.node_begin, r.node_begin + r.num_nodes);
     const auto my_elements = overlap(slice.element_begin, element_end, r.element_begin, r.element_begin + r.num_elements);
     const int id = static_cast<int>(b);
-    if (body.box && body.face_selections.empty()) {
+    if (body.box && body.face_selections.empty())
       append_box_rows(*body.box, body.name, id, r, slice, my_nodes, my_elements);
-      continue;
-    }
-    if (r.hdf5) {
-      std::vector<std::int64_t>& all = slice.node_sets[body.name];
-      for (std::int64_t g = my_nodes.first; g < my_nodes.first + my_nodes.second; ++g) all.push_back(g);
-      const std::vector<double> x = r.hdf5->read_coordinates(my_nodes.first - r.node_begin, my_nodes.second);
-      const std::array<double, 9>& L = body.linear;
-      for (std::size_t i = 0; i < x.size(); i += 3) {
-        Vec3 X;
-        for (int c = 0; c < 3; ++c)
-          X[c] = body.scale * (L[3 * c] * x[i] + L[3 * c + 1] * x[i + 1] + L[3 * c + 2] * x[i + 2]) + body.translation[c];
-        slice.nodes.push_back(X);
-      }
-      const std::vector<std::int64_t> t = r.hdf5->read_topology(my_elements.first - r.element_begin, my_elements.second);
-      std::string error;
-      for (std::size_t e = 0; e < t.size() / 8; ++e) {
-        Hex hex;
-        for (int k = 0; k < 8; ++k) {
-          const std::int64_t n = t[8 * e + k];
-          if ((n < 0 || n >= r.num_nodes) && error.empty())
-            error = body.mesh_file + ": element " + std::to_string(my_elements.first - r.element_begin + std::int64_t(e)) +
-                    " node " + std::to_string(k) + " has id " + std::to_string(n) + ", outside [0, " +
-                    std::to_string(r.num_nodes) + ")";
-          hex[k] = n + r.node_begin;
-        }
-        slice.hexes.push_back(hex);
-        slice.body.push_back(id);
-      }
-      throw_if_failed_anywhere(comm, error);
-      // Selections: each rank reads a block of every set and sends the ids to their home ranks.
-      std::vector<std::vector<SetEntry>> to_home(size);
-      std::vector<std::string> names;
-      for (std::size_t s = 0; s < r.hdf5->set_names().size(); ++s) {
-        names.push_back(body.name + "." + r.hdf5->set_names()[s]);
-        slice.node_sets[names.back()];
-        const std::int64_t n = r.hdf5->set_size(s), begin = block_begin(n, size, rank);
-        for (std::int64_t node : r.hdf5->read_set(s, begin, block_begin(n, size, rank + 1) - begin)) {
-          if ((node < 0 || node >= r.num_nodes) && error.empty())
-            error = body.mesh_file + ": selection \"" + r.hdf5->set_names()[s] + "\" has node id " +
-                    std::to_string(node) + ", outside [0, " + std::to_string(r.num_nodes) + ")";
-          else
-            to_home[block_of(node + r.node_begin, nodes, size)].push_back({node + r.node_begin, std::int32_t(s), 0});
-        }
-      }
-      throw_if_failed_anywhere(comm, error);
-      for (const SetEntry& m : exchange_records(to_home, comm)) slice.node_sets[names[m.set]].push_back(m.node);
-      continue;
-    }
-    // A body built whole: rank 0 holds it and sends every rank its rows.
-    std::vector<std::vector<Row3>> node_rows(size);
-    std::vector<std::vector<Hex>> hex_rows(size);
-    std::vector<std::vector<SetEntry>> set_rows(size);
-    std::string set_names;  // NUL-separated, broadcast
-    if (rank == 0) {
-      for (int q = 0; q < size; ++q) {
-        const auto n = overlap(block_begin(nodes, size, q), block_begin(nodes, size, q + 1), r.node_begin,
-                               r.node_begin + r.num_nodes);
-        for (std::int64_t g = n.first; g < n.first + n.second; ++g) node_rows[q].push_back({r.whole.nodes[g - r.node_begin]});
-        const auto e = overlap(block_begin(elements, size, q), block_begin(elements, size, q + 1), r.element_begin,
-                               r.element_begin + r.num_elements);
-        for (std::int64_t g = e.first; g < e.first + e.second; ++g) {
-          Hex hex = r.whole.hexes[g - r.element_begin];
-          for (std::int64_t& v : hex) v += r.node_begin;
-          hex_rows[q].push_back(hex);
-        }
-      }
-      std::int32_t s = 0;
-      for (const auto& [name, ids] : r.whole.node_sets) {
-        set_names += name + '\0';
-        for (std::int64_t node : ids)
-          set_rows[block_of(node + r.node_begin, nodes, size)].push_back({node + r.node_begin, s, 0});
-        ++s;
-      }
-    }
-    for (const Row3& x : exchange_records(node_rows, comm)) slice.nodes.push_back(x.x);
-    for (const Hex& hex : exchange_records(hex_rows, comm)) {
-      slice.hexes.push_back(hex);
-      slice.body.push_back(id);
-    }
-    int length = static_cast<int>(set_names.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-    set_names.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(set_names.data(), length, MPI_CHAR, 0, comm);
-    std::vector<std::string> names;
-    for (std::size_t begin = 0; begin < set_names.size();) {
-      const std::size_t end = set_names.find('\0', begin);
-      names.push_back(set_names.substr(begin, end - begin));
-      slice.node_sets[names.back()];
-      begin = end + 1;
-    }
-    for (const SetEntry& m : exchange_records(set_rows, comm)) slice.node_sets[names[m.set]].push_back(m.node);
+    else if (r.hdf5)
+      append_file_rows(body, id, r, slice, my_nodes, my_elements, rank, size);
+    else
+      append_whole_body_rows(id, r, slice, rank, size);
   }
   for (auto& entry : slice.node_sets) {
     std::sort(entry.second.begin(), entry.second.end());
     entry.second.erase(std::unique(entry.second.begin(), entry.second.end()), entry.second.end());
   }
-
-  // Without contact bodies pass through each other, so one inside another is no error there.
-  if (scene.contact.enabled && scene.bodies.size() > 1) {
-    std::vector<std::string> names;
-    for (const Body& body : scene.bodies) names.push_back(body.name);
-    const bool all_boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return bool(b.box); });
-    std::string error;
-    if (all_boxes) {
-      const auto [inner, outer] = nested_boxes(scene);
-      if (inner >= 0)
-        error = scene.source + ": body \"" + names[inner] + "\" lies inside body \"" + names[outer] +
-                "\" (bodies must start apart for contact)";
-    } else {
-      // Meshes from files: the surface test needs the whole mesh, gathered on rank 0.
-      const HexMesh whole = gather_whole_mesh(slice);
-      if (rank == 0) try {
-          check_no_nested_bodies(whole, names, scene.source);
-        } catch (const std::exception& e) {
-          error = e.what();
-        }
-    }
-    throw_if_failed_anywhere(comm, error);
-  }
+  check_bodies_apart(scene, slice, rank);
   return slice;
 }
 
