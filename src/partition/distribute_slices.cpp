@@ -186,41 +186,20 @@ void build_owned_surface(DistributedMesh& part, const std::vector<std::int64_t>&
   agree_on_error(part.comm, error);
 }
 
-}  // namespace
-
-DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitioner, bool with_surface,
-                                  DistributeReport* report) {
-  DistributeReport times;
-  double t = MPI_Wtime();
-  auto lap = [&t](double& into) {
-    const double now = MPI_Wtime();
-    into += now - t;
-    t = now;
-  };
-  check_slice_layout(slice);
-  MPI_Comm comm = slice.comm;
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const std::int64_t nn_input = slice.num_global_nodes;
-
-  FaceMatching faces = match_faces(slice);
-  lap(times.match_faces);
-  const std::vector<int> element_part = partition_slice(slice, faces, partitioner);
-  lap(times.partition);
-  if (report) times.quality = partition_quality(slice, faces, element_part);
-  lap(times.quality_check);
-
-  // Quads are numbered by (element input id, face): an element's first quad id is the count
-  // of boundary faces of all lower elements.
+// The element records this rank sends to each part, in chunks on the host threads: each chunk
+// counts its elements per part and its quads, then writes its records after the lower chunks'
+// (as one pass would). Quads are numbered by (element input id, face): an element's first quad
+// id is the count of boundary faces of all lower elements; *num_quads counts them all.
+std::vector<std::vector<ElementRecord>> element_records_by_part(const MeshSlice& slice, const FaceMatching& faces,
+                                                                const std::vector<int>& element_part, bool with_surface,
+                                                                std::int64_t* num_quads) {
+  int size = 1;
+  MPI_Comm_size(slice.comm, &size);
   std::int64_t slice_quads = 0;
   if (with_surface)
     for (std::uint8_t m : faces.boundary_mask) slice_quads += static_cast<std::int64_t>(std::bitset<8>(m).count());
-  std::int64_t num_quads = 0;
-  std::int64_t next_quad = exclusive_prefix(slice_quads, comm, &num_quads);
+  std::int64_t next_quad = exclusive_prefix(slice_quads, slice.comm, num_quads);
 
-  // Elements to their parts, in chunks on the host threads: each chunk counts its elements per
-  // part and its quads, then writes its records after the lower chunks' (as one pass would).
   const auto parts = static_cast<std::size_t>(size);
   std::vector<std::size_t> count(static_cast<std::size_t>(host_threads()) * parts, 0);
   std::vector<std::int64_t> chunk_quads(static_cast<std::size_t>(host_threads()), 0);
@@ -250,6 +229,193 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
       outgoing[p][next[p]++] = r;
     }
   });
+  return outgoing;
+}
+
+// The touched nodes that the ranks asked of this rank's node block (its home), and who asked
+// each: by asking rank, each rank's asks in its order (sorted by input id).
+struct HomeAsks {
+  std::vector<std::int64_t> asked;
+  std::vector<int> asker;
+};
+
+HomeAsks ask_homes(const std::vector<std::int64_t>& touched, std::int64_t nn_input, MPI_Comm comm, int size) {
+  std::vector<std::vector<std::int64_t>> asks(size);
+  for (std::int64_t n : touched) asks[block_of(n, nn_input, size)].push_back(n);
+  HomeAsks home;
+  home.asked = exchange_records(std::move(asks), comm, &home.asker);
+  return home;
+}
+
+// Each touched node's owner, decided at its home: the lowest part touching it.
+std::vector<std::int32_t> node_owners(const MeshSlice& slice, const HomeAsks& home, int size) {
+  const std::int64_t home_begin = slice.node_begin;
+  std::vector<std::int32_t> home_owner(slice.nodes.size(), INT32_MAX);
+  for (std::size_t k = 0; k < home.asked.size(); ++k) {
+    std::int32_t& o = home_owner[static_cast<std::size_t>(home.asked[k] - home_begin)];
+    o = std::min(o, static_cast<std::int32_t>(home.asker[k]));
+  }
+  std::vector<std::vector<std::int32_t>> owner_replies(size);
+  for (std::size_t k = 0; k < home.asked.size(); ++k)
+    owner_replies[home.asker[k]].push_back(home_owner[static_cast<std::size_t>(home.asked[k] - home_begin)]);
+  return exchange_records(std::move(owner_replies), slice.comm);
+}
+
+// Owned nodes, numbered by increasing input id after the lower parts' nodes (part's count,
+// offset and global count of them). Gives the global id of each node of the home block (-1 for
+// an untouched node).
+std::vector<std::int64_t> number_owned_nodes(DistributedMesh& part, const MeshSlice& slice,
+                                             const std::vector<std::int64_t>& touched,
+                                             const std::vector<std::int32_t>& owner, int rank, int size) {
+  std::int64_t num_owned = 0;
+  for (std::int32_t o : owner) num_owned += o == rank;
+  part.num_owned_nodes = static_cast<int>(num_owned);
+  part.node_offset = exclusive_prefix(num_owned, slice.comm, &part.num_global_nodes);
+  std::vector<std::vector<OwnedGid>> gids_home(size);
+  std::int64_t next = part.node_offset;
+  for (std::size_t i = 0; i < touched.size(); ++i)
+    if (owner[i] == rank) gids_home[block_of(touched[i], slice.num_global_nodes, size)].push_back({touched[i], next++});
+  std::vector<std::int64_t> home_gid(slice.nodes.size(), -1);
+  for (const OwnedGid& g : exchange_records(std::move(gids_home), slice.comm))
+    home_gid[static_cast<std::size_t>(g.input - slice.node_begin)] = g.gid;
+  return home_gid;
+}
+
+// What the homes told this rank of its touched nodes: global id and coordinates in the order
+// asked, and the node-set memberships with the home that sent each.
+struct NodeAnswers {
+  std::vector<NodeReply> replies;
+  std::vector<Membership> memberships;
+  std::vector<int> membership_home;
+};
+
+// Home -> every toucher: global id, coordinates and node-set memberships, in the order asked.
+// home_gid is released before the exchanges.
+NodeAnswers answer_asks(const MeshSlice& slice, const HomeAsks& home, std::vector<std::int64_t> home_gid, int size) {
+  const HomeSets sets_of_home(slice);
+  std::vector<std::vector<NodeReply>> node_replies(size);
+  std::vector<std::vector<Membership>> memberships(size);
+  std::vector<std::int64_t> position(size, 0);
+  for (std::size_t k = 0; k < home.asked.size(); ++k) {
+    const auto h = static_cast<std::size_t>(home.asked[k] - slice.node_begin);
+    const int r = home.asker[k];
+    node_replies[r].push_back({home_gid[h], slice.nodes[h]});
+    for (std::size_t k = sets_of_home.first[h]; k < sets_of_home.first[h + 1]; ++k)
+      memberships[r].push_back({position[r], sets_of_home.set[k], 0});
+    ++position[r];
+  }
+  home_gid = std::vector<std::int64_t>();
+  NodeAnswers answers;
+  answers.replies = exchange_records(std::move(node_replies), slice.comm);
+  answers.memberships = exchange_records(std::move(memberships), slice.comm, &answers.membership_home);
+  return answers;
+}
+
+// Local order: owned nodes by global id (= by input id), then ghosts by global id. Fills part's
+// per-node arrays and gives each touched node's local id.
+std::vector<std::int32_t> number_local_nodes(DistributedMesh& part, const std::vector<std::int64_t>& touched,
+                                             const std::vector<std::int32_t>& owner,
+                                             const std::vector<NodeReply>& replies, int rank) {
+  std::vector<std::int32_t> order;
+  order.reserve(touched.size());
+  for (std::size_t i = 0; i < touched.size(); ++i)
+    if (owner[i] == rank) order.push_back(static_cast<std::int32_t>(i));
+  for (std::size_t i = 0; i < touched.size(); ++i)
+    if (owner[i] != rank) order.push_back(static_cast<std::int32_t>(i));
+  std::sort(order.begin() + part.num_owned_nodes, order.end(),
+            [&](std::int32_t a, std::int32_t b) { return replies[a].gid < replies[b].gid; });
+  std::vector<std::int32_t> local_of_touched(touched.size());
+  part.local_to_global.resize(touched.size());
+  part.coordinates.resize(touched.size());
+  part.node_input_id.resize(touched.size());
+  for (std::size_t l = 0; l < order.size(); ++l) {
+    const std::int32_t i = order[l];
+    local_of_touched[i] = static_cast<std::int32_t>(l);
+    part.local_to_global[l] = replies[i].gid;
+    part.coordinates[l] = replies[i].x;
+    part.node_input_id[l] = touched[i];
+  }
+  return local_of_touched;
+}
+
+// part's node sets (every set of the slice, empty ones too) from the memberships the homes sent.
+void fill_node_sets(DistributedMesh& part, const MeshSlice& slice, const NodeAnswers& answers,
+                    const std::vector<std::int64_t>& touched, const std::vector<std::int32_t>& local_of_touched,
+                    int size) {
+  // A membership's `request` counts the asks sent to its home; touched nodes are sorted and
+  // homes hold increasing blocks, so the asks to home h start at the first touched id in h.
+  std::vector<std::int64_t> first_ask(size + 1, 0);
+  for (std::int64_t n : touched) ++first_ask[block_of(n, slice.num_global_nodes, size) + 1];
+  for (int r = 0; r < size; ++r) first_ask[r + 1] += first_ask[r];
+  std::vector<std::vector<std::int32_t>*> by_index;
+  for (const auto& named : slice.node_sets) by_index.push_back(&part.node_sets[named.first]);
+  std::vector<std::size_t> members(by_index.size(), 0);
+  for (const Membership& m : answers.memberships) ++members[m.set];
+  for (std::size_t set = 0; set < members.size(); ++set) by_index[set]->reserve(members[set]);
+  for (std::size_t k = 0; k < answers.memberships.size(); ++k) {
+    const Membership& m = answers.memberships[k];
+    by_index[m.set]->push_back(local_of_touched[first_ask[answers.membership_home[k]] + m.request]);
+  }
+  // Members arrive by increasing input id, so a set of owned nodes only (every set on one
+  // rank) is sorted already, and std::sort does not notice (20 ms for a 1M-node set).
+  for (auto* ids : by_index)
+    if (!std::is_sorted(ids->begin(), ids->end())) std::sort(ids->begin(), ids->end());
+}
+
+// part's elements in local node ids, their bodies and input ids, and with the surface their
+// boundary faces; gives each element's first quad id (with the surface only).
+std::vector<std::int64_t> fill_elements(DistributedMesh& part, const std::vector<ElementRecord>& mine,
+                                        const TouchedNodes& touched_nodes,
+                                        const std::vector<std::int32_t>& local_of_touched, bool with_surface) {
+  std::vector<std::int64_t> first_quad(with_surface ? mine.size() : 0);
+  part.boundary_face_mask.resize(with_surface ? mine.size() : 0);
+  part.elements.resize(mine.size());
+  part.element_body.resize(mine.size());
+  part.element_input_id.resize(mine.size());
+  parallel_for(mine.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      for (int k = 0; k < 8; ++k)
+        part.elements[e][k] = local_of_touched[static_cast<std::size_t>(touched_nodes.position(mine[e].hex[k]))];
+      part.element_body[e] = mine[e].body;
+      part.element_input_id[e] = mine[e].input;
+      if (with_surface) {
+        part.boundary_face_mask[e] = mine[e].mask;
+        first_quad[e] = mine[e].first_quad;
+      }
+    }
+  });
+  return first_quad;
+}
+
+}  // namespace
+
+DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitioner, bool with_surface,
+                                  DistributeReport* report) {
+  DistributeReport times;
+  double t = MPI_Wtime();
+  auto lap = [&t](double& into) {
+    const double now = MPI_Wtime();
+    into += now - t;
+    t = now;
+  };
+  check_slice_layout(slice);
+  MPI_Comm comm = slice.comm;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const std::int64_t nn_input = slice.num_global_nodes;
+
+  FaceMatching faces = match_faces(slice);
+  lap(times.match_faces);
+  const std::vector<int> element_part = partition_slice(slice, faces, partitioner);
+  lap(times.partition);
+  if (report) times.quality = partition_quality(slice, faces, element_part);
+  lap(times.quality_check);
+
+  // Elements to their parts.
+  std::int64_t num_quads = 0;
+  std::vector<std::vector<ElementRecord>> outgoing =
+      element_records_by_part(slice, faces, element_part, with_surface, &num_quads);
   faces = FaceMatching();
   std::vector<ElementRecord> mine = exchange_records(std::move(outgoing), comm);
   // `mine` is sorted by input id without a sort: records arrive by sending rank, ranks hold
@@ -268,124 +434,13 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
     error = "distribute_slices: rank " + std::to_string(rank) + " would hold " + std::to_string(touched.size()) +
             " nodes, more than 32-bit local ids allow";
   agree_on_error(comm, error);
-  std::vector<std::vector<std::int64_t>> asks(size);
-  for (std::int64_t n : touched) asks[block_of(n, nn_input, size)].push_back(n);
-  std::vector<int> asker;
-  const std::vector<std::int64_t> asked = exchange_records(std::move(asks), comm, &asker);
-  // Home arrays over this rank's node block.
-  const std::int64_t home_begin = slice.node_begin;
-  const std::size_t home_size = slice.nodes.size();
-  std::vector<std::int32_t> home_owner(home_size, INT32_MAX);
-  for (std::size_t k = 0; k < asked.size(); ++k) {
-    std::int32_t& o = home_owner[static_cast<std::size_t>(asked[k] - home_begin)];
-    o = std::min(o, static_cast<std::int32_t>(asker[k]));
-  }
-  std::vector<std::vector<std::int32_t>> owner_replies(size);
-  for (std::size_t k = 0; k < asked.size(); ++k)
-    owner_replies[asker[k]].push_back(home_owner[static_cast<std::size_t>(asked[k] - home_begin)]);
-  const std::vector<std::int32_t> owner = exchange_records(std::move(owner_replies), comm);
-
-  // Owned nodes, numbered by increasing input id after the lower parts' nodes.
-  std::int64_t num_owned = 0;
-  for (std::int32_t o : owner) num_owned += o == rank;
-  part.num_owned_nodes = static_cast<int>(num_owned);
-  part.node_offset = exclusive_prefix(num_owned, comm, &part.num_global_nodes);
-  std::vector<std::int64_t> gid(touched.size(), -1);
-  std::vector<std::vector<OwnedGid>> gids_home(size);
-  {
-    std::int64_t next = part.node_offset;
-    for (std::size_t i = 0; i < touched.size(); ++i)
-      if (owner[i] == rank) {
-        gid[i] = next++;
-        gids_home[block_of(touched[i], nn_input, size)].push_back({touched[i], gid[i]});
-      }
-  }
-  std::vector<std::int64_t> home_gid(home_size, -1);
-  for (const OwnedGid& g : exchange_records(std::move(gids_home), comm))
-    home_gid[static_cast<std::size_t>(g.input - home_begin)] = g.gid;
-
-  // Home -> every toucher: global id, coordinates and node-set memberships, in the order asked.
-  std::vector<std::string> set_names;
-  for (const auto& named : slice.node_sets) set_names.push_back(named.first);
-  const HomeSets sets_of_home(slice);
-  std::vector<std::vector<NodeReply>> node_replies(size);
-  std::vector<std::vector<Membership>> memberships(size);
-  {
-    std::vector<std::int64_t> position(size, 0);
-    for (std::size_t k = 0; k < asked.size(); ++k) {
-      const auto h = static_cast<std::size_t>(asked[k] - home_begin);
-      const int r = asker[k];
-      node_replies[r].push_back({home_gid[h], slice.nodes[h]});
-      for (std::size_t k = sets_of_home.first[h]; k < sets_of_home.first[h + 1]; ++k)
-        memberships[r].push_back({position[r], sets_of_home.set[k], 0});
-      ++position[r];
-    }
-  }
-  home_owner = std::vector<std::int32_t>();
-  home_gid = std::vector<std::int64_t>();
-  const std::vector<NodeReply> replies = exchange_records(std::move(node_replies), comm);
-  std::vector<int> membership_home;
-  const std::vector<Membership> my_memberships = exchange_records(std::move(memberships), comm, &membership_home);
-  // A membership's `request` counts the asks sent to its home; touched nodes are sorted and
-  // homes hold increasing blocks, so the asks to home h start at the first touched id in h.
-  std::vector<std::int64_t> first_ask(size + 1, 0);
-  for (std::int64_t n : touched) ++first_ask[block_of(n, nn_input, size) + 1];
-  for (int r = 0; r < size; ++r) first_ask[r + 1] += first_ask[r];
-
-  // Local order: owned nodes by global id (= by input id), then ghosts by global id.
-  std::vector<std::int32_t> order;
-  order.reserve(touched.size());
-  for (std::size_t i = 0; i < touched.size(); ++i)
-    if (owner[i] == rank) order.push_back(static_cast<std::int32_t>(i));
-  for (std::size_t i = 0; i < touched.size(); ++i)
-    if (owner[i] != rank) order.push_back(static_cast<std::int32_t>(i));
-  std::sort(order.begin() + num_owned, order.end(),
-            [&](std::int32_t a, std::int32_t b) { return replies[a].gid < replies[b].gid; });
-  std::vector<std::int32_t> local_of_touched(touched.size());
-  part.local_to_global.resize(touched.size());
-  part.coordinates.resize(touched.size());
-  part.node_input_id.resize(touched.size());
-  for (std::size_t l = 0; l < order.size(); ++l) {
-    const std::int32_t i = order[l];
-    local_of_touched[i] = static_cast<std::int32_t>(l);
-    part.local_to_global[l] = replies[i].gid;
-    part.coordinates[l] = replies[i].x;
-    part.node_input_id[l] = touched[i];
-  }
-  for (const std::string& name : set_names) part.node_sets[name];
-  {
-    std::vector<std::vector<std::int32_t>*> by_index;
-    for (const std::string& name : set_names) by_index.push_back(&part.node_sets[name]);
-    std::vector<std::size_t> members(set_names.size(), 0);
-    for (const Membership& m : my_memberships) ++members[m.set];
-    for (std::size_t set = 0; set < members.size(); ++set) by_index[set]->reserve(members[set]);
-    for (std::size_t k = 0; k < my_memberships.size(); ++k) {
-      const Membership& m = my_memberships[k];
-      by_index[m.set]->push_back(local_of_touched[first_ask[membership_home[k]] + m.request]);
-    }
-    // Members arrive by increasing input id, so a set of owned nodes only (every set on one
-    // rank) is sorted already, and std::sort does not notice (20 ms for a 1M-node set).
-    for (auto* ids : by_index)
-      if (!std::is_sorted(ids->begin(), ids->end())) std::sort(ids->begin(), ids->end());
-  }
-
-  std::vector<std::int64_t> first_quad(with_surface ? mine.size() : 0);
-  part.boundary_face_mask.resize(with_surface ? mine.size() : 0);
-  part.elements.resize(mine.size());
-  part.element_body.resize(mine.size());
-  part.element_input_id.resize(mine.size());
-  parallel_for(mine.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e) {
-      for (int k = 0; k < 8; ++k)
-        part.elements[e][k] = local_of_touched[static_cast<std::size_t>(touched_nodes.position(mine[e].hex[k]))];
-      part.element_body[e] = mine[e].body;
-      part.element_input_id[e] = mine[e].input;
-      if (with_surface) {
-        part.boundary_face_mask[e] = mine[e].mask;
-        first_quad[e] = mine[e].first_quad;
-      }
-    }
-  });
+  const HomeAsks home = ask_homes(touched, nn_input, comm, size);
+  const std::vector<std::int32_t> owner = node_owners(slice, home, size);
+  std::vector<std::int64_t> home_gid = number_owned_nodes(part, slice, touched, owner, rank, size);
+  const NodeAnswers answers = answer_asks(slice, home, std::move(home_gid), size);
+  const std::vector<std::int32_t> local_of_touched = number_local_nodes(part, touched, owner, answers.replies, rank);
+  fill_node_sets(part, slice, answers, touched, local_of_touched, size);
+  const std::vector<std::int64_t> first_quad = fill_elements(part, mine, touched_nodes, local_of_touched, with_surface);
   mine = std::vector<ElementRecord>();
   lap(times.nodes);
   if (with_surface) build_owned_surface(part, first_quad, touched_nodes, local_of_touched, num_quads, nn_input, rank, size);
