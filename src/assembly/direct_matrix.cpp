@@ -31,6 +31,10 @@ constexpr std::uint32_t kOffdFlag = 0x80000000u;
 struct Pair {
   PetscInt row, col;
 };
+using Entry = std::pair<PetscInt, std::uint32_t>;  // (column, source)
+
+// Rows a chunk of the host threads holds at the least, in both passes over the rows.
+constexpr std::size_t kRowGrain = 512;
 
 // The arrays a host AIJ matrix uses without copying them; owned by the Mat (composed on it), so
 // that an older matrix keeps its own while a newer one is in use.
@@ -91,103 +95,55 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
-                                           const PetscInt* rows, const PetscInt* cols, std::size_t n) {
-  PetscFunctionBeginUser;
+// The entries of the rank's rows [row_begin, row_begin + num_rows) while build_pattern runs.
+// Entries are numbered: the blocks' first (nb of them), then the list's (nb + k); entries
+// received from other ranks are numbered on after them (total + k) while the rows are built.
+// The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
+struct DirectMatrix::RowEntries {
+  const NodeBlockReduction* blocks;
+  const PetscInt* rows;
+  const PetscInt* cols;
+  std::size_t n, nb, total;
+  PetscInt num_rows, row_begin;
   // hypre's matrix on the device: its rows hold the diagonal first (as hypre's smoothers read
   // it), and those made of node blocks alone are written there (make_device_hypre).
-  const bool on_device = kind_ == Kind::device_hypre;
-  const int size = static_cast<int>(row_starts_.size()) - 1;
-  const std::vector<PetscInt>& starts = row_starts_;
-  // The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
-  const PetscInt row_begin = row_begin_, row_end = row_begin + num_rows;
-  const PetscInt col_begin = row_begin, col_end = row_end;
-  // Entries are numbered: the blocks' first (nb of them), then the list's (nb + k); entries
-  // received from other ranks are numbered on after them (total + k) while the rows are built.
-  const std::size_t nb = blocks ? blocks->num_entries() : 0, total = nb + n;
-  PetscCheck(!blocks || (row_begin % 3 == 0 && num_rows % 3 == 0), PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
-             "node blocks need the rank's rows to start and end at a node (rows %" PetscInt_FMT " .. %" PetscInt_FMT
-             ")",
-             row_begin, row_end);
-  const auto owner_of = [&](PetscInt row) {
-    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), row) - starts.begin()) - 1;
-  };
-  const auto own_row = [&](PetscInt row) { return row >= row_begin && row < row_end; };
+  bool on_device;
+  std::vector<std::int64_t> block_row_of_node;  // per own node, its row of the node blocks (-1: none)
+  std::vector<Pair> received;                   // entries of own rows sent by other ranks
+  std::vector<int> from;                        // the ranks that sent them
+  // The list's own entries and the received ones by row: row r's are source[row_count[r] ..
+  // row_count[r + 1]).
+  std::vector<std::size_t> row_count;
+  std::vector<std::uint32_t> source;
 
-  // Entries of other ranks' rows go to their owners, which give each a slot; their values
-  // follow at every assembly in the order sent. An own node's block row is read in place below;
-  // a ghost node's (the few on the partition's boundary) is expanded to its entries here.
-  if (on_device)
-    LargePageVector<std::uint32_t>().swap(position_);
-  else
-    position_.assign(total, kRemote);
-  std::vector<std::vector<Pair>> to(size);
-  std::vector<std::vector<std::uint32_t>> remote_entry(size);
-  const PetscInt first_node = row_begin / 3;
-  std::vector<std::int64_t> block_row_of_node(blocks ? static_cast<std::size_t>(num_rows / 3) : 0, -1);
-  if (blocks) {
-    for (std::size_t s = 0; s < blocks->row_nodes.size(); ++s) {
-      const std::int64_t node = blocks->row_nodes[s];
-      if (own_row(static_cast<PetscInt>(3 * node))) {
-        block_row_of_node[static_cast<std::size_t>(node - first_node)] = static_cast<std::int64_t>(s);
-        continue;
-      }
-      const int owner = owner_of(static_cast<PetscInt>(3 * node));
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k)
-        blocks->for_each_entry(node, k, [&](std::size_t entry, std::int64_t row, std::int64_t col) {
-          to[owner].push_back({static_cast<PetscInt>(row), static_cast<PetscInt>(col)});
-          remote_entry[owner].push_back(static_cast<std::uint32_t>(entry));
-        });
-    }
-  }
-  for (std::size_t k = 0; k < n; ++k)
-    if (!own_row(rows[k])) {
-      const int owner = owner_of(rows[k]);
-      to[owner].push_back({rows[k], cols[k]});
-      remote_entry[owner].push_back(static_cast<std::uint32_t>(nb + k));
-    }
-  std::vector<int> from;
-  const std::vector<Pair> received = exchange_records(std::move(to), comm, &from);
-  PetscCheck(total + received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "%zu matrix entries on one rank, more than the matrix's 32-bit positions hold: run on more ranks",
-             total + received.size());
+  bool own_row(PetscInt row) const { return row >= row_begin && row < row_begin + num_rows; }
+  bool is_diag(PetscInt col) const { return own_row(col); }
+  bool is_received(std::uint32_t src) const { return src >= total; }
+  PetscInt column_of(std::uint32_t src) const { return is_received(src) ? received[src - total].col : cols[src - nb]; }
+  std::int64_t block_row(PetscInt r) const { return blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1; }
+  // Rows made of node blocks alone (most rows): distinct and ascending, read in place.
+  bool blocks_only(PetscInt r) const { return block_row(r) >= 0 && row_count[r] == row_count[r + 1]; }
 
   // The list's own entries and the received ones, bucketed by row (counting sort, in 4 B): the
   // list's entry k as nb + k, received entry k as total + k, so that own entries sort first,
   // then the received ones in arrival order.
-  const auto is_received = [total](std::uint32_t src) { return src >= total; };
-  std::vector<std::size_t> row_count(static_cast<std::size_t>(num_rows) + 1, 0);
-  for (std::size_t k = 0; k < n; ++k)
-    if (own_row(rows[k])) ++row_count[rows[k] - row_begin + 1];
-  for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
-  for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
-  std::vector<std::uint32_t> source(row_count[num_rows]);
-  {
+  void bucket_by_row() {
+    row_count.assign(static_cast<std::size_t>(num_rows) + 1, 0);
+    for (std::size_t k = 0; k < n; ++k)
+      if (own_row(rows[k])) ++row_count[rows[k] - row_begin + 1];
+    for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
+    for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
+    source.resize(row_count[num_rows]);
     std::vector<std::size_t> next(row_count.begin(), row_count.end() - 1);
     for (std::size_t k = 0; k < n; ++k)
       if (own_row(rows[k])) source[next[rows[k] - row_begin]++] = static_cast<std::uint32_t>(nb + k);
     for (std::size_t k = 0; k < received.size(); ++k)
       source[next[received[k].row - row_begin]++] = static_cast<std::uint32_t>(total + k);
   }
-  const auto column_of = [&](std::uint32_t src) {
-    return is_received(src) ? received[src - total].col : cols[src - nb];
-  };
 
-  // Per row: its distinct columns in the kind's order, each given the next position of its
-  // block; an own entry takes that position, received ones a slot there. The rows go in chunks
-  // on the host threads, in two passes: the first counts each row's columns, the second writes
-  // every row at the place the counts give. The arrays are those of one pass in row order, for
-  // any number of threads. A row that is not node blocks alone is sorted in both passes: keeping
-  // its entries between them cost 150 MB per rank at 4M hexes on 4 ranks, where the rows on the
-  // partition's boundary receive millions of entries.
-  const PetscInt node_begin = col_begin / 3, node_end = col_end / 3;
-  const auto is_diag = [&](PetscInt col) { return col >= col_begin && col < col_end; };
-  const auto block_row = [&](PetscInt r) { return blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1; };
-  // Rows made of node blocks alone (most rows): distinct and ascending, read in place.
-  const auto blocks_only = [&](PetscInt r) { return block_row(r) >= 0 && row_count[r] == row_count[r + 1]; };
-  using Entry = std::pair<PetscInt, std::uint32_t>;  // (column, source)
-  // The other rows' entries: by column; own entries first, then received ones in arrival order.
-  const auto sorted_line = [&](PetscInt r, std::vector<Entry>& line) {
+  // The entries of a row that is not node blocks alone, by column: own entries first, then
+  // received ones in arrival order.
+  void sorted_line(PetscInt r, std::vector<Entry>& line) const {
     line.clear();
     const std::int64_t s = block_row(r);
     const int i = static_cast<int>(r % 3);
@@ -206,24 +162,119 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
     if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
     const PetscInt row = row_begin + r;
     if (on_device) std::stable_partition(line.begin(), line.end(), [&](const Entry& e) { return e.first == row; });
+  }
+};
+
+// What a chunk's rows add to the lists kept in row order: counted, then their starts.
+struct DirectMatrix::ChunkCounts {
+  std::size_t slots = 0, side_diag = 0, side_offd = 0, side_position = 0;
+};
+
+PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
+                                           const PetscInt* rows, const PetscInt* cols, std::size_t n) {
+  PetscFunctionBeginUser;
+  RowEntries entries;
+  entries.blocks = blocks;
+  entries.rows = rows;
+  entries.cols = cols;
+  entries.n = n;
+  entries.nb = blocks ? blocks->num_entries() : 0;
+  entries.total = entries.nb + n;
+  entries.num_rows = num_rows;
+  entries.row_begin = row_begin_;
+  entries.on_device = kind_ == Kind::device_hypre;
+  PetscCheck(!blocks || (row_begin_ % 3 == 0 && num_rows % 3 == 0), PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
+             "node blocks need the rank's rows to start and end at a node (rows %" PetscInt_FMT " .. %" PetscInt_FMT
+             ")",
+             row_begin_, row_begin_ + num_rows);
+  std::vector<std::vector<std::uint32_t>> remote_entry;
+  PetscCall(send_remote_entries(comm, entries, &remote_entry));
+  entries.bucket_by_row();
+
+  // Per row: its distinct columns in the kind's order, each given the next position of its
+  // block; an own entry takes that position, received ones a slot there. The rows go in chunks
+  // on the host threads, in two passes: the first counts each row's columns, the second writes
+  // every row at the place the counts give. The arrays are those of one pass in row order, for
+  // any number of threads. A row that is not node blocks alone is sorted in both passes: keeping
+  // its entries between them cost 150 MB per rank at 4M hexes on 4 ranks, where the rows on the
+  // partition's boundary receive millions of entries.
+  std::vector<ChunkCounts> chunk = count_row_columns(entries);
+  std::vector<std::uint32_t> received_slot = write_rows(entries, chunk);
+  std::vector<std::uint32_t>().swap(entries.source);
+  finish_offd_positions();
+
+  // The values of other ranks' rows travel to their owners at every assembly, in the order sent.
+  remote_.setup(comm, remote_entry, entries.from, std::move(received_slot), slot_position_.size(), entries.on_device);
+  PetscFunctionReturn(0);
+}
+
+// Entries of other ranks' rows go to their owners, which give each a slot; their values
+// follow at every assembly in the order sent. An own node's block row is read in place later;
+// a ghost node's (the few on the partition's boundary) is expanded to its entries here.
+PetscErrorCode DirectMatrix::send_remote_entries(MPI_Comm comm, RowEntries& entries,
+                                                 std::vector<std::vector<std::uint32_t>>* remote_entry) {
+  PetscFunctionBeginUser;
+  const NodeBlockReduction* blocks = entries.blocks;
+  const std::vector<PetscInt>& starts = row_starts_;
+  const int size = static_cast<int>(starts.size()) - 1;
+  const auto owner_of = [&](PetscInt row) {
+    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), row) - starts.begin()) - 1;
   };
-  // What a chunk's rows add to the lists kept in row order: counted, then their starts.
-  struct Chunk {
-    std::size_t slots = 0, side_diag = 0, side_offd = 0, side_position = 0;
-  };
-  std::vector<Chunk> chunk(static_cast<std::size_t>(host_threads()));
+  if (entries.on_device)
+    LargePageVector<std::uint32_t>().swap(position_);
+  else
+    position_.assign(entries.total, kRemote);
+  std::vector<std::vector<Pair>> to(size);
+  remote_entry->assign(size, {});
+  const PetscInt first_node = entries.row_begin / 3;
+  entries.block_row_of_node.assign(blocks ? static_cast<std::size_t>(entries.num_rows / 3) : 0, -1);
+  if (blocks) {
+    for (std::size_t s = 0; s < blocks->row_nodes.size(); ++s) {
+      const std::int64_t node = blocks->row_nodes[s];
+      if (entries.own_row(static_cast<PetscInt>(3 * node))) {
+        entries.block_row_of_node[static_cast<std::size_t>(node - first_node)] = static_cast<std::int64_t>(s);
+        continue;
+      }
+      const int owner = owner_of(static_cast<PetscInt>(3 * node));
+      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k)
+        blocks->for_each_entry(node, k, [&](std::size_t entry, std::int64_t row, std::int64_t col) {
+          to[owner].push_back({static_cast<PetscInt>(row), static_cast<PetscInt>(col)});
+          (*remote_entry)[owner].push_back(static_cast<std::uint32_t>(entry));
+        });
+    }
+  }
+  for (std::size_t k = 0; k < entries.n; ++k)
+    if (!entries.own_row(entries.rows[k])) {
+      const int owner = owner_of(entries.rows[k]);
+      to[owner].push_back({entries.rows[k], entries.cols[k]});
+      (*remote_entry)[owner].push_back(static_cast<std::uint32_t>(entries.nb + k));
+    }
+  entries.received = exchange_records(std::move(to), comm, &entries.from);
+  PetscCheck(entries.total + entries.received.size() < kRemote, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "%zu matrix entries on one rank, more than the matrix's 32-bit positions hold: run on more ranks",
+             entries.total + entries.received.size());
+  PetscFunctionReturn(0);
+}
+
+// The first pass: each row's column counts (diag_i_, offd_i_ made row starts), the rows the
+// device writes, and each chunk's start in the lists kept in row order; sizes those lists.
+std::vector<DirectMatrix::ChunkCounts> DirectMatrix::count_row_columns(const RowEntries& entries) {
+  const NodeBlockReduction* blocks = entries.blocks;
+  const PetscInt num_rows = entries.num_rows;
+  const bool on_device = entries.on_device;
+  const PetscInt node_begin = entries.row_begin / 3, node_end = (entries.row_begin + num_rows) / 3;
+  std::vector<ChunkCounts> chunk(static_cast<std::size_t>(host_threads()));
   diag_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   device_block_row_.assign(on_device ? static_cast<std::size_t>(num_rows) : 0, -1);
-  const std::size_t row_grain = 512;
   const int chunks = parallel_chunks(static_cast<std::size_t>(num_rows), [&](int c, std::size_t r0, std::size_t r1) {
-    Chunk& mine = chunk[static_cast<std::size_t>(c)];
+    ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
     std::vector<Entry> line;
     for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
-      const std::int64_t s = block_row(r);
+      const std::int64_t s = entries.block_row(r);
       const int i = static_cast<int>(r % 3);
       PetscInt n_diag = 0, n_offd = 0;
-      if (blocks_only(r)) {
+      if (entries.blocks_only(r)) {
         for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
           const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
           const std::int64_t col_node = blocks->block_col[k];
@@ -231,13 +282,13 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
         }
         if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
       } else {
-        sorted_line(r, line);
+        entries.sorted_line(r, line);
         for (std::size_t a = 0; a < line.size();) {
           std::size_t b = a + 1;
           while (b < line.size() && line[b].first == line[a].first) ++b;
-          const bool own = !is_received(line[a].second);
-          (is_diag(line[a].first) ? n_diag : n_offd) += 1;
-          if (on_device) (is_diag(line[a].first) ? mine.side_diag : mine.side_offd) += 1, mine.side_position += own;
+          const bool own = !entries.is_received(line[a].second);
+          (entries.is_diag(line[a].first) ? n_diag : n_offd) += 1;
+          if (on_device) (entries.is_diag(line[a].first) ? mine.side_diag : mine.side_offd) += 1, mine.side_position += own;
           mine.slots += b > a + (own ? 1 : 0);
           a = b;
         }
@@ -245,13 +296,13 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
       diag_i_[r + 1] = n_diag;
       offd_i_[r + 1] = n_offd;
     }
-  }, row_grain);
+  }, kRowGrain);
   for (PetscInt r = 0; r < num_rows; ++r) diag_i_[r + 1] += diag_i_[r], offd_i_[r + 1] += offd_i_[r];
-  const std::uint32_t num_diag = static_cast<std::uint32_t>(diag_i_[num_rows]);
-  const std::uint32_t num_offd = static_cast<std::uint32_t>(offd_i_[num_rows]);
+  num_diag_ = static_cast<std::uint32_t>(diag_i_[num_rows]);
+  num_offd_ = static_cast<std::uint32_t>(offd_i_[num_rows]);
   std::size_t total_slots = 0, total_side_diag = 0, total_side_offd = 0, total_side_position = 0;
   for (int c = 0; c < chunks; ++c) {
-    Chunk& k = chunk[static_cast<std::size_t>(c)];
+    ChunkCounts& k = chunk[static_cast<std::size_t>(c)];
     total_slots += std::exchange(k.slots, total_slots);
     total_side_diag += std::exchange(k.side_diag, total_side_diag);
     total_side_offd += std::exchange(k.side_offd, total_side_offd);
@@ -260,21 +311,30 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
   if (on_device) {
     diag_j_.clear(), offd_j_.clear();
   } else {
-    diag_j_.resize(num_diag);
-    offd_j_.resize(num_offd);
+    diag_j_.resize(num_diag_);
+    offd_j_.resize(num_offd_);
   }
   side_diag_.resize(total_side_diag), side_offd_.resize(total_side_offd), side_position_.resize(total_side_position);
   slot_position_.resize(total_slots);
   slot_keep_.resize(total_slots);
-  std::vector<std::uint32_t> received_slot(received.size());
-  parallel_chunks(static_cast<std::size_t>(num_rows), [&](int c, std::size_t r0, std::size_t r1) {
-    Chunk& mine = chunk[static_cast<std::size_t>(c)];
+  return chunk;
+}
+
+// The second pass: every row's columns and positions at the place the first pass gave it (the
+// off-diagonal block's provisional), and the slots of the received entries, which it returns.
+std::vector<std::uint32_t> DirectMatrix::write_rows(const RowEntries& entries, std::vector<ChunkCounts>& chunk) {
+  const NodeBlockReduction* blocks = entries.blocks;
+  const bool on_device = entries.on_device;
+  const PetscInt col_begin = entries.row_begin;
+  std::vector<std::uint32_t> received_slot(entries.received.size());
+  parallel_chunks(static_cast<std::size_t>(entries.num_rows), [&](int c, std::size_t r0, std::size_t r1) {
+    ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
     std::vector<Entry> line_entries;
     for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
       // A column's place in its block (a provisional one in the off-diagonal block).
       std::uint32_t d = static_cast<std::uint32_t>(diag_i_[r]), o = static_cast<std::uint32_t>(offd_i_[r]);
       const auto next_position = [&](PetscInt col) {
-        if (is_diag(col)) {
+        if (entries.is_diag(col)) {
           if (on_device)
             side_diag_[mine.side_diag++] = {d, col - col_begin};
           else
@@ -287,9 +347,9 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
           offd_j_[o] = col;
         return kOffdFlag | o++;
       };
-      if (blocks_only(r)) {
+      if (entries.blocks_only(r)) {
         if (on_device) continue;
-        const std::int64_t s = block_row(r);
+        const std::int64_t s = entries.block_row(r);
         const int i = static_cast<int>(r % 3);
         for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
           const unsigned mask = blocks->block_mask[k];
@@ -300,14 +360,14 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
         }
         continue;
       }
-      sorted_line(r, line_entries);
+      entries.sorted_line(r, line_entries);
       const Entry* line = line_entries.data();
       const std::size_t size = line_entries.size();
       for (std::size_t a = 0; a < size;) {
         std::size_t b = a + 1;
         while (b < size && line[b].first == line[a].first) ++b;
         const std::uint32_t p = next_position(line[a].first);
-        const bool own = !is_received(line[a].second);
+        const bool own = !entries.is_received(line[a].second);
         if (own) {
           if (on_device)
             side_position_[mine.side_position++] = {line[a].second, p};
@@ -317,32 +377,30 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
         if (b > a + (own ? 1 : 0)) {
           const std::size_t slot = mine.slots++;
           for (std::size_t c2 = a + (own ? 1 : 0); c2 < b; ++c2)
-            received_slot[line[c2].second - total] = static_cast<std::uint32_t>(slot);
+            received_slot[line[c2].second - entries.total] = static_cast<std::uint32_t>(slot);
           slot_position_[slot] = p;
           slot_keep_[slot] = own ? 1 : 0;
         }
         a = b;
       }
     }
-  }, row_grain);
-  chunk.clear();
-  std::vector<std::uint32_t>().swap(source);
-  num_diag_ = num_diag;
-  num_offd_ = num_offd;
+  }, kRowGrain);
+  return received_slot;
+}
+
+// The off-diagonal block's provisional positions made final, now that the diagonal block's
+// size is known.
+void DirectMatrix::finish_offd_positions() {
   const auto finish = [&](std::uint32_t& p) {
-    if (p != kRemote && (p & kOffdFlag)) p = num_diag + (p & ~kOffdFlag);
+    if (p != kRemote && (p & kOffdFlag)) p = num_diag_ + (p & ~kOffdFlag);
   };
-  if (num_offd > 0) {
+  if (num_offd_ > 0) {
     parallel_for(position_.size(), [&](std::size_t k0, std::size_t k1) {
       for (std::size_t k = k0; k < k1; ++k) finish(position_[k]);
     });
     for (auto& [entry, p] : side_position_) finish(p);
     for (std::uint32_t& p : slot_position_) finish(p);
   }
-
-  // The values of other ranks' rows travel to their owners at every assembly, in the order sent.
-  remote_.setup(comm, remote_entry, from, std::move(received_slot), slot_position_.size(), on_device);
-  PetscFunctionReturn(0);
 }
 
 PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {

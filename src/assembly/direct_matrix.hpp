@@ -68,6 +68,15 @@ class DirectMatrix {
   // of other ranks' rows.
   PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
                                const PetscInt* rows, const PetscInt* cols, std::size_t n);
+  // build_pattern's steps (direct_matrix.cpp): the rank's rows' entries as they are gathered,
+  // the entries of other ranks' rows sent to their owners, then two passes over the rows.
+  struct RowEntries;
+  struct ChunkCounts;
+  PetscErrorCode send_remote_entries(MPI_Comm comm, RowEntries& entries,
+                                     std::vector<std::vector<std::uint32_t>>* remote_entry);
+  std::vector<ChunkCounts> count_row_columns(const RowEntries& entries);
+  std::vector<std::uint32_t> write_rows(const RowEntries& entries, std::vector<ChunkCounts>& chunk);
+  void finish_offd_positions();
   PetscErrorCode make_host_aij(Mat like, Mat* J);
   PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
   // device_hypre: J's value arrays on the device.
