@@ -350,170 +350,242 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   PetscFunctionReturn(0);
 }
 
-}  // namespace
-
-PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
-  PetscFunctionBeginUser;
+// The scene with every generated box's resolution multiplied by -dipc_refine.
+Scene refined(const Scene& scene_in, int refine) {
   Scene scene = scene_in;
   for (Body& body : scene.bodies)
     if (body.box)
-      for (int& r : body.box->resolution) r *= options.refine;
-  const double t_start = MPI_Wtime();
-  *result = RunResult{};
-  const OpenMpThreads threads = limit_openmp_threads();
-  result->openmp_threads = threads.threads;
-  const HostThreads host_threads = choose_host_threads(comm, options.host_threads, threads);
-  const LogStages& stages = log_stages();
-  PetscBool device_types;
-  PetscCall(default_types_for_device_hypre(&device_types));
-  if (device_types)
-    PetscCall(PetscPrintf(comm, "dipc: this PETSc's hypre runs on the GPU only, so BoomerAMG gets -vec_type cuda "
-                                "-mat_type hypre (give -vec_type/-mat_type or another -pc_type to choose)\n"));
+      for (int& r : body.box->resolution) r *= refine;
+  return scene;
+}
 
-  // Mesh and partition: every rank builds or reads its slice of the input mesh, the slices are
-  // partitioned (METIS on rank 0 for meshes it can hold, PT-Scotch in parallel beyond) and each
-  // rank receives its part (partition/distributed_mesh.hpp: distribute_slices).
+// What run_scene measures of its phases on this rank: wall times (s) and peak memory (MiB).
+struct PhaseMeasures {
+  double start = 0;                         // MPI_Wtime at the run's start
+  double partition = 0, setup = 0, output = 0;
+  double rss_partition = 0, rss_setup = 0;  // peak resident memory after the partition, the setup
+};
+
+// The scene's mesh partitioned over the ranks, and what the partition phase learnt on the way.
+struct PartitionedScene {
   DistributedMesh mesh;
-  double diagonal = 0;
-  std::uint64_t fingerprint = 0;
-  auto setup_heap = std::make_unique<SetupHeap>();  // until the setup is done (app/setup_heap.hpp)
-  double t_partition = MPI_Wtime();
-  DistributeReport distribution;
+  double diagonal = 0;            // of the input mesh's bounding box: the length scale
+  std::uint64_t fingerprint = 0;  // of the scene and its mesh, for checkpoints
   Partitioner partitioner = Partitioner::metis;
-  double t_slices = 0;
-  {
-    StageScope stage(stages.partition);
-    MeshSlice slice = build_scene_slice(scene, comm);
-    diagonal = slice_bounding_box_diagonal(slice);
-    fingerprint = scene_fingerprint(scene, slice_digest(slice));
-    partitioner = options.partitioner != "auto"                           ? parse_partitioner(options.partitioner)
+  DistributeReport distribution;
+  double slices_seconds = 0;      // building or reading the slices
+};
+
+// Mesh and partition: every rank builds or reads its slice of the input mesh, the slices are
+// partitioned (METIS on rank 0 for meshes it can hold, PT-Scotch in parallel beyond) and each
+// rank receives its part (partition/distributed_mesh.hpp: distribute_slices). `start` is the
+// partition phase's start (MPI_Wtime).
+PartitionedScene partition_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, double start) {
+  StageScope stage(log_stages().partition);
+  PartitionedScene p;
+  MeshSlice slice = build_scene_slice(scene, comm);
+  p.diagonal = slice_bounding_box_diagonal(slice);
+  p.fingerprint = scene_fingerprint(scene, slice_digest(slice));
+  p.partitioner = options.partitioner != "auto"                           ? parse_partitioner(options.partitioner)
                   : slice.num_global_elements <= options.metis_max_elements ? Partitioner::metis
                   : ptscotch_available()                                    ? Partitioner::ptscotch
                                                                             : Partitioner::rcb;
-    t_slices = MPI_Wtime() - t_partition;
-    mesh = distribute_slices(slice, partitioner, scene.contact.enabled, &distribution);  // the surface only for contact
-  }
-  check_file_elements(scene, mesh);
-  t_partition = MPI_Wtime() - t_partition;
-  const double rss_partition = peak_rss_mib();
+  p.slices_seconds = MPI_Wtime() - start;
+  p.mesh = distribute_slices(slice, p.partitioner, scene.contact.enabled, &p.distribution);  // the surface only for contact
+  return p;
+}
 
-  double t_setup = MPI_Wtime();
-  ProblemSetup problem = build_problem(scene, mesh, diagonal);
-  double velocity_tol = 0;
-  PetscCall(read_velocity_tol(comm, options, diagonal, &velocity_tol));
-  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+// The partition's quality and where the partition phase's time went (slowest rank per part).
+PetscErrorCode print_partition(MPI_Comm comm, const PartitionedScene& partitioned) {
+  PetscFunctionBeginUser;
+  const DistributeReport& distribution = partitioned.distribution;
+  double parts[7] = {partitioned.slices_seconds, distribution.match_faces, distribution.partition,
+                     distribution.quality_check, distribution.elements, distribution.nodes, distribution.surface};
+  MPI_Allreduce(MPI_IN_PLACE, parts, 7, MPI_DOUBLE, MPI_MAX, comm);
+  const PartitionQuality& q = distribution.quality;
+  PetscCall(PetscPrintf(comm, "  partitioner %s | edge cut %lld of %lld interior faces | imbalance %.3f (parts %lld..%lld)\n",
+                        partitioner_name(partitioned.partitioner), (long long)q.edge_cut, (long long)q.dual_edges,
+                        q.imbalance, (long long)q.smallest_part, (long long)q.largest_part));
+  PetscCall(PetscPrintf(comm, "  partition phases (s): slices %.3f faces %.3f partitioner %.3f quality %.3f elements %.3f "
+                        "nodes %.3f surface %.3f\n", parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6]));
+  PetscFunctionReturn(0);
+}
+
+// Device memory before the setup, after checking that the setup will fit (device backend only).
+DeviceUse device_use_before_setup(MPI_Comm comm, const BackendChoice& backend, int num_elements) {
   DeviceUse device_use;
   if (backend.space == MemorySpace::device) {
     device_use.matrix_on_device = device_matrix_requested();
-    check_device_memory(comm, mesh.num_elements(), device_use.matrix_on_device);
+    check_device_memory(comm, num_elements, device_use.matrix_on_device);
     device_use.free_before = device::memory_info().free_bytes;
   }
+  return device_use;
+}
+
+// The shortest sub-step step recovery may take: -dipc_dt_min, by default the scene's dt / 1024.
+double min_substep(const Scene& scene, const RunOptions& options) {
   const double dt_min = options.dt_min > 0 ? options.dt_min : scene.dt / 1024;
   if (dt_min > scene.dt)
     throw std::runtime_error("-dipc_dt_min " + std::to_string(dt_min) + " is larger than the scene's dt " +
                              std::to_string(scene.dt));
-  TimeIntegrator integrator;
-  {
-    StageScope stage(stages.setup);
-    StepControl control;
-    control.velocity_tol = velocity_tol;
-    control.alpha_floor = options.alpha_floor;
-    control.check_invariants = options.check_invariants;
-    PetscCall(integrator.setup(mesh, problem, control, backend.space));
-  }
-  setup_heap.reset();
-  StepRecovery recovery(integrator, dt_min);
-  if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
-  t_setup = MPI_Wtime() - t_setup;
-  const double rss_setup = peak_rss_mib();
-  // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
-  // nothing read is misspelt or unknown, and would otherwise be ignored.
-  check_no_unknown_options(comm);
-  if (options.report) {
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads,
-                           host_threads));
-    // The partition's quality and where the partition phase's time went (slowest rank per part).
-    double parts[7] = {t_slices, distribution.match_faces, distribution.partition, distribution.quality_check,
-                       distribution.elements, distribution.nodes, distribution.surface};
-    MPI_Allreduce(MPI_IN_PLACE, parts, 7, MPI_DOUBLE, MPI_MAX, comm);
-    const PartitionQuality& q = distribution.quality;
-    PetscCall(PetscPrintf(comm, "  partitioner %s | edge cut %lld of %lld interior faces | imbalance %.3f (parts %lld..%lld)\n",
-                          partitioner_name(partitioner), (long long)q.edge_cut, (long long)q.dual_edges, q.imbalance,
-                          (long long)q.smallest_part, (long long)q.largest_part));
-    PetscCall(PetscPrintf(comm, "  partition phases (s): slices %.3f faces %.3f partitioner %.3f quality %.3f elements %.3f "
-                          "nodes %.3f surface %.3f\n", parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6]));
-  }
+  return dt_min;
+}
 
-  const std::string output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
-  NaturalOrder order;
-  PetscCall(order.setup(mesh));
-  CheckpointRun run;
-  run.fingerprint = fingerprint;
-  run.scene = scene.source;
-  {
-    char* all = nullptr;
-    PetscCall(PetscOptionsGetAll(nullptr, &all));
-    run.options = all ? all : "";
-    PetscCall(PetscFree(all));
-  }
-  double t_output = MPI_Wtime();
-  // Restart: the state, recovery's level and the output's extent from a checkpoint.
-  bool restarted = false;
-  CheckpointRun stored;
-  if (!options.restart.empty() && !options.setup_only) {
-    const bool automatic = options.restart == "auto";
-    const std::vector<std::string> candidates =
-        automatic ? list_checkpoints(comm, output_dir, scene.output_name) : std::vector<std::string>{options.restart};
-    if (candidates.empty())
-      PetscCall(PetscPrintf(comm, "dipc: -dipc_restart auto: no checkpoint of \"%s\" in %s, starting from step 0\n",
-                            scene.output_name.c_str(), output_dir.c_str()));
-    for (std::size_t i = 0; i < candidates.size() && !restarted; ++i) {
-      try {
-        PetscCall(read_checkpoint(comm, candidates[i], order, integrator, recovery, run, &stored));
-        restarted = true;
-        PetscCall(PetscPrintf(comm, "dipc: restarting from %s: step %d, t %.10g\n", candidates[i].c_str(),
-                              recovery.steps_taken(), integrator.time()));
-      } catch (const CheckpointError& e) {
-        // auto falls back on the older checkpoint when the newest is damaged; a checkpoint of
-        // another scene, or a file the user named, is refused.
-        if (!automatic || e.kind() == CheckpointError::Kind::mismatched || i + 1 == candidates.size()) throw;
-        PetscCall(PetscPrintf(comm, "dipc: skipping %s, trying the one before\n", e.what()));
-      }
+PetscErrorCode set_up_integrator(const DistributedMesh& mesh, const ProblemSetup& problem, const RunOptions& options,
+                                 double velocity_tol, MemorySpace space, TimeIntegrator& integrator) {
+  PetscFunctionBeginUser;
+  StageScope stage(log_stages().setup);
+  StepControl control;
+  control.velocity_tol = velocity_tol;
+  control.alpha_floor = options.alpha_floor;
+  control.check_invariants = options.check_invariants;
+  PetscCall(integrator.setup(mesh, problem, control, space));
+  PetscFunctionReturn(0);
+}
+
+// What a checkpoint records of the run beside the state: the fingerprint, the scene, the options.
+PetscErrorCode describe_run(const Scene& scene, std::uint64_t fingerprint, CheckpointRun* run) {
+  PetscFunctionBeginUser;
+  run->fingerprint = fingerprint;
+  run->scene = scene.source;
+  char* all = nullptr;
+  PetscCall(PetscOptionsGetAll(nullptr, &all));
+  run->options = all ? all : "";
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
+}
+
+// Restart (-dipc_restart FILE | auto): the state, recovery's level and the output's extent from a
+// checkpoint (*stored); *restarted stays false when auto finds none.
+PetscErrorCode restart_from_checkpoint(MPI_Comm comm, const std::string& restart, const std::string& output_dir,
+                                       const std::string& name, NaturalOrder& order, TimeIntegrator& integrator,
+                                       StepRecovery& recovery, const CheckpointRun& run, CheckpointRun* stored,
+                                       bool* restarted) {
+  PetscFunctionBeginUser;
+  const bool automatic = restart == "auto";
+  const std::vector<std::string> candidates =
+      automatic ? list_checkpoints(comm, output_dir, name) : std::vector<std::string>{restart};
+  if (candidates.empty())
+    PetscCall(PetscPrintf(comm, "dipc: -dipc_restart auto: no checkpoint of \"%s\" in %s, starting from step 0\n",
+                          name.c_str(), output_dir.c_str()));
+  for (std::size_t i = 0; i < candidates.size() && !*restarted; ++i) {
+    try {
+      PetscCall(read_checkpoint(comm, candidates[i], order, integrator, recovery, run, stored));
+      *restarted = true;
+      PetscCall(PetscPrintf(comm, "dipc: restarting from %s: step %d, t %.10g\n", candidates[i].c_str(),
+                            recovery.steps_taken(), integrator.time()));
+    } catch (const CheckpointError& e) {
+      // auto falls back on the older checkpoint when the newest is damaged; a checkpoint of
+      // another scene, or a file the user named, is refused.
+      if (!automatic || e.kind() == CheckpointError::Kind::mismatched || i + 1 == candidates.size()) throw;
+      PetscCall(PetscPrintf(comm, "dipc: skipping %s, trying the one before\n", e.what()));
     }
   }
-  std::unique_ptr<RunOutput> output;
-  if (options.write_output && !options.setup_only) {
-    StageScope stage(stages.output);
-    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator,
-                                                     stored.output_steps, recovery.steps_taken())
-                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator);
-    if (output->steps_written() == 0) PetscCall(output->write_fields(integrator));
-    result->xdmf_path = output->xdmf_path();
+  PetscFunctionReturn(0);
+}
+
+// Checkpoints of the run's state between steps (collective): when one is due, and writing it.
+class Checkpoints {
+ public:
+  Checkpoints(MPI_Comm comm, const RunOptions& options, const std::string& output_dir, const std::string& name,
+              NaturalOrder& order, const TimeIntegrator& integrator, const StepRecovery& recovery, CheckpointRun& run,
+              bool restarted)
+      : comm_(comm),
+        options_(options),
+        output_dir_(output_dir),
+        name_(name),
+        order_(order),
+        integrator_(integrator),
+        recovery_(recovery),
+        run_(run),
+        last_step_(restarted ? recovery.steps_taken() : -1) {}
+
+  // Step boundary: the ranks agree on a stop signal and on rank 0's wall-clock rule; a
+  // checkpoint is due by either, every -dipc_checkpoint_every steps, and at the end.
+  StopDecision decide_stop() const {
+    const bool minutes_due =
+        options_.checkpoint_minutes > 0 && MPI_Wtime() - last_wall_ >= 60 * options_.checkpoint_minutes;
+    return agree_on_stop(comm_, minutes_due);
   }
-  t_output = MPI_Wtime() - t_output;
-  const bool checkpointing = options.checkpoint_every > 0 || options.checkpoint_minutes > 0;
-  double last_checkpoint_wall = MPI_Wtime();
-  int last_checkpoint_step = restarted ? recovery.steps_taken() : -1;
-  // Collective: a checkpoint of the current state (between steps).
-  auto checkpoint = [&]() -> PetscErrorCode {
+  bool due(int s, const StopDecision& stop, bool at_end) const {
+    const bool every_due = options_.checkpoint_every > 0 && s > 0 && s % options_.checkpoint_every == 0;
+    return (stop.signal || stop.checkpoint_due || every_due || (at_end && checkpointing_)) && s != last_step_ &&
+           !options_.setup_only;
+  }
+
+  // Collective: a checkpoint of the current state; its time counts as output (*t_output).
+  PetscErrorCode write(const RunOutput* output, RunResult* result, double* t_output) {
     PetscFunctionBeginUser;
     const double t0 = MPI_Wtime();
-    run.output_steps = output ? static_cast<long>(output->steps_written()) : 0;
-    result->checkpoint_path = checkpoint_path(output_dir, scene.output_name, recovery.steps_taken());
-    PetscCall(write_checkpoint(comm, result->checkpoint_path, order, integrator, recovery, run, scene.output_name));
-    last_checkpoint_step = recovery.steps_taken();
-    last_checkpoint_wall = MPI_Wtime();
-    result->checkpoint_seconds += last_checkpoint_wall - t0;
-    t_output += last_checkpoint_wall - t0;
-    if (!options.quiet) {
+    run_.output_steps = output ? static_cast<long>(output->steps_written()) : 0;
+    result->checkpoint_path = checkpoint_path(output_dir_, name_, recovery_.steps_taken());
+    PetscCall(write_checkpoint(comm_, result->checkpoint_path, order_, integrator_, recovery_, run_, name_));
+    last_step_ = recovery_.steps_taken();
+    last_wall_ = MPI_Wtime();
+    result->checkpoint_seconds += last_wall_ - t0;
+    *t_output += last_wall_ - t0;
+    if (!options_.quiet) {
       std::error_code ec;
       const auto bytes = std::filesystem::file_size(result->checkpoint_path, ec);  // rank 0 prints
-      PetscCall(PetscPrintf(comm, "checkpoint: step %d written to %s (%.2f MB, %.3f s)\n", recovery.steps_taken(),
-                            result->checkpoint_path.c_str(), ec ? 0.0 : bytes / 1e6, last_checkpoint_wall - t0));
+      PetscCall(PetscPrintf(comm_, "checkpoint: step %d written to %s (%.2f MB, %.3f s)\n", recovery_.steps_taken(),
+                            result->checkpoint_path.c_str(), ec ? 0.0 : bytes / 1e6, last_wall_ - t0));
     }
     PetscFunctionReturn(0);
-  };
+  }
 
+ private:
+  MPI_Comm comm_;
+  const RunOptions& options_;
+  const std::string& output_dir_;
+  const std::string& name_;
+  NaturalOrder& order_;
+  const TimeIntegrator& integrator_;
+  const StepRecovery& recovery_;
+  CheckpointRun& run_;
+  const bool checkpointing_ = options_.checkpoint_every > 0 || options_.checkpoint_minutes > 0;
+  double last_wall_ = MPI_Wtime();
+  int last_step_;
+};
+
+// A step's totals added to the run's.
+void add_step_counts(const StepReport& r, RunResult* result) {
+  result->newton_iterations += r.newton.iterations;
+  result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
+  result->linear_iterations += r.newton.linear_iterations;
+  result->preconditioner_rebuilds += r.newton.preconditioner_rebuilds;
+  result->dt_cuts += r.dt_cuts;
+}
+
+// A step's line on the console.
+PetscErrorCode print_step(MPI_Comm comm, const StepReport& r, const ProblemSetup& problem) {
+  PetscFunctionBeginUser;
+  std::string contact;
+  if (problem.contact) {
+    char buf[256];
+    std::snprintf(buf, sizeof(buf), " | contacts %ld d_min %.3g (%.3g dhat) kappa %.3g alpha_ccd %.3g contact %.3f s",
+                  r.contact_pairs, r.min_distance, r.min_distance / problem.contact_parameters.dhat, r.kappa,
+                  r.alpha_ccd, r.broad_phase_seconds + r.ccd_seconds + r.barrier_seconds + r.exchange_seconds);
+    contact = buf;
+  }
+  if (r.dirichlet_substeps)
+    contact += "  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) + " solves)";
+  if (r.dt_cuts)
+    contact += "  (" + std::to_string(r.substeps) + " sub-steps after " + std::to_string(r.dt_cuts) +
+               " cut(s), smallest dt " + std::to_string(r.dt) + ")";
+  PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d (%s)  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
+                        r.step, r.time, (int)r.newton.iterations, r.newton.ended_by.c_str(),
+                        (int)r.newton.linear_iterations, r.newton.min_alpha, r.energy, r.min_volume_ratio,
+                        r.wall_seconds, contact.c_str()));
+  PetscFunctionReturn(0);
+}
+
+// The time loop: steps from recovery's current step to the run's last, with output and
+// checkpoints; it ends early at a step recovery could not take or on a stop signal (result says
+// which). Output's time is added to *t_output.
+PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions& options, const ProblemSetup& problem,
+                            TimeIntegrator& integrator, StepRecovery& recovery, RunOutput* output,
+                            Checkpoints& checkpoints, RunResult* result, double* t_output) {
+  PetscFunctionBeginUser;
   const int steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
   const int every = std::max(1, scene.output_every);
   // Sub-steps of cut steps are written only when asked (-dipc_output_substeps).
@@ -521,16 +593,10 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   if (output && options.output_substeps)
     on_substep = [&](const StepReport&) { return output->write_fields(integrator); };
   for (int s = recovery.steps_taken();; ++s) {
-    // Step boundary: the ranks agree on a stop signal and on rank 0's wall-clock rule; a
-    // checkpoint is due by either, every -dipc_checkpoint_every steps, and at the end.
-    const bool minutes_due =
-        options.checkpoint_minutes > 0 && MPI_Wtime() - last_checkpoint_wall >= 60 * options.checkpoint_minutes;
-    const StopDecision stop = agree_on_stop(comm, minutes_due);
+    // Step boundary: a stop signal, and a checkpoint when one is due.
+    const StopDecision stop = checkpoints.decide_stop();
     const bool at_end = s >= steps;
-    const bool every_due = options.checkpoint_every > 0 && s > 0 && s % options.checkpoint_every == 0;
-    if ((stop.signal || stop.checkpoint_due || every_due || (at_end && checkpointing)) && s != last_checkpoint_step &&
-        !options.setup_only)
-      PetscCall(checkpoint());
+    if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output, result, t_output));
     if (stop.signal) {
       result->stop_signal = stop.signal;
       break;
@@ -538,11 +604,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     if (at_end) break;
     StepReport r;
     PetscCall(recovery.step(&r, on_substep));
-    result->newton_iterations += r.newton.iterations;
-    result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
-    result->linear_iterations += r.newton.linear_iterations;
-    result->preconditioner_rebuilds += r.newton.preconditioner_rebuilds;
-    result->dt_cuts += r.dt_cuts;
+    add_step_counts(r, result);
     if (!options.quiet)
       for (const std::string& cut : r.cuts)
         PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
@@ -554,43 +616,41 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     }
     PhysicalQuantities q;
     PetscCall(integrator.measure(&q));
-    if (!options.quiet) {
-      std::string contact;
-      if (problem.contact) {
-        char buf[256];
-        std::snprintf(buf, sizeof(buf), " | contacts %ld d_min %.3g (%.3g dhat) kappa %.3g alpha_ccd %.3g contact %.3f s",
-                      r.contact_pairs, r.min_distance, r.min_distance / problem.contact_parameters.dhat, r.kappa,
-                      r.alpha_ccd, r.broad_phase_seconds + r.ccd_seconds + r.barrier_seconds + r.exchange_seconds);
-        contact = buf;
-      }
-      if (r.dirichlet_substeps)
-        contact += "  (prescribed motion reached in " + std::to_string(r.dirichlet_substeps + 1) + " solves)";
-      if (r.dt_cuts)
-        contact += "  (" + std::to_string(r.substeps) + " sub-steps after " + std::to_string(r.dt_cuts) +
-                   " cut(s), smallest dt " + std::to_string(r.dt) + ")";
-      PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d (%s)  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
-                            r.step, r.time, (int)r.newton.iterations, r.newton.ended_by.c_str(),
-                            (int)r.newton.linear_iterations, r.newton.min_alpha, r.energy, r.min_volume_ratio,
-                            r.wall_seconds, contact.c_str()));
-    }
+    if (!options.quiet) PetscCall(print_step(comm, r, problem));
     if (output) {
       const double t0 = MPI_Wtime();
       output->write_stats(r, q);
       if (r.step % every == 0 || s == steps - 1) PetscCall(output->write_fields(integrator));
-      t_output += MPI_Wtime() - t0;
+      *t_output += MPI_Wtime() - t0;
     }
   }
-  result->steps_taken = recovery.steps_taken();
-  PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
-  PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
+  PetscFunctionReturn(0);
+}
 
-  // Timing table: per phase, the slowest rank's time. Every row is measured on each rank as a
-  // set of disjoint intervals (IncrementalPotential's timers), or is the remainder of an
-  // enclosing wall time after the disjoint intervals inside it, which cannot be negative: the
-  // Newton solves' remainder (KSP, AMG, vector work) and the run's (everything outside setup,
-  // solves and output: step bookkeeping, energies, checks, reports). Only the phases the run
-  // has are rows: no solve rows without a step, no contact row without contact, no "new
-  // matrix patterns" unless a pattern changed after setup, no output row without output.
+// Peak resident memory of each rank at the end of each phase (a high-water mark, so it never
+// decreases): the largest and smallest rank.
+PetscErrorCode print_peak_memory(MPI_Comm comm, const PhaseMeasures& measured) {
+  PetscFunctionBeginUser;
+  const double rss[3] = {measured.rss_partition, measured.rss_setup, peak_rss_mib()};
+  double rss_max[3], rss_min[3];
+  MPI_Allreduce(rss, rss_max, 3, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(rss, rss_min, 3, MPI_DOUBLE, MPI_MIN, comm);
+  PetscCall(PetscPrintf(comm, "peak host memory per rank (ru_maxrss, MiB, max/min over ranks): after partition %.1f/%.1f, "
+                        "after setup %.1f/%.1f, at end %.1f/%.1f\n", rss_max[0], rss_min[0], rss_max[1], rss_min[1],
+                        rss_max[2], rss_min[2]));
+  PetscFunctionReturn(0);
+}
+
+// Timing table: per phase, the slowest rank's time. Every row is measured on each rank as a
+// set of disjoint intervals (IncrementalPotential's timers), or is the remainder of an
+// enclosing wall time after the disjoint intervals inside it, which cannot be negative: the
+// Newton solves' remainder (KSP, AMG, vector work) and the run's (everything outside setup,
+// solves and output: step bookkeeping, energies, checks, reports). Only the phases the run
+// has are rows: no solve rows without a step, no contact row without contact, no "new
+// matrix patterns" unless a pattern changed after setup, no output row without output.
+PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, const TimeIntegrator& integrator,
+                                  const PhaseMeasures& measured, bool with_output, RunResult* result) {
+  PetscFunctionBeginUser;
   const EvaluationTimes& ev = integrator.solve_evaluation_times();
   const bool contact_row = integrator.contact() != nullptr;
   const double assembly = ev.gradient + ev.hessian;
@@ -599,12 +659,12 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   const double contact_work = ev.neighbourhood + ev.max_step;
   const double line_search = ev.energy + ev.validity + ev.segment + (contact_row ? 0.0 : contact_work);
   const double linear = integrator.solve_seconds() - evaluation_seconds(ev);
-  const double total = MPI_Wtime() - t_start;
-  const double other = total - t_partition - t_setup - integrator.solve_seconds() - t_output;
+  const double total = MPI_Wtime() - measured.start;
+  const double other = total - measured.partition - measured.setup - integrator.solve_seconds() - measured.output;
   enum Row { partition, setup, assembly_row, coo, line_search_row, contact, patterns, linear_row, output_row, other_row,
              total_row, rows };
-  const double local[rows] = {t_partition, t_setup,  assembly, ev.coo_insert, line_search, contact_row ? contact_work : 0,
-                              ev.preallocation, linear, t_output, other, total};
+  const double local[rows] = {measured.partition, measured.setup, assembly, ev.coo_insert, line_search,
+                              contact_row ? contact_work : 0, ev.preallocation, linear, measured.output, other, total};
   double worst[rows];
   MPI_Allreduce(local, worst, rows, MPI_DOUBLE, MPI_MAX, comm);
   PhaseTimes& pt = result->times;
@@ -613,8 +673,6 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   pt.preallocation = worst[patterns], pt.linear_solve = worst[linear_row], pt.output = worst[output_row];
   pt.other = worst[other_row], pt.total = worst[total_row];
   result->new_matrix_patterns = ev.preallocations;  // the same on every rank (collective)
-  result->num_elements = mesh.num_global_elements;
-  result->num_dofs = integrator.num_dofs();
   const bool solved = integrator.solve_seconds() > 0;
   const struct {
     Row row;
@@ -628,7 +686,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
                {contact, "contact: ghost surfaces, broad phase, CCD", solved && contact_row},
                {patterns, "new matrix patterns (contact)", ev.preallocations > 0},
                {linear_row, "linear solve (KSP + AMG) and rest", solved},
-               {output_row, "output", output != nullptr},
+               {output_row, "output", with_output},
                {other_row, "other (step reports, energies, checks)", true},
                {total_row, "total", true}};
   result->timing_rows.clear();
@@ -640,16 +698,91 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
       if (r.shown) PetscCall(PetscPrintf(comm, "%-42s %10.3f\n", r.name, worst[r.row]));
     if (ev.preallocations > 0)
       PetscCall(PetscPrintf(comm, "(%ld new matrix pattern(s) after setup)\n", ev.preallocations));
-    // Peak resident memory of each rank at the end of each phase (a high-water mark, so it
-    // never decreases): the largest and smallest rank.
-    const double rss[3] = {rss_partition, rss_setup, peak_rss_mib()};
-    double rss_max[3], rss_min[3];
-    MPI_Allreduce(rss, rss_max, 3, MPI_DOUBLE, MPI_MAX, comm);
-    MPI_Allreduce(rss, rss_min, 3, MPI_DOUBLE, MPI_MIN, comm);
-    PetscCall(PetscPrintf(comm, "peak host memory per rank (ru_maxrss, MiB, max/min over ranks): after partition %.1f/%.1f, "
-                          "after setup %.1f/%.1f, at end %.1f/%.1f\n", rss_max[0], rss_min[0], rss_max[1], rss_min[1],
-                          rss_max[2], rss_min[2]));
+    PetscCall(print_peak_memory(comm, measured));
   }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
+  PetscFunctionBeginUser;
+  const Scene scene = refined(scene_in, options.refine);
+  PhaseMeasures measured;
+  measured.start = MPI_Wtime();
+  *result = RunResult{};
+  const OpenMpThreads threads = limit_openmp_threads();
+  result->openmp_threads = threads.threads;
+  const HostThreads host_threads = choose_host_threads(comm, options.host_threads, threads);
+  const LogStages& stages = log_stages();  // registered first, in their order
+  PetscBool device_types;
+  PetscCall(default_types_for_device_hypre(&device_types));
+  if (device_types)
+    PetscCall(PetscPrintf(comm, "dipc: this PETSc's hypre runs on the GPU only, so BoomerAMG gets -vec_type cuda "
+                                "-mat_type hypre (give -vec_type/-mat_type or another -pc_type to choose)\n"));
+
+  auto setup_heap = std::make_unique<SetupHeap>();  // until the setup is done (app/setup_heap.hpp)
+  measured.partition = MPI_Wtime();
+  const PartitionedScene partitioned = partition_scene(scene, comm, options, measured.partition);
+  const DistributedMesh& mesh = partitioned.mesh;
+  check_file_elements(scene, mesh);
+  measured.partition = MPI_Wtime() - measured.partition;
+  measured.rss_partition = peak_rss_mib();
+
+  // Setup: the problem, the backend and the integrator (forms, the first matrix, the solvers).
+  measured.setup = MPI_Wtime();
+  ProblemSetup problem = build_problem(scene, mesh, partitioned.diagonal);
+  double velocity_tol = 0;
+  PetscCall(read_velocity_tol(comm, options, partitioned.diagonal, &velocity_tol));
+  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+  DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
+  const double dt_min = min_substep(scene, options);
+  TimeIntegrator integrator;
+  PetscCall(set_up_integrator(mesh, problem, options, velocity_tol, backend.space, integrator));
+  setup_heap.reset();
+  StepRecovery recovery(integrator, dt_min);
+  if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
+  measured.setup = MPI_Wtime() - measured.setup;
+  measured.rss_setup = peak_rss_mib();
+  // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
+  // nothing read is misspelt or unknown, and would otherwise be ignored.
+  check_no_unknown_options(comm);
+  if (options.report) {
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads,
+                           host_threads));
+    PetscCall(print_partition(comm, partitioned));
+  }
+
+  const std::string output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
+  NaturalOrder order;
+  PetscCall(order.setup(mesh));
+  CheckpointRun run;
+  PetscCall(describe_run(scene, partitioned.fingerprint, &run));
+  measured.output = MPI_Wtime();
+  bool restarted = false;
+  CheckpointRun stored;
+  if (!options.restart.empty() && !options.setup_only)
+    PetscCall(restart_from_checkpoint(comm, options.restart, output_dir, scene.output_name, order, integrator, recovery,
+                                      run, &stored, &restarted));
+  std::unique_ptr<RunOutput> output;
+  if (options.write_output && !options.setup_only) {
+    StageScope stage(stages.output);
+    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator,
+                                                     stored.output_steps, recovery.steps_taken())
+                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator);
+    if (output->steps_written() == 0) PetscCall(output->write_fields(integrator));
+    result->xdmf_path = output->xdmf_path();
+  }
+  measured.output = MPI_Wtime() - measured.output;
+  Checkpoints checkpoints(comm, options, output_dir, scene.output_name, order, integrator, recovery, run, restarted);
+  PetscCall(step_in_time(comm, scene, options, problem, integrator, recovery, output.get(), checkpoints, result,
+                         &measured.output));
+  result->steps_taken = recovery.steps_taken();
+  PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
+  PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
+  result->num_elements = mesh.num_global_elements;
+  result->num_dofs = integrator.num_dofs();
+  PetscCall(report_phase_times(comm, options, integrator, measured, output != nullptr, result));
   PetscFunctionReturn(0);
 }
 
