@@ -6,10 +6,8 @@
 
 #include "physics/hex8_mass.hpp"
 #include "math/vector3.hpp"
-#include "forms/body_force_form.hpp"
-#include "forms/elastic_form.hpp"
+#include "forms/form_factory.hpp"
 #include "forms/friction_form.hpp"
-#include "forms/inertia_form.hpp"
 #include "logging/log_stages.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 #include "threads/host_threads.hpp"
@@ -84,69 +82,15 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(exchange_.setup(mesh, 3));
   phase.emplace(events.setup_masses);
 
-  const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
-  const bool inertia = !problem.is_static;
-  // Lumped masses serve inertia, gravity and the contact stiffness's bounds; a static run
-  // without gravity or contact has none (its momenta and kinetic energy are zero: v = 0).
+  // Lumped masses of every local node where the forms need them.
   std::vector<double> node_mass;
-  if (inertia || gravity || problem.contact) {
+  if (forms_need_node_masses(problem)) {
     PetscCall(assemble_node_masses(mesh, *elements_, exchange_, &node_mass));
     node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
   }
-
-  // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
   phase.emplace(events.setup_forms);
-  const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
-  const bool on_device = space == MemorySpace::device;
-  if (inertia && problem.lumped_mass)
-    forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset, space));
-  else if (inertia)
-    forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_, space));
-  // Kinematic bodies (every node prescribed) need no elastic energy.
-  bool any_kinematic = false;
-  for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
-  if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
-  const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
-  // [any mean-dilatation element, their largest lambda/mu] over the ranks
-  double local[2] = {0, 0}, global[2];
-  for (int e = 0; e < deformable.num_elements(); ++e)
-    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation)
-      local[0] = 1, local[1] = std::max(local[1], deformable.lambda[e] / deformable.mu[e]);
-  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, mesh.comm));
-  if (on_device && global[0] > 0) {
-    // The device elastic form does not hand over its volumetric terms (B and D), which the
-    // mixed solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is
-    // asked for (stiffness ratio 0: off by default), which is refused rather than ignored.
-    bool mixed = false;
-    PetscCall(mixed_solve_requested(mesh.comm, true, 0.0, &mixed));
-    // Bad input: raised as PETSC_ERR_USER_INPUT, which the program reports with exit status 1
-    // (a C++ exception would unwind through PETSc's call stack).
-    PetscCheck(!mixed, mesh.comm, PETSC_ERR_USER_INPUT,
-               "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
-               "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
-               "Hessian on the GPU");
-  }
-  forms.push_back(std::make_unique<ElasticForm>(deformable, h2, space));
-  if (gravity)
-    forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2, space));
-  if (problem.contact) {
-    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space, &exchange_);
-    // κ bounds from the average nodal mass (IPC supplement).
-    double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
-    for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];
-    PetscCallMPI(MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm));
-    contact->set_kappa_bounds(total[0] / std::max(1.0, total[1]), problem.length_scale);
-    contact_ = contact.get();
-    forms.push_back(std::move(contact));
-    if (problem.friction > 0 && !problem.is_static) {
-      auto friction = std::make_unique<FrictionForm>(*contact_, problem.friction, problem.friction_epsv, problem.dt);
-      friction_ = friction.get();
-      forms.push_back(std::move(friction));
-    }
-  }
-  form_names_.clear();
-  for (auto& f : forms) form_names_.push_back(f->name());
+  PetscCall(build_problem_forms(node_mass, space, &forms));
 
   // Dirichlet sets: later sets win where they overlap.
   phase.emplace(events.setup_state);
@@ -202,6 +146,43 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
     PetscCheck(problem_at_start.empty(), mesh.comm, PETSC_ERR_USER_INPUT, "the initial state is not intersection-free: %s",
                problem_at_start.c_str());
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::build_problem_forms(const std::vector<double>& node_mass, MemorySpace space,
+                                                   std::vector<std::unique_ptr<Form>>* forms) {
+  PetscFunctionBeginUser;
+  deformable_elements_ = deformable_elements(*mesh_, problem_);
+  const ElementData& deformable = deformable_elements_ ? *deformable_elements_ : *elements_;
+  if (space == MemorySpace::device) PetscCall(refuse_mixed_solve_on_device(deformable));
+  ProblemForms built;
+  PetscCall(build_forms(*mesh_, problem_, *elements_, deformable, node_mass, exchange_, space, &built));
+  contact_ = built.contact;
+  friction_ = built.friction;
+  form_names_.clear();
+  for (auto& f : built.forms) form_names_.push_back(f->name());
+  *forms = std::move(built.forms);
+  PetscFunctionReturn(0);
+}
+
+// The device elastic form does not hand over its volumetric terms (B and D), which the mixed
+// solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is asked for
+// (stiffness ratio 0: off by default), which is refused rather than ignored.
+PetscErrorCode TimeIntegrator::refuse_mixed_solve_on_device(const ElementData& deformable) {
+  PetscFunctionBeginUser;
+  int local = 0, any_mean_dilatation;  // over the ranks
+  for (int e = 0; e < deformable.num_elements(); ++e)
+    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation) local = 1;
+  PetscCallMPI(MPI_Allreduce(&local, &any_mean_dilatation, 1, MPI_INT, MPI_MAX, mesh_->comm));
+  if (!any_mean_dilatation) PetscFunctionReturn(0);
+  bool mixed = false;
+  PetscCall(mixed_solve_requested(mesh_->comm, true, 0.0, &mixed));
+  // Bad input: raised as PETSC_ERR_USER_INPUT, which the program reports with exit status 1
+  // (a C++ exception would unwind through PETSc's call stack).
+  PetscCheck(!mixed, mesh_->comm, PETSC_ERR_USER_INPUT,
+             "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
+             "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
+             "Hessian on the GPU");
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,6 @@
 // TimeIntegrator: implicit Euler as incremental-potential minimisation (docs/design.md §1.1), or a
-// sequence of static solves. Builds only the forms the problem needs (no inertia in a static
-// solve, no body force when g = 0), owns the distributed state and advances it step by step.
+// sequence of static solves. Builds the forms the problem needs (forms/form_factory.hpp), owns
+// the distributed state and advances it step by step.
 #pragma once
 #include <array>
 #include <memory>
@@ -140,6 +140,12 @@ class TimeIntegrator {
   Mat jacobian() const { return newton_.jacobian(); }
 
  private:
+  // The problem's forms (form_factory.hpp); sets contact_, friction_ and form_names_.
+  PetscErrorCode build_problem_forms(const std::vector<double>& node_mass, MemorySpace space,
+                                     std::vector<std::unique_ptr<Form>>* forms);
+  // Device forms: -dipc_mixed_solve with mean-dilatation elements is bad input (PETSC_ERR_USER_INPUT).
+  PetscErrorCode refuse_mixed_solve_on_device(const ElementData& deformable);
+
   // Sets the step length h of the forms and of Newton's velocity test.
   void set_time_step(double h);
   PetscErrorCode apply_dirichlet(Vec x, double t);
