@@ -81,71 +81,30 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
   PetscCall(exchange_.setup(mesh, 3));
   phase.emplace(events.setup_masses);
-
-  // Lumped masses of every local node where the forms need them.
   std::vector<double> node_mass;
-  if (forms_need_node_masses(problem)) {
-    PetscCall(assemble_node_masses(mesh, *elements_, exchange_, &node_mass));
-    node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
-  }
+  PetscCall(assemble_masses_for_forms(&node_mass));
   phase.emplace(events.setup_forms);
   std::vector<std::unique_ptr<Form>> forms;
   PetscCall(build_problem_forms(node_mass, space, &forms));
-
-  // Dirichlet sets: later sets win where they overlap.
   phase.emplace(events.setup_state);
-  dirichlet_set_.assign(mesh.num_local_nodes(), -1);
-  for (std::size_t s = 0; s < problem.dirichlet.size(); ++s)
-    for (std::int32_t n : problem.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
-  std::vector<char> prescribed(3 * static_cast<std::size_t>(mesh.num_local_nodes()), 0);
-  for (int n = 0; n < mesh.num_local_nodes(); ++n)
-    if (dirichlet_set_[n] >= 0) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
-
-  // State vectors: reference positions, x, x_n, v, x̂.
-  PetscCall(exchange_.create_global_vec(&X_));
-  PetscCall(VecDuplicate(X_, &x_));
-  PetscCall(VecDuplicate(X_, &x_n_));
-  PetscCall(VecDuplicate(X_, &v_));
-  if (!problem.is_static) PetscCall(VecDuplicate(X_, &x_hat_));  // x̂ = x_n + h v_n: dynamic runs only
-  PetscCall(exchange_.create_local_vec(&x_local_));
-  if (friction_) PetscCall(VecDuplicate(X_, &x_lag_));
-  std::vector<int> node_body(mesh.num_local_nodes(), 0);
-  for (int e = 0; e < mesh.num_elements(); ++e)
-    for (std::int32_t n : mesh.elements[e]) node_body[n] = mesh.element_body[e];
-  PetscScalar *X, *v;
-  PetscCall(VecGetArray(X_, &X));
-  PetscCall(VecGetArray(v_, &v));
-  for (int n = 0; n < mesh.num_owned_nodes; ++n) {
-    const Vec3& Xn = mesh.coordinates[n];
-    std::array<double, 3> vn{0, 0, 0};
-    if (!problem.is_static && !problem.body_velocity.empty()) vn = problem.body_velocity[node_body[n]];
-    if (!problem.is_static && !problem.body_angular_velocity.empty()) {
-      const auto& w = problem.body_angular_velocity[node_body[n]];
-      const auto& c = problem.body_spin_center[node_body[n]];
-      const double r[3] = {Xn[0] - c[0], Xn[1] - c[1], Xn[2] - c[2]};
-      double wxr[3];
-      cross3(w.data(), r, wxr);
-      for (int c = 0; c < 3; ++c) vn[c] += wxr[c];
-    }
-    if (dirichlet_set_[n] >= 0) vn = problem.dirichlet[dirichlet_set_[n]].motion.velocity_at(Xn, 0.0);
-    for (int c = 0; c < 3; ++c) X[3 * n + c] = Xn[c], v[3 * n + c] = problem.is_static ? 0.0 : vn[c];
-  }
-  PetscCall(VecRestoreArray(X_, &X));
-  PetscCall(VecRestoreArray(v_, &v));
-  PetscCall(VecCopy(X_, x_));
-
+  std::vector<char> prescribed;
+  assign_dirichlet_sets(&prescribed);
+  PetscCall(create_state_vectors());
+  PetscCall(set_initial_state());
   phase.emplace(events.setup_solver);
   PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
                           control.alpha_floor));
   phase.emplace(events.contact_check);
-  if (contact_) {
-    std::string problem_at_start;
-    PetscCall(contact_state_problem(x_, &problem_at_start));
-    // Bad input (exit status 1); the message is the same on every rank.
-    PetscCheck(problem_at_start.empty(), mesh.comm, PETSC_ERR_USER_INPUT, "the initial state is not intersection-free: %s",
-               problem_at_start.c_str());
-  }
+  if (contact_) PetscCall(refuse_intersecting_start());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::assemble_masses_for_forms(std::vector<double>* node_mass) {
+  PetscFunctionBeginUser;
+  if (!forms_need_node_masses(problem_)) PetscFunctionReturn(0);
+  PetscCall(assemble_node_masses(*mesh_, *elements_, exchange_, node_mass));
+  node_mass_.assign(node_mass->begin(), node_mass->begin() + mesh_->num_owned_nodes);
   PetscFunctionReturn(0);
 }
 
@@ -183,6 +142,73 @@ PetscErrorCode TimeIntegrator::refuse_mixed_solve_on_device(const ElementData& d
              "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
              "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
              "Hessian on the GPU");
+  PetscFunctionReturn(0);
+}
+
+// Dirichlet sets: later sets win where they overlap. prescribed: 3 flags per local node.
+void TimeIntegrator::assign_dirichlet_sets(std::vector<char>* prescribed) {
+  const int num_local_nodes = mesh_->num_local_nodes();
+  dirichlet_set_.assign(num_local_nodes, -1);
+  for (std::size_t s = 0; s < problem_.dirichlet.size(); ++s)
+    for (std::int32_t n : problem_.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
+  prescribed->assign(3 * static_cast<std::size_t>(num_local_nodes), 0);
+  for (int n = 0; n < num_local_nodes; ++n)
+    if (dirichlet_set_[n] >= 0) (*prescribed)[3 * n] = (*prescribed)[3 * n + 1] = (*prescribed)[3 * n + 2] = 1;
+}
+
+// State vectors: reference positions, x, x_n, v, x̂, and friction's lag positions.
+PetscErrorCode TimeIntegrator::create_state_vectors() {
+  PetscFunctionBeginUser;
+  PetscCall(exchange_.create_global_vec(&X_));
+  PetscCall(VecDuplicate(X_, &x_));
+  PetscCall(VecDuplicate(X_, &x_n_));
+  PetscCall(VecDuplicate(X_, &v_));
+  if (!problem_.is_static) PetscCall(VecDuplicate(X_, &x_hat_));  // x̂ = x_n + h v_n: dynamic runs only
+  PetscCall(exchange_.create_local_vec(&x_local_));
+  if (friction_) PetscCall(VecDuplicate(X_, &x_lag_));
+  PetscFunctionReturn(0);
+}
+
+// X from the mesh and x = X; v from the bodies' initial velocity and spin, the Dirichlet nodes'
+// from their motion at t = 0, zero in a static solve.
+PetscErrorCode TimeIntegrator::set_initial_state() {
+  PetscFunctionBeginUser;
+  const DistributedMesh& mesh = *mesh_;
+  const ProblemSetup& problem = problem_;
+  std::vector<int> node_body(mesh.num_local_nodes(), 0);
+  for (int e = 0; e < mesh.num_elements(); ++e)
+    for (std::int32_t n : mesh.elements[e]) node_body[n] = mesh.element_body[e];
+  PetscScalar *X, *v;
+  PetscCall(VecGetArray(X_, &X));
+  PetscCall(VecGetArray(v_, &v));
+  for (int n = 0; n < mesh.num_owned_nodes; ++n) {
+    const Vec3& Xn = mesh.coordinates[n];
+    std::array<double, 3> vn{0, 0, 0};
+    if (!problem.is_static && !problem.body_velocity.empty()) vn = problem.body_velocity[node_body[n]];
+    if (!problem.is_static && !problem.body_angular_velocity.empty()) {
+      const auto& w = problem.body_angular_velocity[node_body[n]];
+      const auto& c = problem.body_spin_center[node_body[n]];
+      const double r[3] = {Xn[0] - c[0], Xn[1] - c[1], Xn[2] - c[2]};
+      double wxr[3];
+      cross3(w.data(), r, wxr);
+      for (int c = 0; c < 3; ++c) vn[c] += wxr[c];
+    }
+    if (dirichlet_set_[n] >= 0) vn = problem.dirichlet[dirichlet_set_[n]].motion.velocity_at(Xn, 0.0);
+    for (int c = 0; c < 3; ++c) X[3 * n + c] = Xn[c], v[3 * n + c] = problem.is_static ? 0.0 : vn[c];
+  }
+  PetscCall(VecRestoreArray(X_, &X));
+  PetscCall(VecRestoreArray(v_, &v));
+  PetscCall(VecCopy(X_, x_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::refuse_intersecting_start() {
+  PetscFunctionBeginUser;
+  std::string problem_at_start;
+  PetscCall(contact_state_problem(x_, &problem_at_start));
+  // Bad input (exit status 1); the message is the same on every rank.
+  PetscCheck(problem_at_start.empty(), mesh_->comm, PETSC_ERR_USER_INPUT,
+             "the initial state is not intersection-free: %s", problem_at_start.c_str());
   PetscFunctionReturn(0);
 }
 
