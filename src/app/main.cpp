@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   int status = 0;
   try {
     dipc::check_option_values();  // before anything reads them
+    dipc::check_petsc_option_values();
     dipc::RunOptions options;
     std::vector<std::string> preset_inserted;
     PetscCall(dipc::apply_solver_preset(comm, &options.preset, &preset_inserted));  // before the options are read

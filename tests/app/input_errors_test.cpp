@@ -234,6 +234,14 @@ INSTANTIATE_TEST_SUITE_P(
             // Raised inside the solver setup as PETSC_ERR_USER_INPUT (app/petsc_input_errors.hpp).
             BadInput{"mixed_solve_without_mean_dilatation", "small_box.json", "-dipc_mixed_solve",
                      {"-dipc_mixed_solve needs mean-dilatation elements"}},
+            // PETSc's own solver options, checked before the solvers read them (check_petsc_option_values).
+            BadInput{"unknown_ksp_type", "small_box.json", "-ksp_type nonsense",
+                     {"-ksp_type nonsense: not a KSP type of this PETSc"}},
+            BadInput{"unknown_pc_type", "small_box.json", "-pc_type nonsense", {"-pc_type nonsense: not a PC type"}},
+            BadInput{"non_numeric_ksp_rtol", "small_box.json", "-ksp_rtol abc", {"-ksp_rtol abc: not a number"}},
+            BadInput{"ksp_rtol_above_one", "small_box.json", "-ksp_rtol 2", {"-ksp_rtol 2: must be in [0, 1)"}},
+            BadInput{"negative_ksp_max_it", "small_box.json", "-ksp_max_it -3",
+                     {"-ksp_max_it -3: must be an integer >= 0"}},
             BadInput{"empty_output", "small_box.json", "-dipc_output", {"-dipc_output needs a value"}},
             BadInput{"unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
             BadInput{"misspelt_flag", "small_box.json", "-dipc_check_invariant",
