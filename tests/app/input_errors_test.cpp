@@ -154,6 +154,10 @@ class GeneratedInputs : public ::testing::Environment {
     write_nan_y_mesh(generated_dir + "nan_y.h5");
     write_text(generated_dir + "nan_y_hdf5.json", one_body_scene(R"("mesh": "nan_y.h5")"));
     write_text(generated_dir + "tiny_dt.json", one_body_scene(box, "1e-300"));
+    write_text(generated_dir + "huge_box.json",
+               one_body_scene(R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [100000, 100000, 100000]})"));
+    write_text(generated_dir + "big_box.json",
+               one_body_scene(R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [1300, 1300, 1300]})"));
     write_text(generated_dir + "flat_box.json",
                one_body_scene(R"("box": {"size": [0.2, 0.1, 1e-30], "resolution": [2, 1, 1]})", "0.01",
                               R"(, "contact": {"enabled": true})"));
@@ -199,6 +203,15 @@ INSTANTIATE_TEST_SUITE_P(
                      {"directory_obj.json: contact.obstacles[0].mesh: ", "dir.obj: is a directory"}},
             BadInput{"nan_y_hdf5_mesh", generated_dir + "nan_y_hdf5.json", "",
                      {"nan_y.h5: node 2 has a non-finite y coordinate"}},
+            BadInput{"huge_box", generated_dir + "huge_box.json", "",
+                     {"huge_box.json: geometry[0].box.resolution [100000, 100000, 100000] gives 1000000000000000 "
+                      "elements, needing about", "GB available"}},
+            BadInput{"big_box", generated_dir + "big_box.json", "",
+                     {"big_box.json: geometry[0].box.resolution [1300, 1300, 1300] gives 2197000000 elements"}},
+            BadInput{"huge_refine", "small_box.json", "-dipc_refine 100000",
+                     {"box.resolution [2, 1, 1] x -dipc_refine 100000 gives 2000000000000000 elements"}},
+            BadInput{"refine_overflows_int", "small_box.json", "-dipc_refine 2000000000",
+                     {"x -dipc_refine 2000000000 gives more than 2147483647 elements along an axis"}},
             BadInput{"tiny_dt", generated_dir + "tiny_dt.json", "", {"tiny_dt.json: time.dt = 1e-300: below 1e-10 s"}},
             BadInput{"flat_box", generated_dir + "flat_box.json", "",
                      {"flat_box.json: geometry[0].box.size = [0.2,0.1,1e-30]: ", "are degenerate"}},
