@@ -234,6 +234,8 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"zero_steps", "small_box.json", "-dipc_steps 0", {"-dipc_steps 0"}},
             BadInput{"non_numeric_steps", "small_box.json", "-dipc_steps abc", {"-dipc_steps abc", "not an integer"}},
             BadInput{"half_steps", "small_box.json", "-dipc_steps 2.5", {"-dipc_steps 2.5", "not an integer"}},
+            BadInput{"steps_out_of_range", "small_box.json", "-dipc_steps 99999999999",
+                     {"-dipc_steps 99999999999: out of range (at most 2147483647)"}},
             BadInput{"zero_refine", "small_box.json", "-dipc_refine 0", {"-dipc_refine 0"}},
             BadInput{"negative_velocity_tol", "small_box.json", "-dipc_velocity_tol -1", {"-dipc_velocity_tol -1"}},
             BadInput{"zero_velocity_tol_rel", "small_box.json", "-dipc_velocity_tol_rel 0", {"-dipc_velocity_tol_rel 0"}},
@@ -372,7 +374,8 @@ TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
     const int raw = pclose(pipe);
     ASSERT_TRUE(WIFEXITED(raw)) << output;
     EXPECT_EQ(WEXITSTATUS(raw), 2) << output;
-    for (const char* s : {"dipc: error: step 1 (t = 0", "Newton failed", "step recovery ran out"})
+    for (const char* s : {"dipc: error: step 1 (t = 0", "with dt = 0.005: ", "Newton failed",
+                          "step recovery ran out (halving would go below -dipc_dt_min 0.005)"})
       EXPECT_NE(output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << output;
     EXPECT_EQ(output.find("PETSC ERROR"), std::string::npos) << output;
     std::ifstream xmf(dir + "/impact.xmf");
