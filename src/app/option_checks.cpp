@@ -6,6 +6,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -26,6 +27,12 @@ bool parse_integer(const char* value, long* out) {
   errno = 0;
   *out = std::strtol(value, &end, 10);
   return end != value && *end == '\0' && errno == 0 && *out >= INT_MIN && *out <= INT_MAX;
+}
+
+// An optional sign and decimal digits only: an integer, whether or not it fits.
+bool all_digits(const char* value) {
+  const char* digits = value + (*value == '-' || *value == '+');
+  return *digits && std::all_of(digits, digits + std::strlen(digits), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 bool parse_real(const char* value, double* out) {
@@ -84,7 +91,8 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
   switch (spec.kind) {
     case OptionKind::integer: {
       long v;
-      if (!parse_integer(value, &v)) return given + "not an integer";
+      if (!parse_integer(value, &v))
+        return given + (all_digits(value) ? "out of range (at most " + std::to_string(INT_MAX) + ")" : "not an integer");
       if (v < spec.min) return given + "must be an integer >= " + std::to_string(long(spec.min));
       return "";
     }

@@ -296,14 +296,6 @@ struct Translator {
     return selections;
   }
 
-  std::string resolve(const SceneJsonNode& node) {
-    const std::string file = node.string();
-    if (file.empty()) node.fail("must not be empty");
-    std::filesystem::path path(file);
-    if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
-    return std::filesystem::absolute(path).lexically_normal().string();
-  }
-
   void geometry(const SceneJsonNode& node, bool contact_enabled) {
     const std::vector<SceneJsonNode> items = one_or_many(node);
     for (std::size_t i = 0; i < items.size(); ++i) {
@@ -352,7 +344,7 @@ struct Translator {
         }
       }
       const SceneJsonNode mesh = item.required("mesh");
-      const std::string file = resolve(mesh);
+      const std::string file = resolve_mesh_path(mesh, base_directory);
       const std::string extension = lower(std::filesystem::path(file).extension().string());
       std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
       std::array<double, 3> translation{0, 0, 0};
