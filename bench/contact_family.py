@@ -42,6 +42,7 @@ and from its output:
                           during the run, minus its value before (only where nvidia-smi exists;
                           other processes on the GPU would count too)
   wall_s                  mpirun's wall time, startup and setup included
+The exit status is 1 when a run failed, printed no timing table, or no contact pair became active in it.
 Rows go to <out>/contact_family_<tag>.csv (rows of the same member, elements, ranks and backend
 are replaced) and, with matplotlib, a plot <out>/contact_family_<tag>.png: per member, seconds
 per Newton iteration against elements, stacked by phase.
@@ -195,6 +196,8 @@ def run_one(args, member, size_kind, size, workdir):
     row.update(parse(text))
     if status == 0 and "dipc: error" in text:
         row["status"] = "error"
+    elif status == 0 and not re.search(r"^total\s+[0-9.]+\s*$", text, re.M):
+        row["status"] = "no_timing_table"
     if row["newton_its"]:
         solve = sum(row[p] for p in SOLVE_PHASES)
         row["per_newton_s"] = round(solve / row["newton_its"], 5)
@@ -292,6 +295,10 @@ def main():
                 print_row(row, header=first)
                 first = False
                 failures += row["status"] != 0
+                if row["status"] == 0 and not row["max_contact_pairs"]:
+                    # A member's purpose is contact: a run in which none became active measured something else.
+                    print("%s: no contact pair became active in %d steps" % (member, args.steps), file=sys.stderr)
+                    failures += 1
                 key = lambda r: (r["member"], str(r.get("elements", "")), str(r["ranks"]), r.get("backend", ""))
                 rows = [r for r in rows if key(r) != key(row)]
                 rows.append({k: row.get(k, "") for k in FIELDS})
