@@ -53,6 +53,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -261,6 +262,8 @@ def _short(n):
 
 
 def main():
+    # SIGTERM (a timeout around the driver) as an exception, so that run_dipc ends the running dipc too.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--members", default=",".join(MEMBERS))
     sizes = ap.add_mutually_exclusive_group()
