@@ -33,6 +33,7 @@
 
 #include "io/polyfem_expression.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/number_text.hpp"
 #include "math/vector3.hpp"
 
 namespace dipc {
@@ -43,12 +44,6 @@ constexpr const char* kNotModelled = "dipc cannot model this: ";
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
-}
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // Elements of an array, or the value itself where PolyFEM takes either (geometry, materials,

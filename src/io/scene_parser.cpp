@@ -46,17 +46,12 @@
 #include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/number_text.hpp"
 #include "math/vector3.hpp"
 #include "mesh/mesh_checks.hpp"
 
 namespace dipc {
 namespace {
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 double positive(const SceneJsonNode& node) {
   const double v = node.number();

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "math/number_text.hpp"
+
 namespace dipc {
 
 namespace {
@@ -39,18 +41,12 @@ void accumulate(const StepReport& sub, StepReport* total) {
 }
 
 // Times and steps in messages, with %g: std::to_string's fixed 6 decimals print small steps as 0.000000.
-std::string format_g(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", v);
-  return text;
-}
-
 }  // namespace
 
 StepRecovery::StepRecovery(TimeIntegrator& integrator, double dt_min)
     : integrator_(integrator), dt_(integrator.scene_dt()), dt_min_(dt_min) {
   if (!(dt_min > 0) || dt_min > dt_)
-    throw std::invalid_argument("the smallest step must be in (0, dt = " + format_g(dt_) + "]");
+    throw std::invalid_argument("the smallest step must be in (0, dt = " + format_number(dt_) + "]");
 }
 
 PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep) {
@@ -91,9 +87,9 @@ PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscE
     if (sub.fatal || 0.5 * h < dt_min_ || level_ >= 60) {
       report->fatal = sub.fatal;
       report->failure = sub.fatal ? sub.failure
-                                  : "at t = " + format_g(integrator_.time()) + " with dt = " + format_g(h) +
+                                  : "at t = " + format_number(integrator_.time()) + " with dt = " + format_number(h) +
                                         ": " + sub.failure + "; step recovery ran out (halving would go below -dipc_dt_min " +
-                                        format_g(dt_min_) + ")";
+                                        format_number(dt_min_) + ")";
       break;
     }
     ++report->dt_cuts;
