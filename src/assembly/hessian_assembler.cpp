@@ -85,7 +85,8 @@ PetscErrorCode HessianAssembler::build_element_part() {
     element_map_[t] = static_cast<int>(inputs.size());
     all_host = all_host && terms_[t].space == MemorySpace::host;
     term_begin_[t] = raw;
-    term_size_[t] = static_cast<std::size_t>(element_values(pattern.layout)) * static_cast<std::size_t>(pattern.num_elements);
+    term_size_[t] =
+        static_cast<std::size_t>(element_values(pattern.layout)) * static_cast<std::size_t>(pattern.num_elements);
     inputs.push_back({pattern, raw});
     raw += term_size_[t];
   }
@@ -93,7 +94,8 @@ PetscErrorCode HessianAssembler::build_element_part() {
   // A host matrix of host element terms sums their values element chunk by chunk.
   const bool device_sums = device_matrix_ && !inputs.empty();
   const bool chunked = !inputs.empty() && all_host && !device_matrix_;
-  PetscCall(elements_.build(inputs, device_sums, chunked, dofs_.node_offset, dofs_.node_offset + dofs_.num_owned_nodes));
+  const std::int64_t owned_end = dofs_.node_offset + dofs_.num_owned_nodes;
+  PetscCall(elements_.build(inputs, device_sums, chunked, dofs_.node_offset, owned_end));
   PetscFunctionReturn(0);
 }
 

@@ -4,7 +4,8 @@
 // The matrix is preallocated again only when a term's pattern changes (the contact active set),
 // never per iteration otherwise. The terms (the potential's forms, in their order) write their
 // raw values into one array made of parts, each with its own reduction into the matrix's
-// distinct entries, so that a part can be replaced without touching the others:
+// distinct entries, so that a part can be rebuilt without the others (the element part is
+// never rebuilt) and a further part could be given its own home:
 //   element part  the element forms' values (elastic, consistent mass), element by element in
 //                 their layouts, first, so that their offsets stay put when the other terms'
 //                 patterns change; summed into the distinct node blocks (ElementBlockPart,

@@ -73,6 +73,12 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
              static_cast<int>(8 * sizeof(PetscInt)));
   dirichlet_dof_ = std::move(dirichlet_dof);
   num_owned_dofs_ = 3 * mesh.num_owned_nodes;
+  // The combined pattern is built by create_matrix(), the first call that needs it (hessian()
+  // requires that matrix); building it here too cost a second pass over every COO entry.
+  std::vector<HessianAssembler::Term> terms;
+  for (const auto& form : forms_) terms.push_back({form.get(), form->memory_space(), form->name()});
+  PetscCall(assembler_.setup({comm_, mesh.node_offset, mesh.num_owned_nodes, &local_to_global_, &dirichlet_dof_},
+                             std::move(terms)));
   local_to_global_ = mesh.local_to_global;
   if (nodal && nodal->block_size() == 3)
     PetscCall(exchange_.share(*nodal));
@@ -92,12 +98,6 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
   PetscCall(exchange_.create_local_vec(&x_local_));
   PetscCall(VecDuplicate(x_local_, &g_local_));
   PetscCall(VecDuplicate(x_local_, &p_local_));
-  // The combined pattern is built by create_matrix(), the first call that needs it (hessian()
-  // requires that matrix); building it here too cost a second pass over every COO entry.
-  std::vector<HessianAssembler::Term> terms;
-  for (const auto& form : forms_) terms.push_back({form.get(), form->memory_space(), form->name()});
-  PetscCall(assembler_.setup({comm_, mesh.node_offset, mesh.num_owned_nodes, &local_to_global_, &dirichlet_dof_},
-                             std::move(terms)));
   PetscFunctionReturn(0);
 }
 
@@ -258,7 +258,8 @@ PetscErrorCode IncrementalPotential::hessian(Vec x, Mat J) {
 
 PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
   PetscFunctionBeginUser;
-  PetscCheck(J == assembler_.matrix(), comm_, PETSC_ERR_ARG_WRONG, "hessian() needs the matrix made by create_matrix()");
+  PetscCheck(J == assembler_.matrix(), comm_, PETSC_ERR_ARG_WRONG,
+             "hessian() needs the matrix made by create_matrix()");
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   if (any_pattern_change_) {
