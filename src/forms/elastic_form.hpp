@@ -1,15 +1,17 @@
 // ElasticForm: scale · Ψ(x), Ψ the neo-Hookean strain energy of this rank's hex8 elements
-// (docs/design.md §1.2); scale = h² in implicit Euler, 1 in a static solve.
+// (docs/design.md §1.2); scale = h² in implicit Euler, 1 in a static solve. With mean-dilatation
+// elements it can hand their volumetric terms to the mixed u-p solve (VolumetricSplit).
 #pragma once
 #include <memory>
 
 #include "forms/device_form_parts.hpp"
 #include "forms/element_data.hpp"
 #include "forms/form.hpp"
+#include "forms/volumetric_split.hpp"
 
 namespace dipc {
 
-class ElasticForm : public Form {
+class ElasticForm : public Form, public VolumetricSplit {
  public:
   // space: where value, gradient, hessian and is_valid run (device: through a
   // DeviceElasticPart, device_form_parts.hpp).
@@ -27,9 +29,9 @@ class ElasticForm : public Form {
   bool element_hessian(const double* x, int first, int count, double* values) override;
   bool is_valid(const double* x) override;
   void set_time_step(double h) override { scale_ = h * h; }
-  // True when some element is a mean-dilatation one (its rank-one volumetric term can be split);
-  // only on the host: the device part does not hand over B and D.
-  bool can_split_volumetric() const override { return !device_ && !split_elements_.empty(); }
+  // This form when some element is a mean-dilatation one (its rank-one volumetric term can be
+  // split); only on the host: the device part does not hand over B and D.
+  VolumetricSplit* volumetric_split() override { return !device_ && !split_elements_.empty() ? this : nullptr; }
   double split_stiffness_ratio() const override;
   void split_volumetric() override;
   const VolumetricPart* volumetric_part() const override { return split_ ? &part_ : nullptr; }

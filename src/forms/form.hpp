@@ -29,16 +29,7 @@
 
 namespace dipc {
 
-// The stiff volumetric part of a Hessian kept apart as rank-one terms d_e b_e b_eᵀ, one row per
-// mean-dilatation element of this rank (hex8_mean_dilatation.hpp, mixed_linear_solve.hpp).
-struct VolumetricPart {
-  int rows = 0;
-  std::vector<std::int32_t> local_dofs;  // 24 per row: 3 * local node + component
-  std::vector<PetscInt> global_dofs;     // 24 per row
-  std::vector<double> gradient;          // 24 per row: b_e = dv_e/dx at the last hessian()
-  std::vector<double> curvature;         // per row: d_e = the form's scale times f''_e (>= 0)
-  std::vector<double> weight;            // per row: V_e / (scale mu_e), the pressure mass over the shear modulus
-};
+class VolumetricSplit;  // volumetric_split.hpp
 
 // The Hessian's pattern (coo_pattern, element_pattern, element_hessian, update_pattern,
 // pattern_version, pattern_may_change) is the part of a form the matrix assembler sees
@@ -91,14 +82,9 @@ class Form : public HessianPattern {
   virtual void prepare_segment(const double* x, const double* p) {}
 
   // --- A stiff volumetric part kept out of the Hessian (mixed_linear_solve.hpp) -------------
-  // Forms whose Hessian holds rank-one terms d_e b_e b_eᵀ with d_e ~ lambda / V_e (mean-dilatation
-  // elements) may hand them over: after split_volumetric(), hessian() leaves them out (same
-  // pattern) and volumetric_part() holds b_e and d_e at the state of the last hessian().
-  virtual bool can_split_volumetric() const { return false; }
-  // Largest lambda / mu among the elements whose terms can be split (0: none).
-  virtual double split_stiffness_ratio() const { return 0; }
-  virtual void split_volumetric() {}
-  virtual const VolumetricPart* volumetric_part() const { return nullptr; }
+  // Forms whose Hessian holds mean-dilatation elements' rank-one volumetric terms and can hand
+  // them over (volumetric_split.hpp); nullptr for the others.
+  virtual VolumetricSplit* volumetric_split() { return nullptr; }
 };
 
 }  // namespace dipc

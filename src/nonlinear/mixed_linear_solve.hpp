@@ -41,7 +41,7 @@
 
 #include <vector>
 
-#include "forms/form.hpp"
+#include "forms/volumetric_split.hpp"
 
 namespace dipc {
 

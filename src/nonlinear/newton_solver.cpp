@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "forms/volumetric_split.hpp"
 #include "logging/log_stages.hpp"
 
 namespace dipc {
@@ -175,7 +176,8 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   // [can split anywhere, largest lambda/mu of such elements] over the ranks
   double local[2] = {0, 0}, global[2];
   for (const auto& form : potential->forms())
-    if (form->can_split_volumetric()) local[0] = 1, local[1] = std::max(local[1], form->split_stiffness_ratio());
+    if (const VolumetricSplit* split = form->volumetric_split())
+      local[0] = 1, local[1] = std::max(local[1], split->split_stiffness_ratio());
   PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm));
   bool mixed = false;
   // With a device matrix (which the mixed solve refuses) it is off unless asked for.
@@ -238,9 +240,9 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   }
   std::vector<const VolumetricPart*> parts;
   for (const auto& form : ls_.potential->forms())
-    if (form->can_split_volumetric()) {
-      form->split_volumetric();
-      parts.push_back(form->volumetric_part());
+    if (VolumetricSplit* split = form->volumetric_split()) {
+      split->split_volumetric();
+      parts.push_back(split->volumetric_part());
     }
   KSP ksp;
   PC pc;

@@ -6,10 +6,8 @@
 
 #include "physics/hex8_mass.hpp"
 #include "math/vector3.hpp"
-#include "forms/body_force_form.hpp"
-#include "forms/elastic_form.hpp"
+#include "forms/form_factory.hpp"
 #include "forms/friction_form.hpp"
-#include "forms/inertia_form.hpp"
 #include "logging/log_stages.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 #include "threads/host_threads.hpp"
@@ -83,88 +81,100 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   elements_ = std::make_unique<ElementData>(mesh, problem.body_materials);
   PetscCall(exchange_.setup(mesh, 3));
   phase.emplace(events.setup_masses);
-
-  const bool gravity = problem.gravity[0] != 0 || problem.gravity[1] != 0 || problem.gravity[2] != 0;
-  const bool inertia = !problem.is_static;
-  // Lumped masses serve inertia, gravity and the contact stiffness's bounds; a static run
-  // without gravity or contact has none (its momenta and kinetic energy are zero: v = 0).
   std::vector<double> node_mass;
-  if (inertia || gravity || problem.contact) {
-    PetscCall(assemble_node_masses(mesh, *elements_, exchange_, &node_mass));
-    node_mass_.assign(node_mass.begin(), node_mass.begin() + mesh.num_owned_nodes);
-  }
-
-  // Only the terms this problem needs (docs/design.md §1.1: "model only what a scene requires").
+  PetscCall(assemble_masses_for_forms(&node_mass));
   phase.emplace(events.setup_forms);
-  const double h2 = problem.is_static ? 1.0 : problem.dt * problem.dt;
   std::vector<std::unique_ptr<Form>> forms;
-  const bool on_device = space == MemorySpace::device;
-  if (inertia && problem.lumped_mass)
-    forms.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset, space));
-  else if (inertia)
-    forms.push_back(std::make_unique<ConsistentInertiaForm>(*elements_, space));
-  // Kinematic bodies (every node prescribed) need no elastic energy.
-  bool any_kinematic = false;
-  for (char k : problem.body_kinematic) any_kinematic = any_kinematic || k;
-  if (any_kinematic) deformable_elements_ = std::make_unique<ElementData>(mesh, problem.body_materials, problem.body_kinematic);
-  const ElementData& deformable = any_kinematic ? *deformable_elements_ : *elements_;
-  // [any mean-dilatation element, their largest lambda/mu] over the ranks
-  double local[2] = {0, 0}, global[2];
-  for (int e = 0; e < deformable.num_elements(); ++e)
-    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation)
-      local[0] = 1, local[1] = std::max(local[1], deformable.lambda[e] / deformable.mu[e]);
-  PetscCallMPI(MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, mesh.comm));
-  if (on_device && global[0] > 0) {
-    // The device elastic form does not hand over its volumetric terms (B and D), which the
-    // mixed solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is
-    // asked for (stiffness ratio 0: off by default), which is refused rather than ignored.
-    bool mixed = false;
-    PetscCall(mixed_solve_requested(mesh.comm, true, 0.0, &mixed));
-    // Bad input: raised as PETSC_ERR_USER_INPUT, which the program reports with exit status 1
-    // (a C++ exception would unwind through PETSc's call stack).
-    PetscCheck(!mixed, mesh.comm, PETSC_ERR_USER_INPUT,
-               "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
-               "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
-               "Hessian on the GPU");
-  }
-  forms.push_back(std::make_unique<ElasticForm>(deformable, h2, space));
-  if (gravity)
-    forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2, space));
-  if (problem.contact) {
-    auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space, &exchange_);
-    // κ bounds from the average nodal mass (IPC supplement).
-    double local[2] = {0, static_cast<double>(mesh.num_owned_nodes)}, total[2];
-    for (int n = 0; n < mesh.num_owned_nodes; ++n) local[0] += node_mass[n];
-    PetscCallMPI(MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, mesh.comm));
-    contact->set_kappa_bounds(total[0] / std::max(1.0, total[1]), problem.length_scale);
-    contact_ = contact.get();
-    forms.push_back(std::move(contact));
-    if (problem.friction > 0 && !problem.is_static) {
-      auto friction = std::make_unique<FrictionForm>(*contact_, problem.friction, problem.friction_epsv, problem.dt);
-      friction_ = friction.get();
-      forms.push_back(std::move(friction));
-    }
-  }
-  form_names_.clear();
-  for (auto& f : forms) form_names_.push_back(f->name());
-
-  // Dirichlet sets: later sets win where they overlap.
+  PetscCall(build_problem_forms(node_mass, space, &forms));
   phase.emplace(events.setup_state);
-  dirichlet_set_.assign(mesh.num_local_nodes(), -1);
-  for (std::size_t s = 0; s < problem.dirichlet.size(); ++s)
-    for (std::int32_t n : problem.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
-  std::vector<char> prescribed(3 * static_cast<std::size_t>(mesh.num_local_nodes()), 0);
-  for (int n = 0; n < mesh.num_local_nodes(); ++n)
-    if (dirichlet_set_[n] >= 0) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
+  std::vector<char> prescribed;
+  assign_dirichlet_sets(&prescribed);
+  PetscCall(create_state_vectors());
+  PetscCall(set_initial_state());
+  phase.emplace(events.setup_solver);
+  PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
+  PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
+                          control.alpha_floor));
+  phase.emplace(events.contact_check);
+  if (contact_) PetscCall(refuse_intersecting_start());
+  PetscFunctionReturn(0);
+}
 
-  // State vectors: reference positions, x, x_n, v, x̂.
+PetscErrorCode TimeIntegrator::assemble_masses_for_forms(std::vector<double>* node_mass) {
+  PetscFunctionBeginUser;
+  if (!forms_need_node_masses(problem_)) PetscFunctionReturn(0);
+  PetscCall(assemble_node_masses(*mesh_, *elements_, exchange_, node_mass));
+  node_mass_.assign(node_mass->begin(), node_mass->begin() + mesh_->num_owned_nodes);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::build_problem_forms(const std::vector<double>& node_mass, MemorySpace space,
+                                                   std::vector<std::unique_ptr<Form>>* forms) {
+  PetscFunctionBeginUser;
+  deformable_elements_ = deformable_elements(*mesh_, problem_);
+  const ElementData& deformable = deformable_elements_ ? *deformable_elements_ : *elements_;
+  if (space == MemorySpace::device) PetscCall(refuse_mixed_solve_on_device(deformable));
+  ProblemForms built;
+  PetscCall(build_forms(*mesh_, problem_, *elements_, deformable, node_mass, exchange_, space, &built));
+  contact_ = built.contact;
+  friction_ = built.friction;
+  form_names_.clear();
+  for (auto& f : built.forms) form_names_.push_back(f->name());
+  *forms = std::move(built.forms);
+  PetscFunctionReturn(0);
+}
+
+// The device elastic form does not hand over its volumetric terms (B and D), which the mixed
+// solve needs: a GPU run solves the full Hessian by CG unless the mixed solve is asked for
+// (stiffness ratio 0: off by default), which is refused rather than ignored.
+PetscErrorCode TimeIntegrator::refuse_mixed_solve_on_device(const ElementData& deformable) {
+  PetscFunctionBeginUser;
+  int local = 0, any_mean_dilatation;  // over the ranks
+  for (int e = 0; e < deformable.num_elements(); ++e)
+    if (deformable.volumetric[e] == VolumetricTerm::mean_dilatation) local = 1;
+  PetscCallMPI(MPI_Allreduce(&local, &any_mean_dilatation, 1, MPI_INT, MPI_MAX, mesh_->comm));
+  if (!any_mean_dilatation) PetscFunctionReturn(0);
+  bool mixed = false;
+  PetscCall(mixed_solve_requested(mesh_->comm, true, 0.0, &mixed));
+  // Bad input: raised as PETSC_ERR_USER_INPUT, which the program reports with exit status 1
+  // (a C++ exception would unwind through PETSc's call stack).
+  PetscCheck(!mixed, mesh_->comm, PETSC_ERR_USER_INPUT,
+             "-dipc_mixed_solve: the mixed u-p linear solve of mean-dilatation elements runs with the CPU elastic "
+             "form only: run with -dipc_backend cpu, or drop -dipc_mixed_solve for the Krylov solve of the full "
+             "Hessian on the GPU");
+  PetscFunctionReturn(0);
+}
+
+// Dirichlet sets: later sets win where they overlap. prescribed: 3 flags per local node.
+void TimeIntegrator::assign_dirichlet_sets(std::vector<char>* prescribed) {
+  const int num_local_nodes = mesh_->num_local_nodes();
+  dirichlet_set_.assign(num_local_nodes, -1);
+  for (std::size_t s = 0; s < problem_.dirichlet.size(); ++s)
+    for (std::int32_t n : problem_.dirichlet[s].local_nodes) dirichlet_set_[n] = static_cast<int>(s);
+  prescribed->assign(3 * static_cast<std::size_t>(num_local_nodes), 0);
+  for (int n = 0; n < num_local_nodes; ++n)
+    if (dirichlet_set_[n] >= 0) (*prescribed)[3 * n] = (*prescribed)[3 * n + 1] = (*prescribed)[3 * n + 2] = 1;
+}
+
+// State vectors: reference positions, x, x_n, v, x̂, and friction's lag positions.
+PetscErrorCode TimeIntegrator::create_state_vectors() {
+  PetscFunctionBeginUser;
   PetscCall(exchange_.create_global_vec(&X_));
   PetscCall(VecDuplicate(X_, &x_));
   PetscCall(VecDuplicate(X_, &x_n_));
   PetscCall(VecDuplicate(X_, &v_));
-  if (!problem.is_static) PetscCall(VecDuplicate(X_, &x_hat_));  // x̂ = x_n + h v_n: dynamic runs only
+  if (!problem_.is_static) PetscCall(VecDuplicate(X_, &x_hat_));  // x̂ = x_n + h v_n: dynamic runs only
   PetscCall(exchange_.create_local_vec(&x_local_));
   if (friction_) PetscCall(VecDuplicate(X_, &x_lag_));
+  PetscFunctionReturn(0);
+}
+
+// X from the mesh and x = X; v from the bodies' initial velocity and spin, the Dirichlet nodes'
+// from their motion at t = 0, zero in a static solve.
+PetscErrorCode TimeIntegrator::set_initial_state() {
+  PetscFunctionBeginUser;
+  const DistributedMesh& mesh = *mesh_;
+  const ProblemSetup& problem = problem_;
   std::vector<int> node_body(mesh.num_local_nodes(), 0);
   for (int e = 0; e < mesh.num_elements(); ++e)
     for (std::int32_t n : mesh.elements[e]) node_body[n] = mesh.element_body[e];
@@ -189,19 +199,16 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(VecRestoreArray(X_, &X));
   PetscCall(VecRestoreArray(v_, &v));
   PetscCall(VecCopy(X_, x_));
+  PetscFunctionReturn(0);
+}
 
-  phase.emplace(events.setup_solver);
-  PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
-  PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
-                          control.alpha_floor));
-  phase.emplace(events.contact_check);
-  if (contact_) {
-    std::string problem_at_start;
-    PetscCall(contact_state_problem(x_, &problem_at_start));
-    // Bad input (exit status 1); the message is the same on every rank.
-    PetscCheck(problem_at_start.empty(), mesh.comm, PETSC_ERR_USER_INPUT, "the initial state is not intersection-free: %s",
-               problem_at_start.c_str());
-  }
+PetscErrorCode TimeIntegrator::refuse_intersecting_start() {
+  PetscFunctionBeginUser;
+  std::string problem_at_start;
+  PetscCall(contact_state_problem(x_, &problem_at_start));
+  // Bad input (exit status 1); the message is the same on every rank.
+  PetscCheck(problem_at_start.empty(), mesh_->comm, PETSC_ERR_USER_INPUT,
+             "the initial state is not intersection-free: %s", problem_at_start.c_str());
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,6 @@
 // TimeIntegrator: implicit Euler as incremental-potential minimisation (docs/design.md §1.1), or a
-// sequence of static solves. Builds only the forms the problem needs (no inertia in a static
-// solve, no body force when g = 0), owns the distributed state and advances it step by step.
+// sequence of static solves. Builds the forms the problem needs (forms/form_factory.hpp), owns
+// the distributed state and advances it step by step.
 #pragma once
 #include <array>
 #include <memory>
@@ -140,6 +140,22 @@ class TimeIntegrator {
   Mat jacobian() const { return newton_.jacobian(); }
 
  private:
+  // setup()'s steps, in the order it takes them. First the lumped masses of the local nodes where
+  // the forms need them (node_mass_: the owned ones).
+  PetscErrorCode assemble_masses_for_forms(std::vector<double>* node_mass);
+  // The problem's forms (form_factory.hpp); sets contact_, friction_ and form_names_.
+  PetscErrorCode build_problem_forms(const std::vector<double>& node_mass, MemorySpace space,
+                                     std::vector<std::unique_ptr<Form>>* forms);
+  // Before device forms are built: -dipc_mixed_solve with mean-dilatation elements is bad input
+  // (PETSC_ERR_USER_INPUT).
+  PetscErrorCode refuse_mixed_solve_on_device(const ElementData& deformable);
+  // dirichlet_set_, and the prescribed dofs (3 flags per local node).
+  void assign_dirichlet_sets(std::vector<char>* prescribed);
+  PetscErrorCode create_state_vectors();
+  PetscErrorCode set_initial_state();
+  // With contact: intersecting or touching surfaces at the start are bad input (PETSC_ERR_USER_INPUT).
+  PetscErrorCode refuse_intersecting_start();
+
   // Sets the step length h of the forms and of Newton's velocity test.
   void set_time_step(double h);
   PetscErrorCode apply_dirichlet(Vec x, double t);

@@ -1,8 +1,8 @@
 // The mixed u-p linear solve (mixed_linear_solve.hpp) against the primal Newton system, through
 // the whole distributed path (ghosts, COO assembly, Dirichlet elimination), on mean-dilatation
 // elements at nu = 0.4999 and nu = 0 (d_e = 0: the s block must vanish, not blow up):
-//  - the split Hessian A + Bsᵀ Bs (forms with split_volumetric(), the shell product) equals the
-//    assembled full Hessian H of the same forms unsplit, applied to a random vector;
+//  - the split Hessian A + Bsᵀ Bs (VolumetricSplit::split_volumetric(), the shell product)
+//    equals the assembled full Hessian H of the same forms unsplit, applied to a random vector;
 //  - the mixed solve's du equals the primal solve's du = H⁻¹ r (CG on the assembled H, tight
 //    tolerance), both at rtol 1e-12;
 //  - on several ranks the mixed du equals the one computed on each rank alone (PETSC_COMM_SELF);
@@ -62,8 +62,9 @@ std::unique_ptr<IncrementalPotential> make_potential(const DistributedMesh& mesh
                                                      double h, bool split) {
   std::vector<std::unique_ptr<Form>> forms;
   forms.push_back(std::make_unique<ConsistentInertiaForm>(elements));
-  forms.push_back(std::make_unique<ElasticForm>(elements, h * h));
-  if (split) forms.back()->split_volumetric();
+  auto elastic = std::make_unique<ElasticForm>(elements, h * h);
+  if (split) elastic->split_volumetric();
+  forms.push_back(std::move(elastic));
   std::vector<char> prescribed(3 * mesh.num_local_nodes(), 0);
   for (std::int32_t n : mesh.node_sets.at("box.xmin")) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
   auto potential = std::make_unique<IncrementalPotential>();
@@ -101,7 +102,8 @@ Results solve_both(const HexMesh& whole, MPI_Comm comm, double nu, MixedSolveOpt
   MixedLinearSolve mixed;
   std::vector<const VolumetricPart*> parts;
   for (const auto& form : split->forms())
-    if (form->volumetric_part()) parts.push_back(form->volumetric_part());
+    if (const VolumetricSplit* volumetric = form->volumetric_split(); volumetric && volumetric->volumetric_part())
+      parts.push_back(volumetric->volumetric_part());
   EXPECT_EQ(parts.size(), 1u);
   EXPECT_EQ(mixed.setup(comm, parts, &split->prescribed_dofs(), 1e-12, 1e-50, 5000, options), 0);
   EXPECT_EQ(mixed.update(A), 0);
