@@ -26,6 +26,10 @@
 #   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
 #                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
 #                                  300000; AMG_VARIANTS picks variants by name)
+#   bench/gpu_runs.sh family       the contact-rich family (bench/contact_family.py: stack, squeeze, press), device-resident
+#                                  on 1 GPU and on all CPU cores with a CPU build (FAMILY_CPU_DIPC, default
+#                                  build/src/app/dipc: the CUDA PETSc's hypre runs on the GPU only); FAMILY_REFINE,
+#                                  default 1,2,3,4 (about 0.1M, 1M, 3.4M, 8M hexes); FAMILY_STEPS, default 3
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -89,6 +93,18 @@ case "${1:-}" in
           --cores-per-rank $cores --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
       fi
     done ;;
+  family)
+    card=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1 | awk '{print tolower($2)}')
+    run python3 bench/contact_family.py --dipc "$bin/dipc" --refine ${FAMILY_REFINE:-1,2,3,4} --steps ${FAMILY_STEPS:-3} \
+      --ranks 1 --tag "${card}_1gpu" --out "$out" -- -dipc_backend cuda -vec_type cuda -mat_type $device_mat \
+      -use_gpu_aware_mpi 0 $device_pc
+    cpu_dipc=${FAMILY_CPU_DIPC:-build/src/app/dipc}
+    if [[ -x $cpu_dipc ]]; then
+      run python3 bench/contact_family.py --dipc "$cpu_dipc" --refine ${FAMILY_REFINE:-1,2,3,4} --steps ${FAMILY_STEPS:-3} \
+        --ranks $(nproc) --tag "${card}_host_cpu$(nproc)" --out "$out" -- -dipc_backend cpu
+    else
+      echo "family: no CPU build at $cpu_dipc (FAMILY_CPU_DIPC): CPU runs skipped" >&2
+    fi ;;
   assembly)
     run mpirun -n 16 "$bin/bench_assembly_throughput" -sizes 10000,100000,1000000,4000000 -repeat 5 \
       -csv "$out/assembly_throughput.csv" ;;
@@ -177,5 +193,5 @@ case "${1:-}" in
       "$out/repro_1.csv" "$out/repro_2.csv" | tee "$out/repro_summary.txt"
     # The per-variant CSVs are in repro_1/2.csv now (and the device tool returns at most 8 files).
     for v in "${variants[@]}"; do rm -f "$out/amg_${v%%|*}.csv"; done ;;
-  *) sed -n '2,22p' "$0"; exit 2 ;;
+  *) sed -n '2,32p' "$0"; exit 2 ;;
 esac

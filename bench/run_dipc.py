@@ -34,3 +34,8 @@ def run_dipc(dipc, ranks, args, timeout=None, cores_per_rank=None):
         os.killpg(p.pid, signal.SIGKILL)
         text, _ = p.communicate()
         return text or "", "timeout", cmd
+    except BaseException:
+        # The caller interrupted or ended (Ctrl-C, SIGTERM turned into SystemExit): the run's
+        # session would outlive it, so it ends with it.
+        os.killpg(p.pid, signal.SIGKILL)
+        raise

@@ -6,8 +6,9 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
+#include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "io/collective_error.hpp"
 
@@ -15,23 +16,9 @@ namespace dipc {
 
 namespace {
 
-OptionSpec flag(const char* name) { return {name, OptionKind::flag}; }
-OptionSpec integer_at_least(const char* name, long min) { return {name, OptionKind::integer, double(min)}; }
-OptionSpec positive_real(const char* name) { return {name, OptionKind::real, 0.0}; }
-OptionSpec fraction(const char* name) { return {name, OptionKind::real, 0.0, nullptr, 1.0}; }
-OptionSpec text(const char* name) { return {name, OptionKind::text}; }
-OptionSpec one_of(const char* name, const char* choices) { return {name, OptionKind::choice, 0.0, choices}; }
-
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
-}
-
-std::vector<std::string> words(const char* list) {
-  std::istringstream in(list);
-  std::vector<std::string> out;
-  for (std::string w; in >> w;) out.push_back(w);
-  return out;
 }
 
 // strtol/strtod accept a prefix of the string; a value must be a number from end to end.
@@ -40,6 +27,12 @@ bool parse_integer(const char* value, long* out) {
   errno = 0;
   *out = std::strtol(value, &end, 10);
   return end != value && *end == '\0' && errno == 0 && *out >= INT_MIN && *out <= INT_MAX;
+}
+
+// An optional sign and decimal digits only: an integer, whether or not it fits.
+bool all_digits(const char* value) {
+  const char* digits = value + (*value == '-' || *value == '+');
+  return *digits && std::all_of(digits, digits + std::strlen(digits), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 bool parse_real(const char* value, double* out) {
@@ -85,39 +78,6 @@ bool is_dipc_option(const std::string& name) { return name.rfind("-dipc_", 0) ==
 
 }  // namespace
 
-const std::vector<OptionSpec>& dipc_option_specs() {
-  static const std::vector<OptionSpec> specs{
-      positive_real("-dipc_velocity_tol"),
-      positive_real("-dipc_velocity_tol_rel"),
-      integer_at_least("-dipc_steps", 1),
-      integer_at_least("-dipc_refine", 1),
-      text("-dipc_output"),
-      flag("-dipc_no_output"),
-      flag("-dipc_quiet"),
-      flag("-dipc_setup_only"),
-      flag("-dipc_check_invariants"),
-      one_of("-dipc_backend", "cpu cuda auto"),
-      integer_at_least("-dipc_auto_gpu_elements", 0),
-      flag("-dipc_pc_reuse"),                      // read in nonlinear/preconditioner_reuse.cpp
-      positive_real("-dipc_pc_reuse_setup_cost"),  // the same
-      flag("-dipc_mixed_solve"),                   // read in nonlinear/mixed_linear_solve.cpp
-      flag("-dipc_direct_matrix"),                 // read in nonlinear/incremental_potential.cpp
-      one_of("-dipc_mixed_schur", "mass selfp"),      // the same
-      one_of("-dipc_mixed_schur_fact", "diag upper"),        // the same
-      positive_real("-dipc_dt_min"),
-      fraction("-dipc_alpha_floor"),
-      flag("-dipc_output_substeps"),
-      one_of("-dipc_preset", "fast balanced accurate"),  // read in app/solver_presets.cpp
-      integer_at_least("-dipc_checkpoint_every", 1),
-      positive_real("-dipc_checkpoint_minutes"),
-      text("-dipc_restart"),
-      one_of("-dipc_partitioner", "metis ptscotch rcb auto"),
-      integer_at_least("-dipc_metis_max_elements", 1),
-      integer_at_least("-dipc_host_threads", 0),
-  };
-  return specs;
-}
-
 std::string option_value_problem(const OptionSpec& spec, const char* value) {
   const std::string name = spec.name;
   if (spec.kind == OptionKind::flag) {
@@ -131,7 +91,8 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
   switch (spec.kind) {
     case OptionKind::integer: {
       long v;
-      if (!parse_integer(value, &v)) return given + "not an integer";
+      if (!parse_integer(value, &v))
+        return given + (all_digits(value) ? "out of range (at most " + std::to_string(INT_MAX) + ")" : "not an integer");
       if (v < spec.min) return given + "must be an integer >= " + std::to_string(long(spec.min));
       return "";
     }
@@ -143,10 +104,10 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
       return "";
     }
     case OptionKind::choice: {
-      const std::vector<std::string> choices = words(spec.choices);
-      if (std::find(choices.begin(), choices.end(), std::string(value)) != choices.end()) return "";
+      for (const char* choice : spec.choices)
+        if (std::string(value) == choice) return "";
       std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+      for (const char* choice : spec.choices) list += (list.empty() ? "" : ", ") + std::string(choice);
       return given + "must be one of " + list;
     }
     default:
@@ -157,7 +118,7 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
 void check_option_values() {
   std::vector<std::string> storage;
   for (const auto& [name, value] : unused_options(&storage))
-    for (const OptionSpec& spec : dipc_option_specs())
+    for (const OptionSpec& spec : kDipcOptions)
       if (name == spec.name) {
         const std::string problem = option_value_problem(spec, value);
         if (!problem.empty()) throw std::runtime_error(problem);
@@ -167,7 +128,7 @@ void check_option_values() {
 std::string closest_option(const std::string& name) {
   std::string best;
   std::size_t best_distance = 4;  // suggest only names at most 3 edits away
-  for (const OptionSpec& spec : dipc_option_specs()) {
+  for (const OptionSpec& spec : kDipcOptions) {
     const std::size_t d = edit_distance(lower(name), spec.name);
     if (d < best_distance) best = spec.name, best_distance = d;
   }

@@ -2,37 +2,18 @@
 // stops the run with a message naming the option, instead of being ignored or ending in a
 // PETSc error trace.
 //
-// Every -dipc_ option is declared once in the table of option_checks.cpp with its kind and
-// range; check_option_values tests the raw strings of those that are set before anything
-// reads them (PETSc then parses values that are known to be valid). An option added later
-// gets the same checks by adding its row there.
+// Every -dipc_ option is declared once, with its kind and range, in the table of
+// options/dipc_options.hpp; check_option_values tests the raw strings of those that are set
+// before anything reads them (PETSc then parses values that are known to be valid). An option
+// added later gets the same checks by adding its row there.
 #pragma once
 #include <petscsys.h>
 
-#include <cmath>
 #include <string>
-#include <vector>
+
+#include "options/dipc_options.hpp"
 
 namespace dipc {
-
-enum class OptionKind {
-  flag,     // no value, or 1/0, true/false, yes/no, on/off (PETSc's booleans)
-  integer,  // a decimal integer >= min that fits an int
-  real,     // a finite number > min and < max
-  text,     // a non-empty string
-  choice,   // one of the words in `choices`
-};
-
-struct OptionSpec {
-  const char* name;  // with the dash: "-dipc_steps"
-  OptionKind kind;
-  double min = 0;                 // integer: smallest value; real: values must exceed it
-  const char* choices = nullptr;  // choice: words separated by spaces
-  double max = HUGE_VAL;          // real: values must stay below it
-};
-
-// Every -dipc_ option that dipc reads, wherever it is read.
-const std::vector<OptionSpec>& dipc_option_specs();
 
 // Why `value` is not acceptable for `spec` ("-dipc_steps -1: must be an integer >= 1"), or
 // an empty string when it is. `value` is null when the option was given without one.

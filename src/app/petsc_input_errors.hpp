@@ -17,4 +17,12 @@ PetscErrorCode push_input_error_handler();
 // The message of the last PETSc error raised on this rank (PetscErrorMessage's text).
 std::string last_petsc_error_message();
 
+// Checks the values of PETSc's own solver options that users give most (-snes_type, -ksp_type,
+// -pc_type, -snes_linesearch_type, the -ksp_ and -snes_ tolerances and iteration limits), with
+// PETSc's parsers and the ranges PETSc's setters check, before the solvers read them: there a
+// bad value ends in a traceback and MPI_Abort, in the setup or, for -ksp_max_it, in the first
+// Newton iteration. Throws std::runtime_error "<option> <value>: <what>", the same on every rank
+// (PETSc gives every rank the same database). Options under a prefix are left to PETSc.
+void check_petsc_option_values();
+
 }  // namespace dipc

@@ -3,20 +3,43 @@
 #include <cstdio>
 #include <cstring>
 
+#include "options/dipc_options.hpp"
+
 namespace dipc {
 
 namespace {
 
-// The third argument of PetscOptions*: -help prints it in parentheses after the help text, as
-// PETSc prints the manual page of the function that an option sets. Ours names the struct that
-// holds the setting (app/run_options.hpp).
-constexpr const char* kManual = "RunOptions";
+// The rows of options/dipc_options.hpp: names, help texts, the manual section that -help prints
+// in parentheses after the help text (as PETSc prints the manual page of the function that an
+// option sets; ours names the struct that holds the setting) and the choices, in the order of
+// PetscOptionsEList's index.
+constexpr const OptionSpec& kVelocityTol = dipc_option("-dipc_velocity_tol");
+constexpr const OptionSpec& kVelocityTolRel = dipc_option("-dipc_velocity_tol_rel");
+constexpr const OptionSpec& kSteps = dipc_option("-dipc_steps");
+constexpr const OptionSpec& kRefine = dipc_option("-dipc_refine");
+constexpr const OptionSpec& kOutput = dipc_option("-dipc_output");
+constexpr const OptionSpec& kNoOutput = dipc_option("-dipc_no_output");
+constexpr const OptionSpec& kQuiet = dipc_option("-dipc_quiet");
+constexpr const OptionSpec& kCheckInvariants = dipc_option("-dipc_check_invariants");
+constexpr const OptionSpec& kBackend = dipc_option("-dipc_backend");
+constexpr const OptionSpec& kAutoGpuElements = dipc_option("-dipc_auto_gpu_elements");
+constexpr const OptionSpec& kPartitioner = dipc_option("-dipc_partitioner");
+constexpr const OptionSpec& kMetisMaxElements = dipc_option("-dipc_metis_max_elements");
+constexpr const OptionSpec& kHostThreads = dipc_option("-dipc_host_threads");
+constexpr const OptionSpec& kSetupOnly = dipc_option("-dipc_setup_only");
+constexpr const OptionSpec& kDtMin = dipc_option("-dipc_dt_min");
+constexpr const OptionSpec& kAlphaFloor = dipc_option("-dipc_alpha_floor");
+constexpr const OptionSpec& kOutputSubsteps = dipc_option("-dipc_output_substeps");
+constexpr const OptionSpec& kCheckpointEvery = dipc_option("-dipc_checkpoint_every");
+constexpr const OptionSpec& kCheckpointMinutes = dipc_option("-dipc_checkpoint_minutes");
+constexpr const OptionSpec& kRestart = dipc_option("-dipc_restart");
 
-// The backends, in the order of PetscOptionsEList's index.
-constexpr const char* kBackends[] = {"cpu", "cuda", "auto"};
-
-// The partitioners, in the order of PetscOptionsEList's index (partition/slice_partition.hpp).
-constexpr const char* kPartitioners[] = {"metis", "ptscotch", "rcb", "auto"};
+// The index of `value` among the choices of `spec`, or `fallback`.
+PetscInt choice_index(const OptionSpec& spec, const std::string& value, PetscInt fallback) {
+  for (PetscInt i = 0; i < spec.choices.count; ++i)
+    if (value == spec.choices.words[i]) return i;
+  return fallback;
+}
 
 }  // namespace
 
@@ -30,74 +53,50 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscReal dt_min = o->dt_min > 0 ? o->dt_min : scene.dt / 1024;
   PetscBool no_output = o->write_output ? PETSC_FALSE : PETSC_TRUE, quiet = o->quiet ? PETSC_TRUE : PETSC_FALSE;
   PetscBool setup_only = o->setup_only ? PETSC_TRUE : PETSC_FALSE;
-  PetscInt partitioner = 3, metis_max = static_cast<PetscInt>(o->metis_max_elements), host_threads = o->host_threads;
-  for (PetscInt i = 0; i < 4; ++i)
-    if (o->partitioner == kPartitioners[i]) partitioner = i;
+  // A value that is none of the choices (a RunOptions made in code) reads as auto, the last.
+  PetscInt partitioner = choice_index(kPartitioner, o->partitioner, kPartitioner.choices.count - 1);
+  PetscInt metis_max = static_cast<PetscInt>(o->metis_max_elements), host_threads = o->host_threads;
   PetscBool check = o->check_invariants ? PETSC_TRUE : PETSC_FALSE;
   PetscBool substeps = o->output_substeps ? PETSC_TRUE : PETSC_FALSE;
-  PetscInt backend = 2, crossover = static_cast<PetscInt>(o->auto_gpu_min_elements), every = o->checkpoint_every;
-  for (PetscInt i = 0; i < 3; ++i)
-    if (o->backend == kBackends[i]) backend = i;
+  PetscInt backend = choice_index(  // the same: auto
+      kBackend, o->backend, kBackend.choices.count - 1);
+  PetscInt crossover = static_cast<PetscInt>(o->auto_gpu_min_elements), every = o->checkpoint_every;
   char restart[PETSC_MAX_PATH_LEN];
   std::snprintf(restart, sizeof restart, "%s", o->restart.empty() ? "none" : o->restart.c_str());
 
   PetscOptionsBegin(comm, nullptr, "dipc run options", "dipc");
-  PetscCall(PetscOptionsReal("-dipc_velocity_tol_rel",
-                             "Newton tolerance relative to the bounding-box diagonal (1/s): -dipc_velocity_tol is this "
-                             "times the diagonal unless given",
-                             kManual, o->velocity_tol_rel, &o->velocity_tol_rel, nullptr));
-  PetscCall(PetscOptionsInt("-dipc_steps", "Number of time steps (default: the scene's time.steps)", kManual, steps, &steps,
+  PetscCall(PetscOptionsReal(kVelocityTolRel.name, kVelocityTolRel.help, kVelocityTolRel.manual, o->velocity_tol_rel,
+                             &o->velocity_tol_rel, nullptr));
+  PetscCall(PetscOptionsInt(kSteps.name, kSteps.help, kSteps.manual, steps, &steps, nullptr));
+  PetscCall(PetscOptionsInt(kRefine.name, kRefine.help, kRefine.manual, refine, &refine, nullptr));
+  PetscCall(PetscOptionsString(kOutput.name, kOutput.help, kOutput.manual, dir, dir, sizeof(dir), nullptr));
+  PetscCall(PetscOptionsBool(kNoOutput.name, kNoOutput.help, kNoOutput.manual, no_output, &no_output, nullptr));
+  PetscCall(PetscOptionsBool(kQuiet.name, kQuiet.help, kQuiet.manual, quiet, &quiet, nullptr));
+  PetscCall(PetscOptionsBool(kCheckInvariants.name, kCheckInvariants.help, kCheckInvariants.manual, check, &check,
+                             nullptr));
+  PetscCall(PetscOptionsEList(kBackend.name, kBackend.help, kBackend.manual, kBackend.choices.words,
+                              kBackend.choices.count, kBackend.choices.words[backend], &backend, nullptr));
+  PetscCall(PetscOptionsInt(kAutoGpuElements.name, kAutoGpuElements.help, kAutoGpuElements.manual, crossover,
+                            &crossover, nullptr));
+  PetscCall(PetscOptionsEList(kPartitioner.name, kPartitioner.help, kPartitioner.manual, kPartitioner.choices.words,
+                              kPartitioner.choices.count, kPartitioner.choices.words[partitioner], &partitioner,
+                              nullptr));
+  PetscCall(PetscOptionsInt(kMetisMaxElements.name, kMetisMaxElements.help, kMetisMaxElements.manual, metis_max,
+                            &metis_max, nullptr));
+  PetscCall(PetscOptionsInt(kHostThreads.name, kHostThreads.help, kHostThreads.manual, host_threads, &host_threads,
                             nullptr));
-  PetscCall(PetscOptionsInt("-dipc_refine", "Multiply the resolution of every generated box by this factor", kManual,
-                            refine, &refine, nullptr));
-  PetscCall(PetscOptionsString("-dipc_output", "Output directory (default: the scene's output.directory)", kManual, dir,
-                               dir, sizeof(dir), nullptr));
-  PetscCall(PetscOptionsBool("-dipc_no_output", "Write no HDF5/XDMF/CSV output", kManual, no_output, &no_output, nullptr));
-  PetscCall(PetscOptionsBool("-dipc_quiet", "Do not print one line per time step", kManual, quiet, &quiet, nullptr));
-  PetscCall(PetscOptionsBool("-dipc_check_invariants",
-                             "After every step verify det J > 0, no edge-triangle intersection and d_min > 0", kManual,
-                             check, &check, nullptr));
-  PetscCall(PetscOptionsEList("-dipc_backend", "Where elements and contact are evaluated", kManual, kBackends, 3,
-                              kBackends[backend], &backend, nullptr));
-  PetscCall(PetscOptionsInt("-dipc_auto_gpu_elements", "Elements per rank from which -dipc_backend auto uses the GPU",
-                            kManual, crossover, &crossover, nullptr));
-  PetscCall(PetscOptionsEList("-dipc_partitioner",
-                              "Element partitioner: metis (on rank 0), ptscotch (parallel), rcb (parallel recursive "
-                              "coordinate bisection) or auto (metis up to -dipc_metis_max_elements elements, above "
-                              "ptscotch where PETSc has it, rcb otherwise)",
-                              kManual, kPartitioners, 4, kPartitioners[partitioner], &partitioner, nullptr));
-  PetscCall(PetscOptionsInt("-dipc_metis_max_elements",
-                            "Largest mesh (elements) that -dipc_partitioner auto partitions with METIS on rank 0", kManual,
-                            metis_max, &metis_max, nullptr));
-  PetscCall(PetscOptionsInt("-dipc_host_threads",
-                            "Threads per rank of the partition's and the setup's host loops (0: the cores this rank may "
-                            "run on, shared with the node's other ranks on them)",
-                            kManual, host_threads, &host_threads, nullptr));
-  PetscCall(PetscOptionsBool("-dipc_setup_only",
-                             "Build the mesh, partition and solver setup, report them and take no step (setup benchmarks)",
-                             kManual, setup_only, &setup_only, nullptr));
-  PetscCall(PetscOptionsReal("-dipc_dt_min",
-                             "Shortest sub-step of step recovery: a failed step is retried with dt halved down to this "
-                             "(default: the scene's dt / 1024)",
-                             kManual, dt_min, &dt_min, nullptr));
-  PetscCall(PetscOptionsReal("-dipc_alpha_floor",
-                             "A Newton solve has stalled (and the step fails) when the line-search step stays below this "
-                             "in 5 iterations in a row",
-                             kManual, o->alpha_floor, &o->alpha_floor, nullptr));
-  PetscCall(PetscOptionsBool("-dipc_output_substeps", "Also write the sub-steps of steps that recovery cut", kManual,
-                             substeps, &substeps, nullptr));
-  PetscCall(PetscOptionsInt("-dipc_checkpoint_every",
-                            "Write a checkpoint every N steps into the output directory (the newest two are kept; 0: "
-                            "not by step count)",
-                            kManual, every, &every, nullptr));
-  PetscCall(PetscOptionsReal("-dipc_checkpoint_minutes",
-                             "Write a checkpoint at the first step boundary after M wall-clock minutes since the last "
-                             "(rank 0's clock; 0: not by time)",
-                             kManual, o->checkpoint_minutes, &o->checkpoint_minutes, nullptr));
-  PetscCall(PetscOptionsString("-dipc_restart",
-                               "Continue from a checkpoint: a file, auto (the newest in the output directory; none "
-                               "there: start from step 0) or none",
-                               kManual, restart, restart, sizeof(restart), nullptr));
+  PetscCall(PetscOptionsBool(kSetupOnly.name, kSetupOnly.help, kSetupOnly.manual, setup_only, &setup_only, nullptr));
+  PetscCall(PetscOptionsReal(kDtMin.name, kDtMin.help, kDtMin.manual, dt_min, &dt_min, nullptr));
+  PetscCall(PetscOptionsReal(kAlphaFloor.name, kAlphaFloor.help, kAlphaFloor.manual, o->alpha_floor, &o->alpha_floor,
+                             nullptr));
+  PetscCall(PetscOptionsBool(kOutputSubsteps.name, kOutputSubsteps.help, kOutputSubsteps.manual, substeps, &substeps,
+                             nullptr));
+  PetscCall(PetscOptionsInt(kCheckpointEvery.name, kCheckpointEvery.help, kCheckpointEvery.manual, every, &every,
+                            nullptr));
+  PetscCall(PetscOptionsReal(kCheckpointMinutes.name, kCheckpointMinutes.help, kCheckpointMinutes.manual,
+                             o->checkpoint_minutes, &o->checkpoint_minutes, nullptr));
+  PetscCall(PetscOptionsString(kRestart.name, kRestart.help, kRestart.manual, restart, restart, sizeof(restart),
+                               nullptr));
   PetscOptionsEnd();
 
   o->steps = static_cast<int>(steps);
@@ -106,9 +105,9 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   o->write_output = !no_output;
   o->quiet = quiet;
   o->check_invariants = check;
-  o->backend = kBackends[backend];
+  o->backend = kBackend.choices.words[backend];
   o->auto_gpu_min_elements = crossover;
-  o->partitioner = kPartitioners[partitioner];
+  o->partitioner = kPartitioner.choices.words[partitioner];
   o->metis_max_elements = metis_max;
   o->host_threads = static_cast<int>(host_threads);
   o->setup_only = setup_only;
@@ -123,10 +122,7 @@ PetscErrorCode read_velocity_tol(MPI_Comm comm, const RunOptions& o, double diag
   PetscFunctionBeginUser;
   PetscReal tol = o.velocity_tol > 0 ? o.velocity_tol : o.velocity_tol_rel * diagonal;
   PetscOptionsBegin(comm, nullptr, "dipc Newton tolerance", "dipc");
-  PetscCall(PetscOptionsReal("-dipc_velocity_tol",
-                             "Newton tolerance on |p|_inf/h (length/s); default: -dipc_velocity_tol_rel x the scene's "
-                             "bounding-box diagonal",
-                             kManual, tol, &tol, nullptr));
+  PetscCall(PetscOptionsReal(kVelocityTol.name, kVelocityTol.help, kVelocityTol.manual, tol, &tol, nullptr));
   PetscOptionsEnd();
   *velocity_tol = tol;
   PetscFunctionReturn(0);

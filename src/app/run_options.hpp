@@ -49,7 +49,8 @@ struct RunOptions {
 // Reads the -dipc_ run options into *options, whose values are the defaults; those that
 // default to the scene's (steps, output directory, dt_min) are shown with the scene's value.
 // Values are taken as given: check_option_values (app/option_checks.hpp), which refuses those
-// out of range, runs first; a new option needs its row there.
+// out of range, runs first. Names, help texts and ranges are the rows of options/dipc_options.hpp;
+// a new option needs its row there.
 PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* options);
 
 // The Newton tolerance of the run: -dipc_velocity_tol, whose default (options.velocity_tol when

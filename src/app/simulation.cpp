@@ -27,6 +27,7 @@
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
+#include "math/number_text.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "assembly/device_matrix.hpp"
 #include "logging/log_stages.hpp"
@@ -350,6 +351,7 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   PetscFunctionReturn(0);
 }
 
+// Times and steps in messages, with %g: std::to_string's fixed 6 decimals print small steps as 0.000000.
 }  // namespace
 
 PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
@@ -410,8 +412,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   }
   const double dt_min = options.dt_min > 0 ? options.dt_min : scene.dt / 1024;
   if (dt_min > scene.dt)
-    throw std::runtime_error("-dipc_dt_min " + std::to_string(dt_min) + " is larger than the scene's dt " +
-                             std::to_string(scene.dt));
+    throw std::runtime_error("-dipc_dt_min " + format_number(dt_min) + " is larger than the scene's dt " + format_number(scene.dt));
   TimeIntegrator integrator;
   {
     StageScope stage(stages.setup);
@@ -548,7 +549,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
         PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
                               r.failure.empty() || &cut != &r.cuts.back() ? ": retrying with dt halved" : ""));
     if (!r.failure.empty()) {
-      result->failure = "step " + std::to_string(r.step) + " (t = " + std::to_string(integrator.time()) + " reached): " + r.failure;
+      result->failure = "step " + std::to_string(r.step) + " (t = " + format_number(integrator.time()) + " reached): " + r.failure;
       result->fatal = r.fatal;
       break;
     }

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "options/dipc_options.hpp"
+
 namespace dipc {
 
 namespace {
@@ -58,10 +60,9 @@ PetscErrorCode apply_solver_preset(MPI_Comm comm, std::string* applied, std::vec
     names.push_back(p.name);
   }
   PetscOptionsBegin(comm, nullptr, "dipc solver preset", "dipc");
-  PetscCall(PetscOptionsEList("-dipc_preset",
-                              "Solver preset (scenes/solver/presets/<name>.opts); options you give win over it",
-                              "SolverPreset",
-                              names.data(), static_cast<PetscInt>(names.size()), names[chosen], &chosen, nullptr));
+  constexpr const OptionSpec& preset = dipc_option("-dipc_preset");
+  PetscCall(PetscOptionsEList(preset.name, preset.help, preset.manual, names.data(), static_cast<PetscInt>(names.size()),
+                              names[chosen], &chosen, nullptr));
   PetscOptionsEnd();
   inserted->clear();
   for (const auto& [name, value] : preset_options(presets[chosen])) {

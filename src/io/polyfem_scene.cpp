@@ -33,6 +33,7 @@
 
 #include "io/polyfem_expression.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/number_text.hpp"
 #include "math/vector3.hpp"
 
 namespace dipc {
@@ -43,12 +44,6 @@ constexpr const char* kNotModelled = "dipc cannot model this: ";
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
-}
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
 }
 
 // Elements of an array, or the value itself where PolyFEM takes either (geometry, materials,
@@ -296,14 +291,6 @@ struct Translator {
     return selections;
   }
 
-  std::string resolve(const SceneJsonNode& node) {
-    const std::string file = node.string();
-    if (file.empty()) node.fail("must not be empty");
-    std::filesystem::path path(file);
-    if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
-    return std::filesystem::absolute(path).lexically_normal().string();
-  }
-
   void geometry(const SceneJsonNode& node, bool contact_enabled) {
     const std::vector<SceneJsonNode> items = one_or_many(node);
     for (std::size_t i = 0; i < items.size(); ++i) {
@@ -352,7 +339,7 @@ struct Translator {
         }
       }
       const SceneJsonNode mesh = item.required("mesh");
-      const std::string file = resolve(mesh);
+      const std::string file = resolve_mesh_path(mesh, base_directory);
       const std::string extension = lower(std::filesystem::path(file).extension().string());
       std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
       std::array<double, 3> translation{0, 0, 0};

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 
 #include "io/scene.hpp"
@@ -107,6 +108,17 @@ std::array<double, 3> SceneJsonNode::vec3() const {
   if (value_->size() != 3) fail("expected an array of 3 numbers, got " + std::to_string(value_->size()));
   const std::vector<SceneJsonNode> items = elements();
   return {items[0].number(), items[1].number(), items[2].number()};
+}
+
+std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base_directory) {
+  const std::string file = node.string();
+  if (file.empty()) node.fail("must not be empty");
+  std::filesystem::path path(file);
+  if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
+  const std::string resolved = std::filesystem::absolute(path).lexically_normal().string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(resolved, ec)) node.fail(resolved + ": is a directory, not a mesh file");
+  return resolved;
 }
 
 }  // namespace dipc

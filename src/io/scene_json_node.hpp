@@ -51,4 +51,10 @@ class SceneJsonNode {
   const std::string* source_;
 };
 
+// The mesh file that `node` (a string) names. Paths are relative to the scene file, as a user
+// writing the scene expects, and returned absolute so that later stages do not depend on the
+// working directory. Fails on an empty path and on a directory, which the mesh readers would
+// otherwise take for an empty or unreadable file and report without the key.
+std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base_directory);
+
 }  // namespace dipc

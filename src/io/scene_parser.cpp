@@ -34,6 +34,7 @@
 // contact.dhat is an activation DISTANCE (length, not squared); with dhat_relative (default)
 // it is a fraction of the bounding-box diagonal of the bodies, so it must be < 1. A plane is a
 // half-space obstacle whose solid lies behind its normal (normalised here).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -45,21 +46,34 @@
 #include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
 #include "io/scene_json_node.hpp"
+#include "math/number_text.hpp"
 #include "math/vector3.hpp"
+#include "mesh/mesh_checks.hpp"
 
 namespace dipc {
 namespace {
-
-std::string format_number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 double positive(const SceneJsonNode& node) {
   const double v = node.number();
   if (!(v > 0)) node.fail_value("must be > 0");
   return v;
+}
+
+// The smallest time step that double precision can take. Newton ends a step when the largest
+// position increment per unit time, |p|_inf / dt, is below the velocity tolerance, by default
+// 1e-5 scene diagonals per second (-dipc_velocity_tol_rel). Positions carry rounding errors of
+// eps·|x|, at least eps/2 of the diagonal (the largest |x| is at least half the diagonal), so
+// below dt = (eps/2) / 1e-5 ≈ 1.1e-11 s rounding alone exceeds the tolerance and the test decides
+// nothing: steps end on an exactly zero gradient with the motion lost (dt²·|g| and dt·|v| vanish
+// against the positions), or never converge. A factor of 10 above that leaves the test a margin.
+constexpr double kSmallestTimeStep = 1e-10;
+
+double time_step(const SceneJsonNode& node) {
+  const double dt = positive(node);
+  if (dt < kSmallestTimeStep)
+    node.fail_value("below " + format_number(kSmallestTimeStep) +
+                    " s, where rounding of the positions exceeds Newton's velocity tolerance");
+  return dt;
 }
 
 std::vector<Material> parse_materials(const SceneJsonNode& node) {
@@ -128,6 +142,21 @@ std::size_t material_reference(const std::optional<SceneJsonNode>& node, const S
   return static_cast<std::size_t>(index);
 }
 
+// A box's elements are rectangular, with det J = hx·hy·hz / 8 everywhere (edges h = size /
+// resolution, the reference element [-1, 1]^3). Elements that check_mesh would call degenerate
+// (det J at most kDegenerateJacobianRatio times the longest edge cubed) are refused here, naming
+// box.size: a file mesh gets that message, and a box so flat would otherwise end in a contact or
+// solver failure far from its cause. -dipc_refine scales every edge alike, so the ratio stays.
+void check_box_elements(const BoxGenerator& box, const SceneJsonNode& size) {
+  double h[3];
+  for (int c = 0; c < 3; ++c) h[c] = box.size[c] / box.resolution[c];
+  const double longest = std::max({h[0], h[1], h[2]});
+  if (h[0] * h[1] * h[2] / 8 > kDegenerateJacobianRatio * longest * longest * longest) return;
+  size.fail_value("its elements, " + format_number(h[0]) + " x " + format_number(h[1]) + " x " + format_number(h[2]) +
+                  ", are degenerate (det J at most " + format_number(kDegenerateJacobianRatio) +
+                  " times the longest edge cubed)");
+}
+
 BoxGenerator parse_box(const SceneJsonNode& node) {
   node.expect_object({"size", "resolution", "origin"});
   BoxGenerator box;
@@ -144,18 +173,10 @@ BoxGenerator parse_box(const SceneJsonNode& node) {
     }
   }
   if (auto origin = node.find("origin")) box.origin = origin->vec3();
+  if (auto size = node.find("size")) check_box_elements(box, *size);
   return box;
 }
 
-// Mesh paths are relative to the scene file, as a user writing the scene expects; stored
-// absolute so that later stages do not depend on the working directory.
-std::string resolve_mesh_path(const SceneJsonNode& node, const std::string& base_directory) {
-  const std::string file = node.string();
-  if (file.empty()) node.fail("must not be empty");
-  std::filesystem::path path(file);
-  if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
-  return std::filesystem::absolute(path).lexically_normal().string();
-}
 
 // A path's keyframes: [{time, translation}], at least two, the first (0, [0, 0, 0]) so that the
 // motion starts at the rest placement, times strictly increasing.
@@ -366,7 +387,7 @@ void parse_time(const SceneJsonNode& node, Scene& scene) {
     node.expect_object({"integrator", "dt", "steps"}, "for integrator \"static\"");
     scene.dt = 1.0;
     scene.steps = 1;
-    if (auto dt = node.find("dt")) scene.dt = positive(*dt);
+    if (auto dt = node.find("dt")) scene.dt = time_step(*dt);
     if (auto steps = node.find("steps")) {
       scene.steps = steps->integer();
       if (scene.steps < 1) steps->fail_value("must be >= 1");
@@ -374,7 +395,7 @@ void parse_time(const SceneJsonNode& node, Scene& scene) {
     return;
   }
   node.expect_object({"integrator", "dt", "steps", "t_end"});
-  scene.dt = positive(node.required("dt"));
+  scene.dt = time_step(node.required("dt"));
   const auto steps = node.find("steps");
   const auto t_end = node.find("t_end");
   if (steps && t_end) node.fail("give either \"steps\" or \"t_end\", not both");

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "assembly/device_matrix.hpp"
+#include "options/dipc_options.hpp"
 
 namespace dipc {
 
@@ -16,23 +17,19 @@ PetscErrorCode mixed_solve_requested(MPI_Comm comm, bool has_split_elements, dou
   PetscBool flag = has_split_elements && stiffness_ratio >= kMixedSolveStiffnessRatio ? PETSC_TRUE : PETSC_FALSE;
   PetscBool set = PETSC_FALSE;
   const MixedSolveOptions defaults;
-  const char* const schur_names[] = {"mass", "selfp", "SchurApproximation", "", nullptr};
-  const char* const fact_names[] = {"diag", "upper", "SchurFactorization", "", nullptr};
+  constexpr const OptionSpec& mixed = dipc_option("-dipc_mixed_solve");
+  constexpr const OptionSpec& schur = dipc_option("-dipc_mixed_schur");
+  constexpr const OptionSpec& fact = dipc_option("-dipc_mixed_schur_fact");
+  // PetscOptionsEnum's lists: the choices in the order of the enum, its name, its prefix, null.
+  static_assert(schur.choices.count == 2 && fact.choices.count == 2, "the choices are the enums' values");
+  const char* const schur_names[] = {schur.choices.words[0], schur.choices.words[1], "SchurApproximation", "", nullptr};
+  const char* const fact_names[] = {fact.choices.words[0], fact.choices.words[1], "SchurFactorization", "", nullptr};
   PetscEnum schur_choice = static_cast<PetscEnum>(defaults.schur);
   PetscEnum fact_choice = static_cast<PetscEnum>(defaults.factorization);
   PetscOptionsBegin(comm, nullptr, "dipc mixed u-p linear solve (mean-dilatation elements)", "SNES");
-  PetscCall(PetscOptionsBool("-dipc_mixed_solve",
-                             "Solve Newton systems of mean-dilatation elements as a mixed u-p system; "
-                             "default on when such an element has lambda/mu >= 1000 (nu >= 0.4995)",
-                             "MixedLinearSolve", flag, &flag, &set));
-  PetscCall(PetscOptionsEnum("-dipc_mixed_schur",
-                             "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 "
-                             "Bs^T) or mass (I + D W)",
-                             "MixedLinearSolve", schur_names, schur_choice, &schur_choice, nullptr));
-  PetscCall(PetscOptionsEnum("-dipc_mixed_schur_fact",
-                             "Block preconditioner of the mixed solve: diag (block diagonal, MINRES) or upper "
-                             "(block upper triangular, FGMRES)",
-                             "MixedLinearSolve", fact_names, fact_choice, &fact_choice, nullptr));
+  PetscCall(PetscOptionsBool(mixed.name, mixed.help, mixed.manual, flag, &flag, &set));
+  PetscCall(PetscOptionsEnum(schur.name, schur.help, schur.manual, schur_names, schur_choice, &schur_choice, nullptr));
+  PetscCall(PetscOptionsEnum(fact.name, fact.help, fact.manual, fact_names, fact_choice, &fact_choice, nullptr));
   PetscOptionsEnd();
   if (options) {
     options->schur = static_cast<SchurApproximation>(schur_choice);

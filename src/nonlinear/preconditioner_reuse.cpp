@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "assembly/device_matrix.hpp"
+#include "options/dipc_options.hpp"
 
 namespace dipc {
 
@@ -54,12 +55,10 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   PetscReal setup_cost = J && matrix_on_device(J) ? kDeviceSetupCost : kHostSetupCost;
   // Read inside an options block so that -help lists them with the run options.
   PetscOptionsBegin(comm, nullptr, "dipc preconditioner reuse", "SNES");
-  PetscCall(PetscOptionsBool("-dipc_pc_reuse", "Keep the preconditioner across Newton iterations while that is cheaper",
-                             "PreconditionerReuse", flag, &flag, nullptr));
-  PetscCall(PetscOptionsReal("-dipc_pc_reuse_setup_cost",
-                             "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)",
-                             "PreconditionerReuse",
-                             setup_cost, &setup_cost, nullptr));
+  constexpr const OptionSpec& reuse = dipc_option("-dipc_pc_reuse");
+  constexpr const OptionSpec& cost = dipc_option("-dipc_pc_reuse_setup_cost");
+  PetscCall(PetscOptionsBool(reuse.name, reuse.help, reuse.manual, flag, &flag, nullptr));
+  PetscCall(PetscOptionsReal(cost.name, cost.help, cost.manual, setup_cost, &setup_cost, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-snes_lag_preconditioner", &lag_set));
   enabled_ = flag;

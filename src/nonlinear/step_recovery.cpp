@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "math/number_text.hpp"
+
 namespace dipc {
 
 namespace {
@@ -38,12 +40,13 @@ void accumulate(const StepReport& sub, StepReport* total) {
   total->kappa = sub.kappa;
 }
 
+// Times and steps in messages, with %g: std::to_string's fixed 6 decimals print small steps as 0.000000.
 }  // namespace
 
 StepRecovery::StepRecovery(TimeIntegrator& integrator, double dt_min)
     : integrator_(integrator), dt_(integrator.scene_dt()), dt_min_(dt_min) {
   if (!(dt_min > 0) || dt_min > dt_)
-    throw std::invalid_argument("the smallest step must be in (0, dt = " + std::to_string(dt_) + "]");
+    throw std::invalid_argument("the smallest step must be in (0, dt = " + format_number(dt_) + "]");
 }
 
 PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep) {
@@ -84,9 +87,9 @@ PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscE
     if (sub.fatal || 0.5 * h < dt_min_ || level_ >= 60) {
       report->fatal = sub.fatal;
       report->failure = sub.fatal ? sub.failure
-                                  : "at t = " + std::to_string(integrator_.time()) + " with dt = " + std::to_string(h) +
+                                  : "at t = " + format_number(integrator_.time()) + " with dt = " + format_number(h) +
                                         ": " + sub.failure + "; step recovery ran out (halving would go below -dipc_dt_min " +
-                                        std::to_string(dt_min_) + ")";
+                                        format_number(dt_min_) + ")";
       break;
     }
     ++report->dt_cuts;

@@ -1,7 +1,8 @@
 // `dipc -help` lists every -dipc_ option that the code reads, PETSc-style, and then exits: the
 // options are found by scanning the sources (every string literal in src/ that starts with
-// "-dipc_": the options read, and the messages that name them) and in the option spec table
-// (app/option_checks.cpp), so an option added without a help entry or a table row fails here.
+// "-dipc_": the options read, and the messages that name them) and in the option table
+// (options/dipc_options.hpp), so an option added without a help entry or a table row fails here.
+// docs/options.md's table lists the same options as the option table.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -90,16 +91,38 @@ TEST_F(HelpOptions, ListsEveryOptionTheSourcesAndTheTableName) {
   const std::set<std::string> in_sources = options_in_sources();
   const std::map<std::string, std::string> listed = help_entries(help_->output);
   std::set<std::string> in_table;
-  for (const dipc::OptionSpec& spec : dipc::dipc_option_specs()) in_table.insert(spec.name);
-  // The scan is not vacuous: it finds the table's rows (option_checks.cpp is under src/) and
-  // the reads in run_options.cpp.
+  for (const dipc::OptionSpec& spec : dipc::kDipcOptions) in_table.insert(spec.name);
+  // The scan is not vacuous: it finds the table's rows (dipc_options.hpp is under src/) and the
+  // messages that name options.
   EXPECT_TRUE(in_sources.count("-dipc_steps") && in_sources.count("-dipc_pc_reuse") && in_sources.size() >= in_table.size());
   for (const std::string& name : in_sources) {
     EXPECT_TRUE(listed.count(name)) << name << " appears in src/ but not in -help";
-    EXPECT_TRUE(in_table.count(name)) << name << " appears in src/ but has no row in app/option_checks.cpp";
+    EXPECT_TRUE(in_table.count(name)) << name << " appears in src/ but has no row in options/dipc_options.hpp";
   }
   for (const std::string& name : in_table) EXPECT_TRUE(listed.count(name)) << name << " (table) is not in -help";
   for (const auto& [name, line] : listed) EXPECT_TRUE(in_table.count(name)) << name << " (-help) has no table row";
+}
+
+// Every option of the table has one line in docs/options.md's table (the first column, which may
+// name several options: "`-dipc_no_output`, `-dipc_quiet`"), and that table names no other option;
+// `-dipc_mixed_s_*` there is a prefix of PETSc options, not a dipc option.
+TEST(OptionsDocument, ListsTheOptionsOfTheTable) {
+  std::ifstream in(dipc::test::source_path("docs/options.md"));
+  ASSERT_TRUE(in) << "docs/options.md";
+  const std::regex name("`(-dipc_[a-z0-9_]*[a-z0-9])`");
+  std::set<std::string> documented;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("| `-dipc_", 0) != 0) continue;
+    const std::string first_column = line.substr(1, line.find('|', 1) - 1);
+    for (std::sregex_iterator m(first_column.begin(), first_column.end(), name), end; m != end; ++m)
+      EXPECT_TRUE(documented.insert((*m)[1]).second) << (*m)[1] << " has two rows in docs/options.md";
+  }
+  std::set<std::string> in_table;
+  for (const dipc::OptionSpec& spec : dipc::kDipcOptions) in_table.insert(spec.name);
+  for (const std::string& option : in_table)
+    EXPECT_TRUE(documented.count(option)) << option << " (options/dipc_options.hpp) is not in docs/options.md";
+  for (const std::string& option : documented)
+    EXPECT_TRUE(in_table.count(option)) << option << " (docs/options.md) is not an option of options/dipc_options.hpp";
 }
 
 // PETSc-style entries: a help text, a manual section in the parentheses (not an empty "()"),

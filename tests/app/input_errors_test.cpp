@@ -6,6 +6,8 @@
 #include <hdf5.h>
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <iterator>
@@ -25,11 +27,17 @@ struct Outcome {
   std::string output;
 };
 
-// `dipc <data file> -dipc_no_output -dipc_quiet <extra>` on `ranks` ranks (mpiexec for 2).
+// Inputs that the tests write before they run (GeneratedInputs below): directories in place of
+// mesh files, which git cannot hold, and scenes too small to be worth a data file.
+const std::string generated_dir = "generated_inputs/";
+
+// `dipc <data file> -dipc_no_output -dipc_quiet <extra>` on `ranks` ranks (mpiexec for 2); a
+// scene under generated_dir is taken from there.
 Outcome run_dipc(const std::string& scene, const std::string& extra = "", int ranks = 1) {
   const std::string launcher = ranks > 1 ? std::string(DIPC_MPIEXEC) + " -n " + std::to_string(ranks) + " " : "";
-  const std::string cmd = launcher + DIPC_BINARY + " " + dipc::test::source_dir() + "/tests/app/data/" + scene +
-                          " -dipc_no_output -dipc_quiet " + extra + " 2>&1";
+  const bool generated = scene.rfind(generated_dir, 0) == 0;
+  const std::string path = generated ? scene : dipc::test::source_dir() + "/tests/app/data/" + scene;
+  const std::string cmd = launcher + DIPC_BINARY + " " + path + " -dipc_no_output -dipc_quiet " + extra + " 2>&1";
   Outcome o{-1, ""};
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return o;
@@ -42,7 +50,7 @@ Outcome run_dipc(const std::string& scene, const std::string& extra = "", int ra
 
 struct BadInput {
   const char* name;   // the test's name
-  const char* scene;  // under tests/app/data/
+  std::string scene;  // under tests/app/data/, or generated_dir
   std::string extra;  // more arguments
   std::vector<std::string> expected;  // substrings of the message
 };
@@ -100,6 +108,64 @@ class BadCheckpoints : public ::testing::Environment {
 
 [[maybe_unused]] ::testing::Environment* const bad_checkpoints = ::testing::AddGlobalTestEnvironment(new BadCheckpoints);
 
+// A one-body scene: `body` is the body's source ("box": {...} or "mesh": "..."), `dt` the step,
+// `more` further top-level keys (with their leading comma).
+std::string one_body_scene(const std::string& body, const std::string& dt = "0.01", const std::string& more = "") {
+  return R"({"materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
+  "geometry": [{"name": "block", )" + body + R"(, "material": "rubber"}],
+  "boundary_conditions": {"gravity": [0, 0, -9.81]}, "time": {"dt": )" + dt + R"(, "steps": 2})" + more + "}\n";
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::trunc) << text; }
+
+// A dipc HDF5 mesh of one unit hexahedron whose node 2 has a NaN y coordinate.
+void write_nan_y_mesh(const std::string& path) {
+  double x[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  x[2][1] = std::nan("");
+  const std::int64_t hex[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t group = H5Gcreate2(file, "/mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t coordinates[2] = {8, 3}, topology[2] = {1, 8};
+  hid_t space = H5Screate_simple(2, coordinates, nullptr);
+  hid_t dataset = H5Dcreate2(file, "/mesh/coordinates", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x);
+  H5Dclose(dataset);
+  H5Sclose(space);
+  space = H5Screate_simple(2, topology, nullptr);
+  dataset = H5Dcreate2(file, "/mesh/topology", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(dataset, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, hex);
+  H5Dclose(dataset);
+  H5Sclose(space);
+  H5Gclose(group);
+  H5Fclose(file);
+}
+
+class GeneratedInputs : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    std::filesystem::remove_all(generated_dir);
+    for (const char* directory : {"dir.msh", "dir.h5", "dir.obj"})
+      std::filesystem::create_directories(generated_dir + directory);
+    const std::string box = R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [2, 1, 1]})";
+    write_text(generated_dir + "directory_msh.json", one_body_scene(R"("mesh": "dir.msh")"));
+    write_text(generated_dir + "directory_h5.json", one_body_scene(R"("mesh": "dir.h5")"));
+    write_text(generated_dir + "directory_obj.json",
+               one_body_scene(box, "0.01", R"(, "contact": {"enabled": true, "obstacles": [{"name": "floor", "mesh": "dir.obj"}]})"));
+    write_nan_y_mesh(generated_dir + "nan_y.h5");
+    write_text(generated_dir + "nan_y_hdf5.json", one_body_scene(R"("mesh": "nan_y.h5")"));
+    write_text(generated_dir + "tiny_dt.json", one_body_scene(box, "1e-300"));
+    write_text(generated_dir + "huge_box.json",
+               one_body_scene(R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [100000, 100000, 100000]})"));
+    write_text(generated_dir + "big_box.json",
+               one_body_scene(R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [1300, 1300, 1300]})"));
+    write_text(generated_dir + "flat_box.json",
+               one_body_scene(R"("box": {"size": [0.2, 0.1, 1e-30], "resolution": [2, 1, 1]})", "0.01",
+                              R"(, "contact": {"enabled": true})"));
+  }
+};
+
+[[maybe_unused]] ::testing::Environment* const generated_inputs = ::testing::AddGlobalTestEnvironment(new GeneratedInputs);
+
 class InputErrors : public ::testing::TestWithParam<std::tuple<BadInput, int>> {};
 
 TEST_P(InputErrors, ExitOneWithAClearMessage) {
@@ -129,6 +195,26 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"unknown_selection", "unknown_selection.json", "", {"unknown_selection.json", "cube.left"}},
             BadInput{"does_not_exist", "does_not_exist.json", "", {"does_not_exist.json"}},
             BadInput{"scene_is_a_directory", "", "", {"is a directory"}},
+            BadInput{"msh_mesh_is_a_directory", generated_dir + "directory_msh.json", "",
+                     {"directory_msh.json: geometry[0].mesh: ", "dir.msh: is a directory"}},
+            BadInput{"hdf5_mesh_is_a_directory", generated_dir + "directory_h5.json", "",
+                     {"directory_h5.json: geometry[0].mesh: ", "dir.h5: is a directory"}},
+            BadInput{"obstacle_is_a_directory", generated_dir + "directory_obj.json", "",
+                     {"directory_obj.json: contact.obstacles[0].mesh: ", "dir.obj: is a directory"}},
+            BadInput{"nan_y_hdf5_mesh", generated_dir + "nan_y_hdf5.json", "",
+                     {"nan_y.h5: node 2 has a non-finite y coordinate"}},
+            BadInput{"huge_box", generated_dir + "huge_box.json", "",
+                     {"huge_box.json: geometry[0].box.resolution [100000, 100000, 100000] gives 1000000000000000 "
+                      "elements, needing about", "GB available"}},
+            BadInput{"big_box", generated_dir + "big_box.json", "",
+                     {"big_box.json: geometry[0].box.resolution [1300, 1300, 1300] gives 2197000000 elements"}},
+            BadInput{"huge_refine", "small_box.json", "-dipc_refine 100000",
+                     {"box.resolution [2, 1, 1] x -dipc_refine 100000 gives 2000000000000000 elements"}},
+            BadInput{"refine_overflows_int", "small_box.json", "-dipc_refine 2000000000",
+                     {"x -dipc_refine 2000000000 gives more than 2147483647 elements along an axis"}},
+            BadInput{"tiny_dt", generated_dir + "tiny_dt.json", "", {"tiny_dt.json: time.dt = 1e-300: below 1e-10 s"}},
+            BadInput{"flat_box", generated_dir + "flat_box.json", "",
+                     {"flat_box.json: geometry[0].box.size = [0.2,0.1,1e-30]: ", "are degenerate"}},
             BadInput{"intersecting_bodies", "intersecting_bodies.json", "",
                      {"not intersection-free", "crosses triangle", "\"upper\"", "\"lower\""}},
             BadInput{"touching_bodies", "touching_bodies.json", "",
@@ -148,6 +234,8 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"zero_steps", "small_box.json", "-dipc_steps 0", {"-dipc_steps 0"}},
             BadInput{"non_numeric_steps", "small_box.json", "-dipc_steps abc", {"-dipc_steps abc", "not an integer"}},
             BadInput{"half_steps", "small_box.json", "-dipc_steps 2.5", {"-dipc_steps 2.5", "not an integer"}},
+            BadInput{"steps_out_of_range", "small_box.json", "-dipc_steps 99999999999",
+                     {"-dipc_steps 99999999999: out of range (at most 2147483647)"}},
             BadInput{"zero_refine", "small_box.json", "-dipc_refine 0", {"-dipc_refine 0"}},
             BadInput{"negative_velocity_tol", "small_box.json", "-dipc_velocity_tol -1", {"-dipc_velocity_tol -1"}},
             BadInput{"zero_velocity_tol_rel", "small_box.json", "-dipc_velocity_tol_rel 0", {"-dipc_velocity_tol_rel 0"}},
@@ -161,6 +249,14 @@ INSTANTIATE_TEST_SUITE_P(
             // Raised inside the solver setup as PETSC_ERR_USER_INPUT (app/petsc_input_errors.hpp).
             BadInput{"mixed_solve_without_mean_dilatation", "small_box.json", "-dipc_mixed_solve",
                      {"-dipc_mixed_solve needs mean-dilatation elements"}},
+            // PETSc's own solver options, checked before the solvers read them (check_petsc_option_values).
+            BadInput{"unknown_ksp_type", "small_box.json", "-ksp_type nonsense",
+                     {"-ksp_type nonsense: not a KSP type of this PETSc"}},
+            BadInput{"unknown_pc_type", "small_box.json", "-pc_type nonsense", {"-pc_type nonsense: not a PC type"}},
+            BadInput{"non_numeric_ksp_rtol", "small_box.json", "-ksp_rtol abc", {"-ksp_rtol abc: not a number"}},
+            BadInput{"ksp_rtol_above_one", "small_box.json", "-ksp_rtol 2", {"-ksp_rtol 2: must be in [0, 1)"}},
+            BadInput{"negative_ksp_max_it", "small_box.json", "-ksp_max_it -3",
+                     {"-ksp_max_it -3: must be an integer >= 0"}},
             BadInput{"empty_output", "small_box.json", "-dipc_output", {"-dipc_output needs a value"}},
             BadInput{"unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
             BadInput{"misspelt_flag", "small_box.json", "-dipc_check_invariant",
@@ -278,7 +374,8 @@ TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
     const int raw = pclose(pipe);
     ASSERT_TRUE(WIFEXITED(raw)) << output;
     EXPECT_EQ(WEXITSTATUS(raw), 2) << output;
-    for (const char* s : {"dipc: error: step 1 (t = 0", "Newton failed", "step recovery ran out"})
+    for (const char* s : {"dipc: error: step 1 (t = 0", "with dt = 0.005: ", "Newton failed",
+                          "step recovery ran out (halving would go below -dipc_dt_min 0.005)"})
       EXPECT_NE(output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << output;
     EXPECT_EQ(output.find("PETSC ERROR"), std::string::npos) << output;
     std::ifstream xmf(dir + "/impact.xmf");

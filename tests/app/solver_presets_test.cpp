@@ -34,13 +34,8 @@ constexpr double kNoiseFloor = 1e-10;
 constexpr double kNoiseFactor = 2.0;
 
 TEST(SolverPresets, FilesParseAndAgreeWithTheOptionTable) {
-  const OptionSpec* row = nullptr;
-  for (const OptionSpec& spec : dipc_option_specs())
-    if (std::string(spec.name) == "-dipc_preset") row = &spec;
-  ASSERT_NE(row, nullptr);
-  std::istringstream choices(row->choices);
-  std::vector<std::string> names;
-  for (std::string w; choices >> w;) names.push_back(w);
+  const std::vector<std::string> names(dipc_option("-dipc_preset").choices.begin(),
+                                       dipc_option("-dipc_preset").choices.end());
   ASSERT_EQ(names.size(), solver_presets().size());
   std::set<std::string> first_keys;
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -49,7 +44,7 @@ TEST(SolverPresets, FilesParseAndAgreeWithTheOptionTable) {
     std::set<std::string> keys;
     for (const auto& [name, value] : preset_options(preset)) {
       keys.insert(name);
-      for (const OptionSpec& spec : dipc_option_specs()) {
+      for (const OptionSpec& spec : kDipcOptions) {
         if (name == spec.name) {
           EXPECT_EQ(option_value_problem(spec, value.c_str()), "") << preset.name << ": " << name;
         }
