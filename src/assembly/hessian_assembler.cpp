@@ -5,6 +5,7 @@
 
 #include "assembly/device_matrix.hpp"
 #include "logging/log_stages.hpp"
+#include "options/dipc_options.hpp"
 
 namespace dipc {
 
@@ -15,10 +16,8 @@ PetscErrorCode read_direct_matrix(MPI_Comm comm, bool* direct) {
   PetscFunctionBeginUser;
   PetscBool flag = PETSC_TRUE;
   PetscOptionsBegin(comm, nullptr, "dipc Hessian matrix", "Mat");
-  PetscCall(PetscOptionsBool("-dipc_direct_matrix",
-                             "Make host AIJ (and device hypre) Hessians from dipc's own pattern instead of PETSc's "
-                             "COO preallocation",
-                             "DirectMatrix", flag, &flag, nullptr));
+  constexpr const OptionSpec& option = dipc_option("-dipc_direct_matrix");
+  PetscCall(PetscOptionsBool(option.name, option.help, option.manual, flag, &flag, nullptr));
   PetscOptionsEnd();
   *direct = flag == PETSC_TRUE;
   PetscFunctionReturn(0);
