@@ -24,14 +24,17 @@
 #include <string>
 #include <vector>
 
-#include "assembly/element_pattern.hpp"
+#include "assembly/hessian_pattern.hpp"
 #include "device/memory_space.hpp"
 
 namespace dipc {
 
 class VolumetricSplit;  // volumetric_split.hpp
 
-class Form {
+// The Hessian's pattern (coo_pattern, element_pattern, element_hessian, update_pattern,
+// pattern_version, pattern_may_change) is the part of a form the matrix assembler sees
+// (assembly/hessian_pattern.hpp).
+class Form : public HessianPattern {
  public:
   virtual ~Form() = default;
   virtual std::string name() const = 0;
@@ -42,21 +45,8 @@ class Form {
   virtual bool value(const double* x, double* energy) = 0;
   // Adds ∂E/∂x into g (3 per local node). Returns false as value().
   virtual bool gradient(const double* x, double* g) = 0;
-  // Global dof indices of this form's Hessian entries, fixed for the life of the pattern (for
-  // element forms the expansion of element_pattern(), which the potential does not ask for).
-  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
-  // Writes the Hessian values in coo_pattern() order. Returns false as value().
+  // Writes the Hessian values in coo_pattern() order (HessianPattern). Returns false as value().
   virtual bool hessian(const double* x, double* values) = 0;
-  // Element forms (elastic, consistent inertia) also describe their pattern as node blocks and
-  // return true: the potential then builds the matrix from the blocks and never expands
-  // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
-  // pattern must not change (pattern_may_change() false).
-  virtual bool element_pattern(ElementPattern* pattern) const { return false; }
-  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
-  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
-  // of every element's values (576 per hex) exists. Returns false as value(). A form that
-  // returns true from element_pattern() and evaluates on the host must implement it.
-  virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
   // Largest step fraction α ∈ (0, 1] along p that this form allows from x (CCD for
   // contact). 1 for forms without such a limit.
@@ -90,15 +80,6 @@ class Form {
   // Called once the arrays cover extra_nodes(), with x and p in the form's memory space: the
   // form finds what it will evaluate along the segment (contact: candidate pairs).
   virtual void prepare_segment(const double* x, const double* p) {}
-  // Called before every Hessian evaluation at x, before pattern_version() is read: a form
-  // whose pattern depends on the state (the contact active set) updates it here.
-  virtual void update_pattern(const double* x) {}
-  // Increases whenever coo_pattern() would return a different pattern.
-  virtual long pattern_version() const { return 0; }
-  // True for forms whose pattern can change after setup (contact's active set, friction's
-  // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
-  // made at setup is the only one.
-  virtual bool pattern_may_change() const { return false; }
 
   // --- A stiff volumetric part kept out of the Hessian (mixed_linear_solve.hpp) -------------
   // Forms whose Hessian holds mean-dilatation elements' rank-one volumetric terms and can hand

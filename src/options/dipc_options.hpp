@@ -106,8 +106,9 @@ inline constexpr OptionSpec kTable[] = {
     flag("-dipc_mixed_solve", "MixedLinearSolve",
          "Solve Newton systems of mean-dilatation elements as a mixed u-p system; default on when such "
          "an element has lambda/mu >= 1000 (nu >= 0.4995)"),
-    // Read in potential/incremental_potential.cpp (read_direct_matrix), which still holds its help text.
-    flag("-dipc_direct_matrix", "DirectMatrix", nullptr),
+    // Read in assembly/hessian_assembler.cpp.
+    flag("-dipc_direct_matrix", "DirectMatrix",
+         "Make host AIJ (and device hypre) Hessians from dipc's own pattern instead of PETSc's COO preallocation"),
     one_of("-dipc_mixed_schur", kSchurApproximations, "MixedLinearSolve",
            "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 Bs^T) "
            "or mass (I + D W)"),

@@ -4,26 +4,22 @@
 // form work on local arrays, reduces the energy over ranks once and scatters gradient
 // contributions of ghost nodes back to their owners once. The local nodes are the mesh's
 // (owned, then element ghosts) followed by the extra nodes forms ask for (contact surfaces of
-// other ranks); the exchange is rebuilt when those change. The Hessian is assembled with
-// MatSetValuesCOO, preallocated again only when a form's pattern changes (the contact active
-// set), never per iteration otherwise. Forms write their raw values into one array: the element
-// forms' (elastic, consistent mass) first, element by element in their layouts, then the other
-// forms' in their COO patterns' order. PETSc is given only the distinct entries: the element
-// forms' node blocks (NodeBlockReduction, built once: their patterns never change, and are never
-// expanded to 576 scalar entries per hex), then the other forms' entries outside those blocks
-// (CooReduction over their small lists); the raw values are summed into them before each
-// MatSetValuesCOO.
+// other ranks); the exchange is rebuilt when those change. The Hessian's matrix is the
+// HessianAssembler's (assembly/hessian_assembler.hpp): the potential asks it whether the forms'
+// patterns changed, has each form write its Hessian values where the assembler says, and lets
+// it sum them into the matrix.
 //
 // Forms evaluate in their own memory space (form.hpp): the potential hands each the local
 // arrays where it needs them, copying across at most once per evaluation (LocalViews), adds
-// device gradients into host ones (or the reverse) once, and assembles Hessian values where
-// the matrix lives: on the device for a device matrix (device_matrix.hpp) when device forms
-// exist, else on the host. Along a line-search segment x + αp the start x and direction p are kept in both spaces,
-// so a trial evaluation moves only α and scalars (segment_objective, segment_is_valid).
+// device gradients into host ones (or the reverse) once, and the assembler takes Hessian values
+// in each form's space. Along a line-search segment x + αp the start x and direction p are kept
+// in both spaces, so a trial evaluation moves only α and scalars (segment_objective,
+// segment_is_valid).
 //
 // Dirichlet dofs are eliminated symmetrically: their gradient entries are zero, their Hessian
-// rows and columns are zero with a unit diagonal, so Newton never moves them and CG sees an
-// SPD matrix. The time integrator sets their prescribed values in x before each solve.
+// rows and columns are zero with a unit diagonal (DirichletElimination), so Newton never moves
+// them and CG sees an SPD matrix. The time integrator sets their prescribed values in x before
+// each solve.
 #pragma once
 #include <petscmat.h>
 
@@ -31,14 +27,11 @@
 #include <memory>
 #include <vector>
 
+#include "assembly/hessian_assembler.hpp"
 #include "device/device_runtime.hpp"
-#include "assembly/coo_reduction.hpp"
-#include "assembly/direct_matrix.hpp"
 #include "forms/form.hpp"
-#include "assembly/large_page_vector.hpp"
-#include "potential/local_views.hpp"
-#include "assembly/node_block_reduction.hpp"
 #include "partition/ghost_exchange.hpp"
+#include "potential/local_views.hpp"
 
 namespace dipc {
 
@@ -127,7 +120,7 @@ class IncrementalPotential {
   // 3 flags per local node (mesh nodes first), the Dirichlet dofs.
   const std::vector<char>& prescribed_dofs() const { return dirichlet_dof_; }
   // Raw Hessian values the forms write per assembly (576 per hex for the elastic form).
-  std::int64_t num_hessian_entries() const { return static_cast<std::int64_t>(num_raw_entries_); }
+  std::int64_t num_hessian_entries() const { return static_cast<std::int64_t>(assembler_.num_raw_entries()); }
   const EvaluationTimes& times() const { return times_; }
 
  private:
@@ -144,89 +137,27 @@ class IncrementalPotential {
   PetscErrorCode all_ranks(bool ok, PetscBool* all);
   // Builds w = x + αp of the kept segment in every space the forms use.
   void segment_point(PetscReal alpha);
-  // Hessian values of every form at x into values_ (host matrix) or d_values_ (device matrix);
-  // host forms of a device matrix go through host_block_.
-  bool assemble_values(LocalViews& x, bool on_device);
-  // Element form f's values chunk by chunk into unique_values_ (chunked_); false as hessian().
-  bool add_element_chunks(std::size_t f, const double* x);
-  // The raw values summed into the matrix's entries, eliminated; returns them (device memory
-  // for a device matrix).
-  double* sum_values(bool on_device);
+  // Hessian values of every form at x, written where the assembler takes them.
+  bool assemble_values(LocalViews& x);
   PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
   PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
-  // The element forms' node-block map and their place in the raw values (once).
-  PetscErrorCode build_element_blocks();
-  // The other forms' COO pattern, the matrix's entries, the Dirichlet elimination and the
-  // preallocation of J_ (set by create_matrix before the first call).
-  // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
-  // it), else the matrix in use (a direct matrix takes over its contents).
-  PetscErrorCode rebuild_pattern(bool template_matrix);
-  // zero_entries_ and one_entries_ of the Dirichlet elimination, among the blocks' entries and
-  // the extra ones after them (rebuild_pattern()).
-  void find_dirichlet_entries(const std::vector<PetscInt>& extra_rows, const std::vector<PetscInt>& extra_cols);
-  bool pattern_changed() const;
 
   MPI_Comm comm_ = MPI_COMM_NULL;
   const DistributedMesh* mesh_ = nullptr;
   GhostExchange exchange_;
   std::vector<std::int64_t> local_to_global_;  // mesh local nodes, then the forms' extra nodes
   std::vector<std::unique_ptr<Form>> forms_;
-  std::vector<long> pattern_versions_;
   std::vector<char> dirichlet_dof_;            // over local_to_global_ (3 per node)
   Vec dirichlet_global_ = nullptr;             // 1 at prescribed dofs, to flag extra nodes
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
-  Mat J_ = nullptr;                            // not owned
-  // Each form's values in the raw array: start and count; element forms first.
-  std::vector<std::size_t> form_begin_, form_size_;
-  std::vector<int> element_map_;               // per form: its index among blocks_.forms, or -1
-  // Host element forms of a host matrix: their values are summed element chunk by chunk
-  // (add_element_chunks), never all held; values_ then starts at the other forms' values.
-  bool chunked_ = false;
-  std::vector<double> chunk_values_;
-  std::size_t host_raw_offset() const { return chunked_ ? num_element_raw_ : 0; }
-  std::size_t num_element_raw_ = 0;            // raw values of the element forms (the array's start)
-  std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
-  std::size_t num_raw_entries_ = 0;            // element forms, other forms, Dirichlet diagonal
-  bool device_matrix_ = false;                 // values are summed on the device (device forms and matrix)
-  // The raw values on the host: only for a host matrix, and without the element forms' when
-  // chunked_. With a device matrix the host keeps neither these nor the maps, only the block of
-  // the largest host form (friction) in host_block_.
-  LargePageVector<PetscScalar> values_;
-  std::vector<PetscScalar> host_block_;
-  // Raw values -> the matrix's entries. Per hex element (576 raw elastic values, 192 more with a
-  // consistent mass; about 27 node blocks, 243 entries): 4 B per element node pair (64 per hex
-  // and element form) and, per block, 4 B per element form, 2 B of mask and 8 B of start, where
-  // the values are summed (the host, or the device with a device matrix); the summed values
-  // take 8 B per entry.
-  bool blocks_built_ = false;
-  NodeBlockReduction blocks_;
-  std::size_t num_block_entries_ = 0;          // the matrix's entries held by node blocks (its first)
-  DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
-  DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
-  bool direct_matrix_allowed_ = true;          // -dipc_direct_matrix, read at setup
-  CooReduction reduction_;                     // the other forms' raw values (and the Dirichlet diagonal)
-  std::vector<std::size_t> scalar_target_;     // reduction_'s unique entry -> the matrix's entry
-  std::vector<double> scalar_sums_;
-  std::vector<std::size_t> zero_entries_, one_entries_;  // Dirichlet elimination of the matrix's entries
-  std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
-  LargePageVector<PetscScalar> unique_values_;
+  HessianAssembler assembler_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
   LocalViews x_views_;
   Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
   std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)
   device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
-  device::Array<double> d_values_{"Hessian COO values"};
-  device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
-  device::Array<std::uint64_t> d_block_start_{"node-block starts"};
-  std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form
-  device::Array<CooReduction::Index> d_reduction_offsets_{"COO reduction offsets"},
-      d_reduction_sources_{"COO reduction sources"};
-  device::Array<double> d_scalar_sums_{"summed COO values of the other forms"};
-  device::Array<std::size_t> d_scalar_target_{"COO entries in the matrix"}, d_zero_entries_{"Dirichlet zero entries"},
-      d_one_entries_{"Dirichlet diagonal entries"};
-  device::Array<double> d_unique_values_{"Hessian unique COO values"};
   // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
   std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;
   device::Array<double> seg_x_device_{"segment start"}, seg_p_device_{"segment direction"},

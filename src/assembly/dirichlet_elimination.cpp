@@ -1,0 +1,64 @@
+#include "assembly/dirichlet_elimination.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace dipc {
+
+void DirichletElimination::find(const NodeBlockReduction& blocks, const std::vector<PetscInt>& extra_rows,
+                                const std::vector<PetscInt>& extra_cols,
+                                const std::vector<std::int64_t>& local_to_global, const std::vector<char>& prescribed,
+                                PetscInt owned_begin, PetscInt owned_end) {
+  // Prescribed global dofs as a bitmap over their id range; a block whose two nodes have none is
+  // passed over whole.
+  zero_entries_.clear();
+  one_entries_.clear();
+  PetscInt lo = std::numeric_limits<PetscInt>::max(), hi = -1;
+  for (std::size_t n = 0; n < local_to_global.size(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (prescribed[3 * n + c]) {
+        const PetscInt dof = static_cast<PetscInt>(3 * local_to_global[n] + c);
+        lo = std::min(lo, dof), hi = std::max(hi, dof);
+      }
+  if (hi < lo) return;
+  std::vector<bool> bitmap(static_cast<std::size_t>(hi - lo + 1), false);
+  for (std::size_t n = 0; n < local_to_global.size(); ++n)
+    for (int c = 0; c < 3; ++c)
+      if (prescribed[3 * n + c]) bitmap[static_cast<PetscInt>(3 * local_to_global[n] + c) - lo] = true;
+  const auto is_prescribed = [&](std::int64_t dof) { return dof >= lo && dof <= hi && bitmap[dof - lo]; };
+  const auto node_prescribed = [&](std::int64_t node) {
+    return is_prescribed(3 * node) || is_prescribed(3 * node + 1) || is_prescribed(3 * node + 2);
+  };
+  const auto classify = [&](std::size_t u, std::int64_t r, std::int64_t c) {
+    if (!is_prescribed(r) && !is_prescribed(c)) return;
+    const bool owned_diagonal = r == c && r >= owned_begin && r < owned_end;
+    (owned_diagonal ? one_entries_ : zero_entries_).push_back(u);
+  };
+  for (std::size_t s = 0; s < blocks.row_nodes.size(); ++s) {
+    const std::int64_t row_node = blocks.row_nodes[s];
+    const bool row_any = node_prescribed(row_node);
+    for (std::size_t k = blocks.row_start[s]; k < blocks.row_start[s + 1]; ++k) {
+      if (!row_any && !node_prescribed(blocks.block_col[k])) continue;
+      blocks.for_each_entry(row_node, k, classify);
+    }
+  }
+  const std::size_t num_block_entries = blocks.num_entries();
+  for (std::size_t v = 0; v < extra_rows.size(); ++v) classify(num_block_entries + v, extra_rows[v], extra_cols[v]);
+}
+
+void DirichletElimination::keep_on_device() {
+  d_zero_entries_.upload(zero_entries_);
+  d_one_entries_.upload(one_entries_);
+}
+
+void DirichletElimination::apply(double* unique) const {
+  for (std::size_t u : zero_entries_) unique[u] = 0;
+  for (std::size_t u : one_entries_) unique[u] = 1;
+}
+
+void DirichletElimination::apply_on_device(double* d_unique) const {
+  device::eliminate(d_unique, d_zero_entries_.data(), zero_entries_.size(), d_one_entries_.data(),
+                    one_entries_.size());
+}
+
+}  // namespace dipc

@@ -1,0 +1,87 @@
+#include "assembly/element_block_part.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "assembly/cuda/element_kernels.hpp"
+
+namespace dipc {
+
+PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Input>& inputs, bool device_sums,
+                                       bool chunked, std::int64_t owned_begin, std::int64_t owned_end) {
+  PetscFunctionBeginUser;
+  PetscCheck(inputs.size() <= static_cast<std::size_t>(device::kMaxElementBlockMaps), PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "%zu element forms; the node-block reduction takes at most %d", inputs.size(),
+             device::kMaxElementBlockMaps);
+  try {
+    if (device_sums) {
+      // The device sums the values through the maps: they are built there (a radix sort of the
+      // element node pairs) and stay there; the host gets the pattern.
+      device::NodeBlocks on_device;
+      blocks_ = NodeBlockReduction::build_on_device(inputs, owned_begin, owned_end, &on_device);
+      d_block_mask_.resize(on_device.mask.size());
+      device::copy_on_device(d_block_mask_.data(), on_device.mask.data(), on_device.mask.size() * sizeof(std::uint16_t));
+      d_block_start_.resize(on_device.start.size());
+      device::copy_on_device(d_block_start_.data(), on_device.start.data(),
+                             on_device.start.size() * sizeof(std::uint64_t));
+      for (std::size_t m = 0; m < inputs.size(); ++m) {
+        d_block_offsets_.push_back(std::move(on_device.offsets[m]));
+        d_block_sources_.push_back(std::move(on_device.sources[m]));
+      }
+    } else {
+      blocks_ = NodeBlockReduction::build(inputs, owned_begin, owned_end);
+    }
+    chunked_ = chunked;
+    if (chunked_) blocks_.index_elements();
+  } catch (const std::length_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+  }
+  built_ = true;
+  PetscFunctionReturn(0);
+}
+
+void ElementBlockPart::keep_on_device() {
+  if (!d_block_sources_.empty()) return;
+  d_block_mask_.upload(blocks_.block_mask);
+  d_block_start_.upload(blocks_.block_start);
+  for (auto& form : blocks_.forms) {
+    d_block_offsets_.emplace_back("node-block offsets");
+    d_block_offsets_.back().upload(form.offsets);
+    d_block_sources_.emplace_back("node-block sources");
+    d_block_sources_.back().upload(form.sources);
+    LargePageVector<std::uint32_t>().swap(form.offsets);
+    LargePageVector<std::uint32_t>().swap(form.sources);
+  }
+}
+
+void ElementBlockPart::reduce(const double* raw, double* unique) const {
+  if (!chunked_) blocks_.reduce(raw, unique);
+}
+
+void ElementBlockPart::reduce_on_device(const double* d_raw, double* d_unique) const {
+  std::vector<device::ElementBlockMap> maps;
+  for (std::size_t m = 0; m < blocks_.forms.size(); ++m)
+    maps.push_back({blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(),
+                    d_block_sources_[m].data()});
+  device::reduce_element_blocks(d_raw, blocks_.num_blocks(), d_block_mask_.data(), d_block_start_.data(), maps.data(),
+                                static_cast<int>(maps.size()), d_unique);
+}
+
+bool ElementBlockPart::add_chunks(std::size_t m, HessianPattern& form, const double* x, double* unique) {
+  // Small enough to stay in cache (9.4 MB of elastic values), large enough that the calls cost
+  // nothing.
+  constexpr int kChunk = 2048;
+  ElementPattern pattern;
+  form.element_pattern(&pattern);
+  chunk_values_.resize(static_cast<std::size_t>(kChunk) * element_values(pattern.layout));
+  bool ok = true;
+  for (int first = 0; first < pattern.num_elements; first += kChunk) {
+    const int count = std::min(kChunk, pattern.num_elements - first);
+    ok = form.element_hessian(x, first, count, chunk_values_.data()) && ok;
+    blocks_.add_elements(m, first, count, chunk_values_.data(), unique);
+  }
+  return ok;
+}
+
+}  // namespace dipc

@@ -1,0 +1,150 @@
+// HessianAssembler: the Hessian as a distributed PETSc matrix, its pattern made from the terms'
+// patterns (HessianPattern) and its values summed from the raw values the terms write.
+//
+// The matrix is preallocated again only when a term's pattern changes (the contact active set),
+// never per iteration otherwise. The terms (the potential's forms, in their order) write their
+// raw values into one array made of parts, each with its own reduction into the matrix's
+// distinct entries, so that a part can be rebuilt without the others (the element part is
+// never rebuilt) and a further part could be given its own home:
+//   element part  the element forms' values (elastic, consistent mass), element by element in
+//                 their layouts, first, so that their offsets stay put when the other terms'
+//                 patterns change; summed into the distinct node blocks (ElementBlockPart,
+//                 built once: their patterns never change, and are never expanded to 576
+//                 scalar entries per hex), the matrix's first entries;
+//   COO part      the other terms' values in their COO patterns' order, then the owned
+//                 Dirichlet diagonal (in the pattern only: the elimination sets its value);
+//                 summed over their small lists (CooPart) onto the blocks, or onto entries of
+//                 their own after the blocks'.
+// The Dirichlet elimination (DirichletElimination) then sets the prescribed rows and columns.
+// PETSc is given only the distinct entries: through MatSetValuesCOO, or written straight into
+// the matrix's arrays for the types DirectMatrix serves.
+//
+// Values are summed where the matrix lives: on the device for a device matrix
+// (device_matrix.hpp) when device terms exist, else on the host. A term writes its raw values
+// in its own memory space (values_for), and they cross to the other space once where needed.
+#pragma once
+#include <petscmat.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "assembly/coo_part.hpp"
+#include "assembly/direct_matrix.hpp"
+#include "assembly/dirichlet_elimination.hpp"
+#include "assembly/element_block_part.hpp"
+#include "assembly/hessian_pattern.hpp"
+#include "assembly/large_page_vector.hpp"
+#include "device/device_runtime.hpp"
+#include "device/memory_space.hpp"
+
+namespace dipc {
+
+class HessianAssembler {
+ public:
+  // A term of the Hessian: its pattern, the memory space it writes its values in, and its name
+  // (for messages).
+  struct Term {
+    HessianPattern* pattern = nullptr;
+    MemorySpace space = MemorySpace::host;
+    std::string name;
+  };
+  // The rank's dofs: it owns the nodes [node_offset, node_offset + num_owned_nodes). The
+  // caller's local nodes' global ids and Dirichlet flags (3 per local node) are read at every
+  // pattern rebuild (they grow when terms reach nodes of other ranks), so they must outlive
+  // the assembler.
+  struct Dofs {
+    MPI_Comm comm = MPI_COMM_NULL;
+    std::int64_t node_offset = 0;
+    int num_owned_nodes = 0;
+    const std::vector<std::int64_t>* local_to_global = nullptr;
+    const std::vector<char>* prescribed = nullptr;
+  };
+
+  HessianAssembler() = default;
+  HessianAssembler(const HessianAssembler&) = delete;
+  HessianAssembler& operator=(const HessianAssembler&) = delete;
+
+  // Reads -dipc_direct_matrix. The pattern is built by create_matrix().
+  PetscErrorCode setup(const Dofs& dofs, std::vector<Term> terms);
+  // A matrix with the combined pattern preallocated (type from -mat_type, default aij). The
+  // assembler keeps a reference to re-preallocate it when a pattern changes.
+  PetscErrorCode create_matrix(Mat* J);
+  // The matrix of the last create_matrix(), or null after forget_matrix().
+  Mat matrix() const { return J_; }
+  // The caller replaces the matrix: the next create_matrix() rebuilds the pattern.
+  void forget_matrix() { J_ = nullptr; }
+
+  // Collective. Lets the terms fix their patterns at x (host array); *changed on every rank
+  // when the combined pattern differs from the matrix's.
+  PetscErrorCode update_patterns(const double* x, bool* changed);
+  // Collective. The matrix in use takes the terms' current pattern (its handle stays).
+  PetscErrorCode rebuild_pattern() { return rebuild_pattern(false); }
+
+  // One assembly: begin_values(); per term either add_element_chunks() (where
+  // sums_element_chunks()) or its values written into values_for() followed by
+  // values_written(); then insert_values().
+  PetscErrorCode begin_values();
+  bool sums_element_chunks(std::size_t t) const { return elements_.chunked() && element_map_[t] >= 0; }
+  // Element term t's values at x (host array), computed and summed chunk by chunk; false if
+  // the term rejects x.
+  bool add_element_chunks(std::size_t t, const double* x);
+  // Where term t writes its raw values (coo_pattern() order), in its memory space.
+  double* values_for(std::size_t t);
+  // After term t wrote into values_for(t): its values go where the matrix sums them.
+  void values_written(std::size_t t);
+  // Collective. The raw values summed into the matrix's entries, eliminated, and set into it.
+  PetscErrorCode insert_values();
+
+  // Raw Hessian values per assembly (576 per hex for the elastic form), the Dirichlet diagonal
+  // included.
+  std::size_t num_raw_entries() const { return num_raw_entries_; }
+
+ private:
+  // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
+  // it), else the matrix in use (a direct matrix takes over its contents).
+  PetscErrorCode rebuild_pattern(bool template_matrix);
+  // The element terms' node blocks and their place in the raw values (once).
+  PetscErrorCode build_element_part();
+  // The other terms' COO lists and the Dirichlet diagonal, and their place in the raw values.
+  PetscErrorCode build_coo_part();
+  // The matrix J_ from the entries: the blocks', then (extra_rows[v], extra_cols[v]).
+  PetscErrorCode make_matrix(bool template_matrix, const std::vector<PetscInt>& extra_rows,
+                             const std::vector<PetscInt>& extra_cols);
+  // The raw values summed into the matrix's entries, eliminated; returns them (device memory
+  // for a device matrix).
+  double* sum_values();
+  std::size_t host_raw_offset() const { return elements_.chunked() ? num_element_raw_ : 0; }
+  bool pattern_changed() const;
+
+  Dofs dofs_;
+  std::vector<Term> terms_;
+  std::vector<long> pattern_versions_;
+  bool any_device_ = false;                    // terms that write on the device
+  bool direct_matrix_allowed_ = true;          // -dipc_direct_matrix, read at setup
+  Mat J_ = nullptr;                            // not owned
+  bool device_matrix_ = false;                 // values are summed on the device (device terms and matrix)
+  // Each term's values in the raw array: start and count; element terms first.
+  std::vector<std::size_t> term_begin_, term_size_;
+  std::vector<int> element_map_;               // per term: its index among the node blocks' forms, or -1
+  std::size_t num_element_raw_ = 0;            // raw values of the element part (the array's start)
+  std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
+  std::size_t num_raw_entries_ = 0;            // element part, COO part (with the Dirichlet diagonal)
+  // The raw values on the host: only for a host matrix, and without the element part's when it
+  // is summed chunk by chunk (values_ then starts at the COO part). With a device matrix the host
+  // keeps neither these nor the maps, only the block of the largest host term (friction) in
+  // host_block_. d_values_ holds all of them wherever device terms exist.
+  LargePageVector<PetscScalar> values_;
+  std::vector<PetscScalar> host_block_;
+  device::Array<double> d_values_{"Hessian COO values"};
+  ElementBlockPart elements_;
+  CooPart others_;
+  DirichletElimination dirichlet_;
+  std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
+  LargePageVector<PetscScalar> unique_values_;
+  device::Array<double> d_unique_values_{"Hessian unique COO values"};
+  DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
+  DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
+};
+
+}  // namespace dipc

@@ -1,0 +1,48 @@
+// HessianPattern: what the matrix assembler (hessian_assembler.hpp) asks of a term of the
+// Hessian, and nothing else: its entries as a COO list or as element node blocks, the element
+// forms' values chunk by chunk, and whether and when the pattern changes.
+//
+// Every Form is one (forms/form.hpp); the assembler sees only this interface, so that the
+// matrix's code does not depend on what a form evaluates, and a term that is not a form could
+// hand its entries to the matrix the same way.
+#pragma once
+#include <petscsys.h>
+
+#include <vector>
+
+#include "assembly/element_pattern.hpp"
+
+namespace dipc {
+
+class HessianPattern {
+ public:
+  virtual ~HessianPattern() = default;
+
+  // Global dof indices of this term's Hessian entries, fixed for the life of the pattern (for
+  // element forms the expansion of element_pattern(), which the assembler does not ask for).
+  // The values are written in this order (Form::hessian).
+  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
+  // Element forms (elastic, consistent inertia) also describe their pattern as node blocks and
+  // return true: the assembler then builds the matrix from the blocks and never expands
+  // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
+  // pattern must not change (pattern_may_change() false).
+  virtual bool element_pattern(ElementPattern* pattern) const { return false; }
+  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
+  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
+  // of every element's values (576 per hex) exists. Returns false if x is not admissible (as
+  // Form::value). A form that returns true from element_pattern() and evaluates on the host
+  // must implement it.
+  virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
+
+  // Called before every Hessian evaluation at x (a host array), before pattern_version() is
+  // read: a term whose pattern depends on the state (the contact active set) updates it here.
+  virtual void update_pattern(const double* x) {}
+  // Increases whenever coo_pattern() would return a different pattern.
+  virtual long pattern_version() const { return 0; }
+  // True for terms whose pattern can change after setup (contact's active set, friction's
+  // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
+  // made at setup is the only one.
+  virtual bool pattern_may_change() const { return false; }
+};
+
+}  // namespace dipc
