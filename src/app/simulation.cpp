@@ -703,7 +703,6 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
   PetscFunctionReturn(0);
 }
 
-// Times and steps in messages, with %g: std::to_string's fixed 6 decimals print small steps as 0.000000.
 }  // namespace
 
 PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
