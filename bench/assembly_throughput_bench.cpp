@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "bench_args.hpp"
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/element_loops.hpp"
+#include "bench_args.hpp"
 #include "device/device_runtime.hpp"
 
 namespace {
@@ -62,8 +62,8 @@ Block make_block(long n, unsigned seed) {
   for (int l = 0; l < k && count < n; ++l)
     for (int j = 0; j < m && count < n; ++j)
       for (int i = 0; i < m && count < n; ++i, ++count) {
-        const int c[8] = {id(i, j, l),         id(i + 1, j, l),         id(i + 1, j + 1, l),     id(i, j + 1, l),
-                          id(i, j, l + 1),     id(i + 1, j, l + 1),     id(i + 1, j + 1, l + 1), id(i, j + 1, l + 1)};
+        const int c[8] = {id(i, j, l),     id(i + 1, j, l),     id(i + 1, j + 1, l),     id(i, j + 1, l),
+                          id(i, j, l + 1), id(i + 1, j, l + 1), id(i + 1, j + 1, l + 1), id(i, j + 1, l + 1)};
         b.nodes.insert(b.nodes.end(), c, c + 8);
         b.lambda.push_back(4e6);
         b.mu.push_back(1e6);
@@ -166,8 +166,8 @@ int main(int argc, char** argv) {
                   gpu_rate, bw / 1e9, copy_bandwidth > 0 ? 100 * bw / copy_bandwidth : 0.0,
                   gpu ? gpu_rate / cpu_rate : 0.0);
       if (csv)
-        std::fprintf(csv, "%ld,%d,%.6g,%.6g,%.6g,%.6g,%.1f,%.1f,%.3f\n", n, ranks, cpu_best, cpu_rate, gpu_best, gpu_rate,
-                     bw / 1e9, copy_bandwidth / 1e9, gpu ? gpu_rate / cpu_rate : 0.0);
+        std::fprintf(csv, "%ld,%d,%.6g,%.6g,%.6g,%.6g,%.1f,%.1f,%.3f\n", n, ranks, cpu_best, cpu_rate, gpu_best,
+                     gpu_rate, bw / 1e9, copy_bandwidth / 1e9, gpu ? gpu_rate / cpu_rate : 0.0);
       std::fflush(stdout);
     }
   }

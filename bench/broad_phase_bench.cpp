@@ -50,9 +50,9 @@ Surface bent_cube(int n, unsigned seed) {
         if (i != 0 && i != n && j != 0 && j != n && k != 0 && k != n) continue;
         id[lattice(i, j, k)] = s.num_vertices();
         const double x = double(i) / n, y = double(j) / n, z = double(k) / n;
-        s.x0.insert(s.x0.end(), {x + 0.05 * std::sin(3.1 * y + 0.3) * std::cos(1.7 * z),
-                                 y + 0.04 * std::sin(2.3 * z + 1.1) + 0.02 * x * x,
-                                 z + 0.03 * std::cos(2.9 * x - 0.4) * y});
+        s.x0.insert(s.x0.end(),
+                    {x + 0.05 * std::sin(3.1 * y + 0.3) * std::cos(1.7 * z),
+                     y + 0.04 * std::sin(2.3 * z + 1.1) + 0.02 * x * x, z + 0.03 * std::cos(2.9 * x - 0.4) * y});
       }
   for (int axis = 0; axis < 3; ++axis)
     for (int side : {0, n})

@@ -105,7 +105,8 @@ struct BoxMesh {
 BoxMesh make_box(long long target_elements, std::uint64_t seed) {
   BoxMesh m;
   m.nx = m.ny = std::max(1, static_cast<int>(std::cbrt(static_cast<double>(target_elements))));
-  m.nz = static_cast<int>((target_elements + static_cast<long long>(m.nx) * m.ny - 1) / (static_cast<long long>(m.nx) * m.ny));
+  m.nz = static_cast<int>((target_elements + static_cast<long long>(m.nx) * m.ny - 1) /
+                          (static_cast<long long>(m.nx) * m.ny));
   const long long num_nodes = static_cast<long long>(m.nx + 1) * (m.ny + 1) * (m.nz + 1);
   const long long num_elements = static_cast<long long>(m.nx) * m.ny * m.nz;
   if (num_nodes > INT32_MAX || num_elements > INT32_MAX)
@@ -136,7 +137,8 @@ BoxMesh make_box(long long target_elements, std::uint64_t seed) {
   for (int k = 0; k < m.nz; ++k)
     for (int j = 0; j < m.ny; ++j)
       for (int i = 0; i < m.nx; ++i) {
-        for (int a = 0; a < 8; ++a) m.nodes.push_back(static_cast<std::int32_t>(node_id(i + di[a], j + dj[a], k + dk[a])));
+        for (int a = 0; a < 8; ++a)
+          m.nodes.push_back(static_cast<std::int32_t>(node_id(i + di[a], j + dj[a], k + dk[a])));
         double lambda, mu;
         dipc::lame_parameters(1e6 * (1.0 + 0.5 * ((i + j + k) % 3)), 0.3 + 0.05 * (k % 4), &lambda, &mu);
         m.lambda.push_back(lambda);
@@ -202,27 +204,39 @@ int main(int argc, char** argv) {
         // Pre-touched so page faults of the first write are not timed.
         std::vector<double> coo_values(static_cast<std::size_t>(dipc::kElasticCooPerElement) * n, 0.0);
         double energy = 0;
-        record("energy", best_time(opt.repeat, [&] { require(dipc::elastic_energy(block, mesh.x.data(), &energy), "energy"); }), 0);
-        record("gradient", best_time(opt.repeat, [&] {
-                 std::fill(g.begin(), g.end(), 0.0);
-                 require(dipc::elastic_gradient(block, mesh.x.data(), g.data()), "gradient");
-               }), 0);
-        record("hessian_coo", best_time(opt.repeat, [&] {
-                 require(dipc::elastic_hessian(block, mesh.x.data(), coo_values.data()), "hessian");
-               }), value_bytes);
-        record("fused_e_g_h", best_time(opt.repeat, [&] {
-                 std::fill(g.begin(), g.end(), 0.0);
-                 require(dipc::elastic_energy_gradient_hessian(block, mesh.x.data(), &energy, g.data(), coo_values.data()),
-                         "fused");
-               }), value_bytes);
-        record("min_volume_ratio", best_time(opt.repeat, [&] { dipc::min_volume_ratio(block, mesh.x.data(), nullptr); }), 0);
+        record("energy",
+               best_time(opt.repeat, [&] { require(dipc::elastic_energy(block, mesh.x.data(), &energy), "energy"); }),
+               0);
+        record("gradient",
+               best_time(opt.repeat,
+                         [&] {
+                           std::fill(g.begin(), g.end(), 0.0);
+                           require(dipc::elastic_gradient(block, mesh.x.data(), g.data()), "gradient");
+                         }),
+               0);
+        record("hessian_coo",
+               best_time(opt.repeat,
+                         [&] { require(dipc::elastic_hessian(block, mesh.x.data(), coo_values.data()), "hessian"); }),
+               value_bytes);
+        record("fused_e_g_h",
+               best_time(opt.repeat,
+                         [&] {
+                           std::fill(g.begin(), g.end(), 0.0);
+                           require(dipc::elastic_energy_gradient_hessian(block, mesh.x.data(), &energy, g.data(),
+                                                                         coo_values.data()),
+                                   "fused");
+                         }),
+               value_bytes);
+        record("min_volume_ratio",
+               best_time(opt.repeat, [&] { dipc::min_volume_ratio(block, mesh.x.data(), nullptr); }), 0);
       }
       {
         std::vector<std::int32_t> coo_rows, coo_cols;
         dipc::elastic_coo_pattern(block, mesh.local_to_global.data(), &coo_rows, &coo_cols);  // allocate + touch
-        record("coo_pattern", best_time(opt.repeat, [&] {
-                 dipc::elastic_coo_pattern(block, mesh.local_to_global.data(), &coo_rows, &coo_cols);
-               }), 2.0 * sizeof(std::int32_t) * dipc::kElasticCooPerElement * n);
+        record("coo_pattern",
+               best_time(opt.repeat,
+                         [&] { dipc::elastic_coo_pattern(block, mesh.local_to_global.data(), &coo_rows, &coo_cols); }),
+               2.0 * sizeof(std::int32_t) * dipc::kElasticCooPerElement * n);
       }
     }
   } catch (const std::exception& e) {

@@ -94,14 +94,15 @@ int main(int argc, char** argv) {
       PetscCall(PetscFinalize());
       return 1;
     }
-    std::fprintf(csv, "backend,mat_type,ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,"
-                      "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s,pc_setups,per_step_s,"
-                      "threads_per_rank\n");
+    std::fprintf(
+        csv, "backend,mat_type,ranks,elements,dofs,steps,newton_its,ksp_its,partition_s,setup_s,assembly_s,"
+             "coo_insert_s,line_search_s,contact_s,amg_setup_s,ksp_solve_s,total_s,per_newton_s,pc_setups,per_step_s,"
+             "threads_per_rank\n");
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "backend %s, Mat %s, solver preset %s\n", backend, mat_type, preset.c_str()));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks",
-                        "elements", "dofs", "newton", "ksp", "assembly", "coo_ins", "lsearch", "amg_setup",
-                        "ksp_solve", "total", "s/newton"));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6s %9s %9s %6s %6s | %9s %9s %9s %9s %9s %9s | %9s\n", "ranks", "elements",
+                        "dofs", "newton", "ksp", "assembly", "coo_ins", "lsearch", "amg_setup", "ksp_solve", "total",
+                        "s/newton"));
   for (PetscInt i = 0; i < nsizes; ++i) {
     dipc::Scene scene = box_scene(sizes[i]);
     dipc::RunOptions options;  // the -dipc_ options, with this scene's defaults
@@ -122,15 +123,16 @@ int main(int argc, char** argv) {
     // more iterations per step, so both are written.
     const double solve_time = t.assembly + t.line_search + t.linear_solve;
     const double per_newton = r.newton_iterations ? solve_time / r.newton_iterations : 0;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%6d %9lld %9lld %6lld %6lld | %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f | %9.4f%s\n",
-                          ranks, r.num_elements, r.num_dofs, r.newton_iterations, r.linear_iterations, t.assembly,
-                          t.coo_insert, t.line_search, pc, ksp, t.total, per_newton,
-                          r.failure.empty() ? "" : "  (FAILED)"));
+    PetscCall(
+        PetscPrintf(PETSC_COMM_WORLD, "%6d %9lld %9lld %6lld %6lld | %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f | %9.4f%s\n",
+                    ranks, r.num_elements, r.num_dofs, r.newton_iterations, r.linear_iterations, t.assembly,
+                    t.coo_insert, t.line_search, pc, ksp, t.total, per_newton, r.failure.empty() ? "" : "  (FAILED)"));
     if (csv)
-      std::fprintf(csv, "%s,%s,%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%lld,%.6f,%d\n",
+      std::fprintf(csv,
+                   "%s,%s,%d,%lld,%lld,%d,%lld,%lld,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%lld,%.6f,%d\n",
                    backend, mat_type, ranks, r.num_elements, r.num_dofs, (int)steps, r.newton_iterations,
-                   r.linear_iterations, t.partition, t.setup, t.assembly, t.coo_insert, t.line_search, t.contact, pc, ksp,
-                   t.total, per_newton, setups, solve_time / steps, r.openmp_threads);
+                   r.linear_iterations, t.partition, t.setup, t.assembly, t.coo_insert, t.line_search, t.contact, pc,
+                   ksp, t.total, per_newton, setups, solve_time / steps, r.openmp_threads);
   }
   if (csv) std::fclose(csv);
   // Peak host memory of the largest rank over all sizes (getrusage: kilobytes on Linux).

@@ -47,9 +47,10 @@ BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long e
   const long per_rank = total / size;
   if (min_devices == 0) {
     if (requested == "cuda")
-      throw std::runtime_error(device::built_with_cuda()
-                                   ? "-dipc_backend cuda: no CUDA device visible on at least one rank"
-                                   : "-dipc_backend cuda: dipc was built without CUDA (configure with -DDIPC_WITH_CUDA=ON)");
+      throw std::runtime_error(
+          device::built_with_cuda()
+              ? "-dipc_backend cuda: no CUDA device visible on at least one rank"
+              : "-dipc_backend cuda: dipc was built without CUDA (configure with -DDIPC_WITH_CUDA=ON)");
     choice.description = device::built_with_cuda() ? "cpu (auto: no CUDA device)" : "cpu (auto: built without CUDA)";
     return choice;
   }
@@ -75,7 +76,8 @@ BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long e
   int most_ranks = place.ranks;
   MPI_Allreduce(&place.ranks, &most_ranks, 1, MPI_INT, MPI_MAX, comm);
   if (most_ranks > min_devices) {
-    std::snprintf(why, sizeof why, "; warning: up to %d ranks share each GPU of a node (one rank per GPU, or CUDA MPS, is faster)",
+    std::snprintf(why, sizeof why,
+                  "; warning: up to %d ranks share each GPU of a node (one rank per GPU, or CUDA MPS, is faster)",
                   (most_ranks + min_devices - 1) / min_devices);
     choice.description += why;
   }

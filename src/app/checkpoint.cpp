@@ -159,9 +159,8 @@ PetscErrorCode write_checkpoint(MPI_Comm comm, const std::string& path, NaturalO
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOrder& order,
-                               TimeIntegrator& integrator, StepRecovery& recovery, const CheckpointRun& run,
-                               CheckpointRun* stored) {
+PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOrder& order, TimeIntegrator& integrator,
+                               StepRecovery& recovery, const CheckpointRun& run, CheckpointRun* stored) {
   PetscFunctionBeginUser;
   CheckpointContents c;
   PetscInt n;
@@ -169,7 +168,10 @@ PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOr
   c.num_global_nodes = n / 3;
   c.node_offset = order.node_offset();
   c.num_block_nodes = order.num_nodes();
-  c.integers = {{"step", 0}, {"recovery_level", 0}, {"recovery_successes_at_level", 0}, {"output_steps", 0},
+  c.integers = {{"step", 0},
+                {"recovery_level", 0},
+                {"recovery_successes_at_level", 0},
+                {"output_steps", 0},
                 {"friction_lagged", 0}};
   c.reals = {{"time", 0}, {"dt", 0}, {"step_length", 0}, {"kappa", 0}, {"previous_min_distance2", 0}};
   c.texts = {{"scene_fingerprint", ""}, {"options", ""}, {"scene", ""}};

@@ -35,9 +35,9 @@ std::vector<std::string> list_checkpoints(MPI_Comm comm, const std::string& dire
 // What a run hands to a checkpoint besides the integrator's and recovery's state.
 struct CheckpointRun {
   std::uint64_t fingerprint = 0;
-  long output_steps = 0;   // steps in the output HDF5/XDMF when the checkpoint was written
-  std::string options;     // the run's options (PETSc database), for the record
-  std::string scene;       // the scene's source
+  long output_steps = 0;  // steps in the output HDF5/XDMF when the checkpoint was written
+  std::string options;    // the run's options (PETSc database), for the record
+  std::string scene;      // the scene's source
 };
 
 // Collective. Writes a checkpoint of the current state to `path` (temporary file, rename),
@@ -49,8 +49,7 @@ PetscErrorCode write_checkpoint(MPI_Comm comm, const std::string& path, NaturalO
 // Collective. Reads `path`, refuses it when its fingerprint is not `run.fingerprint`
 // (CheckpointError::Kind::mismatched) and restores the integrator's and recovery's state.
 // Returns the stored run record (output_steps, options, scene) in *stored.
-PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOrder& order,
-                               TimeIntegrator& integrator, StepRecovery& recovery, const CheckpointRun& run,
-                               CheckpointRun* stored);
+PetscErrorCode read_checkpoint(MPI_Comm comm, const std::string& path, NaturalOrder& order, TimeIntegrator& integrator,
+                               StepRecovery& recovery, const CheckpointRun& run, CheckpointRun* stored);
 
 }  // namespace dipc

@@ -44,7 +44,8 @@ PetscErrorCode NaturalOrder::setup(const DistributedMesh& mesh) {
   PetscCall(VecScatterCreate(owned_nodes_, nullptr, block_nodes_, to, &node_scatter_));
   PetscCall(ISDestroy(&to));
   std::vector<PetscInt> elements(mesh.element_input_id.begin(), mesh.element_input_id.end());
-  PetscCall(ISCreateGeneral(mesh.comm, static_cast<PetscInt>(elements.size()), elements.data(), PETSC_COPY_VALUES, &to));
+  PetscCall(
+      ISCreateGeneral(mesh.comm, static_cast<PetscInt>(elements.size()), elements.data(), PETSC_COPY_VALUES, &to));
   PetscCall(VecScatterCreate(local_elements_, nullptr, block_elements_, to, &element_scatter_));
   PetscCall(ISDestroy(&to));
   PetscFunctionReturn(0);
@@ -80,8 +81,8 @@ PetscErrorCode NaturalOrder::nodes_from_blocks(const std::vector<double>& block,
   PetscFunctionBeginUser;
   PetscInt n_owned;
   PetscCall(VecGetLocalSize(owned_nodes_, &n_owned));
-  PetscCall(scatter(node_scatter_, block_nodes_, owned_nodes_, block.data(), block.size(), owned, n_owned,
-                    SCATTER_REVERSE));
+  PetscCall(
+      scatter(node_scatter_, block_nodes_, owned_nodes_, block.data(), block.size(), owned, n_owned, SCATTER_REVERSE));
   PetscFunctionReturn(0);
 }
 

@@ -36,8 +36,8 @@ class NaturalOrder {
   PetscErrorCode elements_to_blocks(const double* local, std::vector<double>* block);
 
  private:
-  static PetscErrorCode scatter(VecScatter scatter, Vec from, Vec to, const double* in, std::size_t n_in,
-                                double* out, std::size_t n_out, ScatterMode mode);
+  static PetscErrorCode scatter(VecScatter scatter, Vec from, Vec to, const double* in, std::size_t n_in, double* out,
+                                std::size_t n_out, ScatterMode mode);
 
   std::int64_t node_offset_ = 0, element_offset_ = 0;
   int num_nodes_ = 0, num_elements_ = 0;

@@ -18,9 +18,9 @@
 namespace dipc {
 
 struct OpenMpThreads {
-  int threads = 1;              // per rank for the OpenMP regions that follow (hypre's)
+  int threads = 1;                // per rank for the OpenMP regions that follow (hypre's)
   bool from_environment = false;  // OMP_NUM_THREADS was set and is honoured
-  bool available = true;        // false: dipc was built without OpenMP (the libraries' default stays)
+  bool available = true;          // false: dipc was built without OpenMP (the libraries' default stays)
 };
 
 // Call before the first solve, on every rank (it acts on the calling thread, which runs the

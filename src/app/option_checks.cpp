@@ -32,7 +32,8 @@ bool parse_integer(const char* value, long* out) {
 // An optional sign and decimal digits only: an integer, whether or not it fits.
 bool all_digits(const char* value) {
   const char* digits = value + (*value == '-' || *value == '+');
-  return *digits && std::all_of(digits, digits + std::strlen(digits), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  return *digits && std::all_of(digits, digits + std::strlen(digits),
+                                [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 bool parse_real(const char* value, double* out) {
@@ -92,14 +93,16 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
     case OptionKind::integer: {
       long v;
       if (!parse_integer(value, &v))
-        return given + (all_digits(value) ? "out of range (at most " + std::to_string(INT_MAX) + ")" : "not an integer");
+        return given +
+               (all_digits(value) ? "out of range (at most " + std::to_string(INT_MAX) + ")" : "not an integer");
       if (v < spec.min) return given + "must be an integer >= " + std::to_string(long(spec.min));
       return "";
     }
     case OptionKind::real: {
       double v;
       if (!parse_real(value, &v)) return given + "not a finite number";
-      if (!(v > spec.min)) return given + (spec.min == 0 ? std::string("must be > 0") : "must be > " + std::to_string(spec.min));
+      if (!(v > spec.min))
+        return given + (spec.min == 0 ? std::string("must be > 0") : "must be > " + std::to_string(spec.min));
       if (!(v < spec.max)) return given + "must be < " + std::to_string(spec.max);
       return "";
     }
@@ -110,8 +113,7 @@ std::string option_value_problem(const OptionSpec& spec, const char* value) {
       for (const char* choice : spec.choices) list += (list.empty() ? "" : ", ") + std::string(choice);
       return given + "must be one of " + list;
     }
-    default:
-      return "";
+    default: return "";
   }
 }
 

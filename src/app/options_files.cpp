@@ -1,9 +1,9 @@
 #include "app/options_files.hpp"
 
+#include <strings.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <strings.h>
 
 namespace dipc {
 

@@ -5,8 +5,8 @@
 #include <array>
 #include <vector>
 
-#include "io/xdmf_writer.hpp"
 #include "contact/distributed/contact_parameters.hpp"
+#include "io/xdmf_writer.hpp"
 
 namespace dipc {
 

@@ -40,7 +40,7 @@ bool succeeds_quietly(Call call) {
 
 struct TypeOption {
   const char* name;
-  const char* object;            // what the type is of, for the message
+  const char* object;             // what the type is of, for the message
   const PetscFunctionList* list;  // the types registered with PETSc
 };
 
@@ -51,8 +51,7 @@ std::string type_problem(const TypeOption& option) {
   void (*create)(void) = nullptr;
   PetscFunctionListFind(*option.list, value.c_str(), &create);
   if (create) return "";
-  return std::string(option.name) + " " + value + ": not a " + option.object +
-         " type of this PETSc (-help lists them)";
+  return std::string(option.name) + " " + value + ": not a " + option.object + " type of this PETSc (-help lists them)";
 }
 
 // A tolerance: a number in [0, below), as KSPSetTolerances and SNESSetTolerances require.
@@ -85,12 +84,13 @@ void check_petsc_option_values() {
   if (PCInitializePackage() || KSPInitializePackage() || SNESInitializePackage())
     throw std::runtime_error("cannot initialize PETSc's solvers");
   std::vector<std::string> problems;
-  for (const TypeOption& option : {TypeOption{"-snes_type", "SNES", &SNESList}, TypeOption{"-ksp_type", "KSP", &KSPList},
-                                   TypeOption{"-pc_type", "PC", &PCList},
+  for (const TypeOption& option : {TypeOption{"-snes_type", "SNES", &SNESList},
+                                   TypeOption{"-ksp_type", "KSP", &KSPList}, TypeOption{"-pc_type", "PC", &PCList},
                                    TypeOption{"-snes_linesearch_type", "SNES line search", &SNESLineSearchList}})
     problems.push_back(type_problem(option));
   for (const char* name : {"-ksp_rtol", "-snes_rtol"}) problems.push_back(tolerance_problem(name, 1));
-  for (const char* name : {"-ksp_atol", "-snes_atol", "-snes_stol"}) problems.push_back(tolerance_problem(name, HUGE_VAL));
+  for (const char* name : {"-ksp_atol", "-snes_atol", "-snes_stol"})
+    problems.push_back(tolerance_problem(name, HUGE_VAL));
   for (const char* name : {"-ksp_max_it", "-snes_max_it"}) problems.push_back(iteration_limit_problem(name));
   for (const std::string& problem : problems)
     if (!problem.empty()) throw std::runtime_error(problem);

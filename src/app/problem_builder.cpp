@@ -8,9 +8,8 @@ namespace dipc {
 
 namespace {
 
-std::vector<std::int32_t> select_nodes(const Selection& sel, const DistributedMesh& mesh,
-                                       double length_scale, const std::string& where,
-                                       const std::string& source) {
+std::vector<std::int32_t> select_nodes(const Selection& sel, const DistributedMesh& mesh, double length_scale,
+                                       const std::string& where, const std::string& source) {
   if (!sel.box) {
     auto it = mesh.node_sets.find(sel.name);
     if (it == mesh.node_sets.end()) {
@@ -65,7 +64,7 @@ ProblemSetup build_problem(const Scene& scene, const DistributedMesh& mesh, doub
     bm.rho = m.rho;
     bm.volumetric = m.mean_dilatation ? VolumetricTerm::mean_dilatation : VolumetricTerm::gauss_points;
     bm.model = m.model == Material::Model::stable_neo_hookean ? MaterialModel::stable_neo_hookean
-                                                             : MaterialModel::neo_hookean;
+                                                              : MaterialModel::neo_hookean;
     p.body_materials.push_back(bm);
     p.body_velocity.push_back(body.initial_velocity);
     p.body_angular_velocity.push_back(body.initial_angular_velocity);

@@ -1,8 +1,8 @@
 // Turns a validated Scene into the ProblemSetup of one rank: Lamé parameters per body,
 // initial velocities, gravity, and Dirichlet conditions resolved to this rank's local nodes.
 #pragma once
-#include "io/scene.hpp"
 #include "forms/problem.hpp"
+#include "io/scene.hpp"
 #include "partition/distributed_mesh.hpp"
 
 namespace dipc {

@@ -72,8 +72,8 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
   PetscCall(PetscOptionsString(kOutput.name, kOutput.help, kOutput.manual, dir, dir, sizeof(dir), nullptr));
   PetscCall(PetscOptionsBool(kNoOutput.name, kNoOutput.help, kNoOutput.manual, no_output, &no_output, nullptr));
   PetscCall(PetscOptionsBool(kQuiet.name, kQuiet.help, kQuiet.manual, quiet, &quiet, nullptr));
-  PetscCall(PetscOptionsBool(kCheckInvariants.name, kCheckInvariants.help, kCheckInvariants.manual, check, &check,
-                             nullptr));
+  PetscCall(
+      PetscOptionsBool(kCheckInvariants.name, kCheckInvariants.help, kCheckInvariants.manual, check, &check, nullptr));
   PetscCall(PetscOptionsEList(kBackend.name, kBackend.help, kBackend.manual, kBackend.choices.words,
                               kBackend.choices.count, kBackend.choices.words[backend], &backend, nullptr));
   PetscCall(PetscOptionsInt(kAutoGpuElements.name, kAutoGpuElements.help, kAutoGpuElements.manual, crossover,
@@ -83,20 +83,20 @@ PetscErrorCode read_run_options(MPI_Comm comm, const Scene& scene, RunOptions* o
                               nullptr));
   PetscCall(PetscOptionsInt(kMetisMaxElements.name, kMetisMaxElements.help, kMetisMaxElements.manual, metis_max,
                             &metis_max, nullptr));
-  PetscCall(PetscOptionsInt(kHostThreads.name, kHostThreads.help, kHostThreads.manual, host_threads, &host_threads,
-                            nullptr));
+  PetscCall(
+      PetscOptionsInt(kHostThreads.name, kHostThreads.help, kHostThreads.manual, host_threads, &host_threads, nullptr));
   PetscCall(PetscOptionsBool(kSetupOnly.name, kSetupOnly.help, kSetupOnly.manual, setup_only, &setup_only, nullptr));
   PetscCall(PetscOptionsReal(kDtMin.name, kDtMin.help, kDtMin.manual, dt_min, &dt_min, nullptr));
   PetscCall(PetscOptionsReal(kAlphaFloor.name, kAlphaFloor.help, kAlphaFloor.manual, o->alpha_floor, &o->alpha_floor,
                              nullptr));
   PetscCall(PetscOptionsBool(kOutputSubsteps.name, kOutputSubsteps.help, kOutputSubsteps.manual, substeps, &substeps,
                              nullptr));
-  PetscCall(PetscOptionsInt(kCheckpointEvery.name, kCheckpointEvery.help, kCheckpointEvery.manual, every, &every,
-                            nullptr));
+  PetscCall(
+      PetscOptionsInt(kCheckpointEvery.name, kCheckpointEvery.help, kCheckpointEvery.manual, every, &every, nullptr));
   PetscCall(PetscOptionsReal(kCheckpointMinutes.name, kCheckpointMinutes.help, kCheckpointMinutes.manual,
                              o->checkpoint_minutes, &o->checkpoint_minutes, nullptr));
-  PetscCall(PetscOptionsString(kRestart.name, kRestart.help, kRestart.manual, restart, restart, sizeof(restart),
-                               nullptr));
+  PetscCall(
+      PetscOptionsString(kRestart.name, kRestart.help, kRestart.manual, restart, restart, sizeof(restart), nullptr));
   PetscOptionsEnd();
 
   o->steps = static_cast<int>(steps);

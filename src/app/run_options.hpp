@@ -17,20 +17,20 @@ struct RunOptions {
   // scene's bounding-box diagonal L, velocity_tol = velocity_tol_rel · L per second.
   double velocity_tol = -1;
   double velocity_tol_rel = 1e-5;
-  int steps = -1;            // overrides the scene's number of steps when > 0
-  int refine = 1;            // multiplies every generated box's resolution (scales a scene up)
-  std::string output_dir;    // overrides the scene's output directory when set
-  bool write_output = true;  // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
-  bool quiet = false;        // -dipc_quiet: no per-step lines
-  bool report = true;        // run header and timing table (tests and benchmarks turn it off)
+  int steps = -1;                 // overrides the scene's number of steps when > 0
+  int refine = 1;                 // multiplies every generated box's resolution (scales a scene up)
+  std::string output_dir;         // overrides the scene's output directory when set
+  bool write_output = true;       // -dipc_no_output: skip HDF5/XDMF/CSV (benchmarks, tests)
+  bool quiet = false;             // -dipc_quiet: no per-step lines
+  bool report = true;             // run header and timing table (tests and benchmarks turn it off)
   bool check_invariants = false;  // -dipc_check_invariants: verify no inversion/intersection after every step
-  bool setup_only = false;   // build everything (so -help lists all options), take no step
+  bool setup_only = false;        // build everything (so -help lists all options), take no step
   // Step recovery (nonlinear/step_recovery.hpp): the shortest sub-step, ≤ 0 for dt / 1024.
   double dt_min = -1;
-  double alpha_floor = 1e-6;      // -dipc_alpha_floor: line-search stall floor (newton_solver.hpp)
-  bool output_substeps = false;   // -dipc_output_substeps: also write the sub-steps of cut steps
-  std::string preset;             // the -dipc_preset applied (app/solver_presets.hpp); "" for none
-  std::string backend = "auto";   // -dipc_backend cpu | cuda | auto (app/backend.hpp)
+  double alpha_floor = 1e-6;     // -dipc_alpha_floor: line-search stall floor (newton_solver.hpp)
+  bool output_substeps = false;  // -dipc_output_substeps: also write the sub-steps of cut steps
+  std::string preset;            // the -dipc_preset applied (app/solver_presets.hpp); "" for none
+  std::string backend = "auto";  // -dipc_backend cpu | cuda | auto (app/backend.hpp)
   long auto_gpu_min_elements = kAutoGpuMinElementsPerRank;  // -dipc_auto_gpu_elements: auto's crossover
   // Checkpoints (app/checkpoint.hpp), in the output directory: every N steps and/or every M
   // wall-clock minutes (0: not by that rule); a stop signal always writes one.

@@ -30,15 +30,14 @@ void read_obstacle(const Scene& scene, const Obstacle& o, ContactParameters::Obs
       X[c] = o.scale * (o.linear[3 * c] * F[0] + o.linear[3 * c + 1] * F[1] + o.linear[3 * c + 2] * F[2]) +
              o.translation[c];
     if (!std::isfinite(X[0]) || !std::isfinite(X[1]) || !std::isfinite(X[2]))
-      throw SceneError(where + o.mesh_file + ": vertex " + std::to_string(v) +
-                       " is not finite once placed");
+      throw SceneError(where + o.mesh_file + ": vertex " + std::to_string(v) + " is not finite once placed");
     out->rest.push_back(X);
   }
   out->triangle_origin = surface.triangle_origin;
   out->binary_origin = surface.binary;
   for (const Triangle& t : surface.triangles)
-    out->triangles.push_back({static_cast<std::int32_t>(t[0]), static_cast<std::int32_t>(t[1]),
-                              static_cast<std::int32_t>(t[2])});
+    out->triangles.push_back(
+        {static_cast<std::int32_t>(t[0]), static_cast<std::int32_t>(t[1]), static_cast<std::int32_t>(t[2])});
 }
 
 }  // namespace
@@ -50,7 +49,8 @@ std::vector<ContactParameters::Obstacle> load_scene_obstacles(const Scene& scene
   std::string error;
   if (rank == 0) {
     try {
-      for (std::size_t i = 0; i < obstacles.size(); ++i) read_obstacle(scene, scene.contact.obstacles[i], &obstacles[i]);
+      for (std::size_t i = 0; i < obstacles.size(); ++i)
+        read_obstacle(scene, scene.contact.obstacles[i], &obstacles[i]);
     } catch (const std::exception& e) {
       error = e.what();
     }

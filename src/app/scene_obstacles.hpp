@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "io/scene.hpp"
 #include "contact/distributed/contact_parameters.hpp"
+#include "io/scene.hpp"
 
 namespace dipc {
 

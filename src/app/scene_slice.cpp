@@ -2,10 +2,10 @@
 #include "app/scene_slice.hpp"
 
 #include <algorithm>
-#include <map>
-#include <set>
 #include <climits>
+#include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 
 #include "io/collective_error.hpp"
@@ -87,8 +87,8 @@ HexMesh whole_body(const Scene& scene, std::size_t b) {
 // likewise; its source is one of the three kinds.
 struct BodyRows {
   std::int64_t node_begin = 0, num_nodes = 0, element_begin = 0, num_elements = 0;
-  HexMesh whole;                           // a body built whole (whole_body), on rank 0 only
-  std::unique_ptr<MeshFileReader> hdf5;    // a dipc HDF5 body
+  HexMesh whole;                         // a body built whole (whole_body), on rank 0 only
+  std::unique_ptr<MeshFileReader> hdf5;  // a dipc HDF5 body
 };
 
 // The overlap of [a, b) with [c, d), as (begin, count); count 0 when they do not meet.
@@ -113,7 +113,8 @@ void append_box_rows(const BoxGenerator& box, const std::string& name, int id, c
   const std::int64_t px = nx + 1, py = ny + 1;
   const auto& origin = box.origin;
   const auto& size = box.size;
-  const std::string faces[6] = {name + ".xmin", name + ".xmax", name + ".ymin", name + ".ymax", name + ".zmin", name + ".zmax"};
+  const std::string faces[6] = {name + ".xmin", name + ".xmax", name + ".ymin",
+                                name + ".ymax", name + ".zmin", name + ".zmax"};
   std::vector<std::int64_t>* face_sets[6];
   for (int f = 0; f < 6; ++f) face_sets[f] = &slice.node_sets[faces[f]];
   std::vector<std::int64_t>& all = slice.node_sets[name];
@@ -150,7 +151,9 @@ void append_box_rows(const BoxGenerator& box, const std::string& name, int id, c
       if (j == py) j = 0, ++k;
     }
   }
-  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return rows.node_begin + i + px * (j + py * k); };
+  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return rows.node_begin + i + px * (j + py * k);
+  };
   const std::size_t first_element = slice.hexes.size(), element_count = static_cast<std::size_t>(elements.second);
   make_room(slice.hexes, elements.second);
   make_room(slice.body, elements.second);
@@ -160,9 +163,9 @@ void append_box_rows(const BoxGenerator& box, const std::string& name, int id, c
     const std::int64_t e = elements.first - rows.element_begin + static_cast<std::int64_t>(begin);
     std::int64_t i = e % nx, j = (e / nx) % ny, k = e / (nx * ny);
     for (std::size_t r = begin; r < end; ++r) {
-      slice.hexes[first_element + r] = {node_id(i, j, k),         node_id(i + 1, j, k),         node_id(i + 1, j + 1, k),
-                                        node_id(i, j + 1, k),     node_id(i, j, k + 1),         node_id(i + 1, j, k + 1),
-                                        node_id(i + 1, j + 1, k + 1), node_id(i, j + 1, k + 1)};
+      slice.hexes[first_element + r] = {
+          node_id(i, j, k),     node_id(i + 1, j, k),     node_id(i + 1, j + 1, k),     node_id(i, j + 1, k),
+          node_id(i, j, k + 1), node_id(i + 1, j, k + 1), node_id(i + 1, j + 1, k + 1), node_id(i, j + 1, k + 1)};
       if (++i == nx) i = 0, ++j;
       if (j == ny) j = 0, ++k;
     }
@@ -219,8 +222,8 @@ void size_body_rows(const Scene& scene, std::size_t b, MPI_Comm comm, int rank, 
   } else if (!on_root) {
     std::string error;
     if (!body.face_selections.empty())
-      error = scene.source + ": body \"" + body.name + "\": PolyFEM surface selections need a Gmsh mesh or a box, not " +
-              body.mesh_file;
+      error = scene.source + ": body \"" + body.name +
+              "\": PolyFEM surface selections need a Gmsh mesh or a box, not " + body.mesh_file;
     throw_if_failed_anywhere(comm, error);
     r.hdf5 = std::make_unique<MeshFileReader>(comm, body.mesh_file);
     r.num_nodes = r.hdf5->num_nodes();
@@ -282,8 +285,8 @@ void append_file_rows(const Body& body, int id, const BodyRows& r, MeshSlice& sl
     const std::int64_t n = r.hdf5->set_size(s), begin = block_begin(n, size, rank);
     for (std::int64_t node : r.hdf5->read_set(s, begin, block_begin(n, size, rank + 1) - begin)) {
       if ((node < 0 || node >= r.num_nodes) && error.empty())
-        error = body.mesh_file + ": selection \"" + r.hdf5->set_names()[s] + "\" has node id " +
-                std::to_string(node) + ", outside [0, " + std::to_string(r.num_nodes) + ")";
+        error = body.mesh_file + ": selection \"" + r.hdf5->set_names()[s] + "\" has node id " + std::to_string(node) +
+                ", outside [0, " + std::to_string(r.num_nodes) + ")";
       else
         to_home[block_of(node + r.node_begin, slice.num_global_nodes, size)].push_back(
             {node + r.node_begin, std::int32_t(s), 0});
@@ -304,7 +307,8 @@ void append_whole_body_rows(int id, const BodyRows& r, MeshSlice& slice, int ran
     for (int q = 0; q < size; ++q) {
       const auto n = overlap(block_begin(nodes, size, q), block_begin(nodes, size, q + 1), r.node_begin,
                              r.node_begin + r.num_nodes);
-      for (std::int64_t g = n.first; g < n.first + n.second; ++g) node_rows[q].push_back({r.whole.nodes[g - r.node_begin]});
+      for (std::int64_t g = n.first; g < n.first + n.second; ++g)
+        node_rows[q].push_back({r.whole.nodes[g - r.node_begin]});
       const auto e = overlap(block_begin(elements, size, q), block_begin(elements, size, q + 1), r.element_begin,
                              r.element_begin + r.num_elements);
       for (std::int64_t g = e.first; g < e.first + e.second; ++g) {
@@ -345,7 +349,8 @@ void check_bodies_apart(const Scene& scene, const MeshSlice& slice, int rank) {
   if (!scene.contact.enabled || scene.bodies.size() <= 1) return;
   std::vector<std::string> names;
   for (const Body& body : scene.bodies) names.push_back(body.name);
-  const bool all_boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) { return bool(b.box); });
+  const bool all_boxes = std::all_of(scene.bodies.begin(), scene.bodies.end(),
+                                     [](const Body& b) { return bool(b.box); });
   std::string error;
   if (all_boxes) {
     const auto [inner, outer] = nested_boxes(scene);
@@ -394,7 +399,8 @@ MeshSlice build_scene_slice(const Scene& scene, MPI_Comm comm) {
     const Body& body = scene.bodies[b];
     const BodyRows& r = rows[b];
     const auto my_nodes = overlap(slice.node_begin, node_end, r.node_begin, r.node_begin + r.num_nodes);
-    const auto my_elements = overlap(slice.element_begin, element_end, r.element_begin, r.element_begin + r.num_elements);
+    const auto my_elements = overlap(slice.element_begin, element_end, r.element_begin,
+                                     r.element_begin + r.num_elements);
     const int id = static_cast<int>(b);
     if (body.box && body.face_selections.empty())
       append_box_rows(*body.box, body.name, id, r, slice, my_nodes, my_elements);

@@ -16,7 +16,7 @@ SetupHeap::SetupHeap() {
 }
 
 SetupHeap::~SetupHeap() {
-  mallopt(M_MMAP_MAX, 65536);                // glibc's default count
+  mallopt(M_MMAP_MAX, 65536);                   // glibc's default count
   mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);  // the most its adaptation reaches on 64-bit
   mallopt(M_TRIM_THRESHOLD, 64 * 1024 * 1024);  // twice that, as the adaptation sets it
 }

@@ -4,8 +4,8 @@
 #include <sys/resource.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -24,13 +24,13 @@
 #include "app/scene_slice.hpp"
 #include "app/setup_heap.hpp"
 #include "app/stop_signals.hpp"
+#include "assembly/device_matrix.hpp"
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
+#include "logging/log_stages.hpp"
 #include "math/number_text.hpp"
 #include "mesh/mesh_checks.hpp"
-#include "assembly/device_matrix.hpp"
-#include "logging/log_stages.hpp"
 #include "nonlinear/step_recovery.hpp"
 #include "nonlinear/time_integrator.hpp"
 #include "partition/distributed_mesh.hpp"
@@ -98,7 +98,8 @@ class RunOutput {
         dhat_(problem.contact_parameters.dhat),
         contact_parameters_(problem.contact_parameters) {
     std::vector<double> coords;
-    for (int n = 0; n < mesh.num_owned_nodes; ++n) coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
+    for (int n = 0; n < mesh.num_owned_nodes; ++n)
+      coords.insert(coords.end(), mesh.coordinates[n].begin(), mesh.coordinates[n].end());
     std::vector<double> block_coords;
     throw_on_petsc_error(order.nodes_to_blocks(coords.data(), &block_coords));
     // Element fields in the input numbering: the 8 input node ids of each element, its body
@@ -109,7 +110,8 @@ class RunOutput {
     for (int corner = 0; corner < 8; ++corner) {
       for (int e = 0; e < ne; ++e) local[e] = static_cast<double>(mesh.node_input_id[mesh.elements[e][corner]]);
       throw_on_petsc_error(order.elements_to_blocks(local.data(), &block));
-      for (int e = 0; e < nb; ++e) nodes[8 * static_cast<std::size_t>(e) + corner] = static_cast<std::int64_t>(block[e]);
+      for (int e = 0; e < nb; ++e)
+        nodes[8 * static_cast<std::size_t>(e) + corner] = static_cast<std::int64_t>(block[e]);
     }
     std::vector<int> body(nb), rank(nb);
     for (int e = 0; e < ne; ++e) local[e] = mesh.element_body[e];
@@ -158,7 +160,8 @@ class RunOutput {
     om.contact_force = contact_;
     om.friction_force = friction_;
     if (contact_) {
-      for (int k = 0; k < ContactForm::num_pair_kinds; ++k) om.contact_pair_kinds.push_back(ContactForm::pair_kind_name(k));
+      for (int k = 0; k < ContactForm::num_pair_kinds; ++k)
+        om.contact_pair_kinds.push_back(ContactForm::pair_kind_name(k));
       om.obstacles = output_obstacles(contact_parameters_, scene_bounds(mesh, contact_parameters_));
     }
     om.comm = mesh.comm;
@@ -173,10 +176,28 @@ class RunOutput {
     om.element_body = body.data();
     om.element_rank = rank.data();
     writer_ = std::make_unique<XdmfWriter>(dir, scene.output_name, om, keep_steps);
-    std::vector<std::string> columns{"step", "t", "dt", "substeps", "dt_cuts", "converged_by", "newton_its", "ksp_its",
-                                     "alpha_min", "energy", "min_volume_ratio", "wall_s", "linear_solve_s",
-                                     "kinetic_energy", "elastic_energy", "gravity_energy", "momentum_x", "momentum_y",
-                                     "momentum_z", "angular_momentum_x", "angular_momentum_y", "angular_momentum_z"};
+    std::vector<std::string> columns{"step",
+                                     "t",
+                                     "dt",
+                                     "substeps",
+                                     "dt_cuts",
+                                     "converged_by",
+                                     "newton_its",
+                                     "ksp_its",
+                                     "alpha_min",
+                                     "energy",
+                                     "min_volume_ratio",
+                                     "wall_s",
+                                     "linear_solve_s",
+                                     "kinetic_energy",
+                                     "elastic_energy",
+                                     "gravity_energy",
+                                     "momentum_x",
+                                     "momentum_y",
+                                     "momentum_z",
+                                     "angular_momentum_x",
+                                     "angular_momentum_y",
+                                     "angular_momentum_z"};
     if (contact_) {
       columns.push_back("contact_pairs");
       for (int k = 0; k < ContactForm::num_pair_kinds; ++k)
@@ -239,10 +260,22 @@ class RunOutput {
   std::size_t steps_written() const { return writer_->num_steps_written(); }
 
   void write_stats(const StepReport& r, const PhysicalQuantities& q) {
-    std::vector<StatsCsv::Cell> row{double(r.step), r.time, r.dt, double(r.substeps), double(r.dt_cuts),
-                                    r.newton.ended_by, double(r.newton.iterations), double(r.newton.linear_iterations),
-                                    r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds,
-                                    r.linear_solve_seconds, q.kinetic_energy, q.elastic_energy, q.gravity_energy};
+    std::vector<StatsCsv::Cell> row{double(r.step),
+                                    r.time,
+                                    r.dt,
+                                    double(r.substeps),
+                                    double(r.dt_cuts),
+                                    r.newton.ended_by,
+                                    double(r.newton.iterations),
+                                    double(r.newton.linear_iterations),
+                                    r.newton.min_alpha,
+                                    r.energy,
+                                    r.min_volume_ratio,
+                                    r.wall_seconds,
+                                    r.linear_solve_seconds,
+                                    q.kinetic_energy,
+                                    q.elastic_energy,
+                                    q.gravity_energy};
     for (double m : q.momentum) row.emplace_back(m);
     for (double l : q.angular_momentum) row.emplace_back(l);
     if (contact_) {
@@ -292,10 +325,10 @@ struct DeviceUse {
   std::size_t free_before = 0, free_after = 0;
 };
 
-PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh,
-                            TimeIntegrator& integrator, const RunOptions& options, double velocity_tol,
-                            double dt_min, const BackendChoice& backend, const DeviceUse& device_use,
-                            const OpenMpThreads& threads, const HostThreads& host_threads) {
+PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh, TimeIntegrator& integrator,
+                            const RunOptions& options, double velocity_tol, double dt_min, const BackendChoice& backend,
+                            const DeviceUse& device_use, const OpenMpThreads& threads,
+                            const HostThreads& host_threads) {
   PetscFunctionBeginUser;
   int size;
   MPI_Comm_size(comm, &size);
@@ -312,10 +345,11 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   MPI_Allreduce(&entries, &total_entries, 1, MPI_LONG_LONG, MPI_SUM, comm);
   PetscCall(PetscPrintf(comm, "dipc %s | PETSc %d.%d.%d | scene: %s\n", "0.1.0", PETSC_VERSION_MAJOR,
                         PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR, scene.source.c_str()));
-  const std::string per_rank_threads =
-      !threads.available ? "library default (built without OpenMP)"
-                         : std::to_string(threads.threads) + (threads.from_environment ? " (OMP_NUM_THREADS)" : "");
-  PetscCall(PetscPrintf(comm, "  ranks %d | OpenMP threads per rank %s | setup threads %d (%s) | backend %s | "
+  const std::string per_rank_threads = !threads.available ? "library default (built without OpenMP)"
+                                                          : std::to_string(threads.threads) +
+                                                                (threads.from_environment ? " (OMP_NUM_THREADS)" : "");
+  PetscCall(PetscPrintf(comm,
+                        "  ranks %d | OpenMP threads per rank %s | setup threads %d (%s) | backend %s | "
                         "elements %lld (%d..%d per rank) | nodes %lld | dofs %d\n",
                         size, per_rank_threads.c_str(), host_threads.threads, host_threads.why.c_str(),
                         backend.description.c_str(), (long long)mesh.num_global_elements, ne_min, ne_max,
@@ -330,24 +364,26 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
     std::string per_rank;
     for (int r = 0; r < std::min(size, 16); ++r) per_rank += (r ? "," : "") + std::to_string(devices[r]);
     if (size > 16) per_rank += ",…";
-    PetscCall(PetscPrintf(comm, "  GPU %s (devices by rank: %s) | setup used %.1f MiB on the fullest rank, %.0f B/element "
+    PetscCall(PetscPrintf(comm,
+                          "  GPU %s (devices by rank: %s) | setup used %.1f MiB on the fullest rank, %.0f B/element "
                           "(dipc's estimate %zu B/element before the matrix and preconditioner)\n",
                           device::name(backend.device).c_str(), per_rank.c_str(), max_used / 1048576.0,
                           max_used / std::max(1, ne_max), device_bytes_per_element(false)));
   }
   PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
                         forms.c_str()));
-  PetscCall(PetscPrintf(comm, "  %s, dt %g, %d steps, recovery down to dt %g | Newton: |p|_inf/h < %g, stalled below alpha %g\n",
-                        scene.is_static ? "static" : "implicit Euler", scene.dt,
-                        options.steps > 0 ? options.steps : scene.steps, dt_min, velocity_tol, options.alpha_floor));
+  PetscCall(
+      PetscPrintf(comm,
+                  "  %s, dt %g, %d steps, recovery down to dt %g | Newton: |p|_inf/h < %g, stalled below alpha %g\n",
+                  scene.is_static ? "static" : "implicit Euler", scene.dt,
+                  options.steps > 0 ? options.steps : scene.steps, dt_min, velocity_tol, options.alpha_floor));
   if (!options.preset.empty())
     PetscCall(PetscPrintf(comm, "  solver preset %s (-dipc_preset; options given explicitly win over it)\n",
                           options.preset.c_str()));
   // The user's -snes_ options are honoured; -snes_rtol/atol/stol let PETSc's tests end a solve.
   std::string snes;
   for (const auto& o : integrator.user_snes_options()) snes += (snes.empty() ? "" : " ") + o;
-  if (!snes.empty())
-    PetscCall(PetscPrintf(comm, "  user SNES options: %s\n", snes.c_str()));
+  if (!snes.empty()) PetscCall(PetscPrintf(comm, "  user SNES options: %s\n", snes.c_str()));
   PetscFunctionReturn(0);
 }
 
@@ -362,7 +398,7 @@ Scene refined(const Scene& scene_in, int refine) {
 
 // What run_scene measures of its phases on this rank: wall times (s) and peak memory (MiB).
 struct PhaseMeasures {
-  double start = 0;                         // MPI_Wtime at the run's start
+  double start = 0;  // MPI_Wtime at the run's start
   double partition = 0, setup = 0, output = 0;
   double rss_partition = 0, rss_setup = 0;  // peak resident memory after the partition, the setup
 };
@@ -374,7 +410,7 @@ struct PartitionedScene {
   std::uint64_t fingerprint = 0;  // of the scene and its mesh, for checkpoints
   Partitioner partitioner = Partitioner::metis;
   DistributeReport distribution;
-  double slices_seconds = 0;      // building or reading the slices
+  double slices_seconds = 0;  // building or reading the slices
 };
 
 // Mesh and partition: every rank builds or reads its slice of the input mesh, the slices are
@@ -387,12 +423,13 @@ PartitionedScene partition_scene(const Scene& scene, MPI_Comm comm, const RunOpt
   MeshSlice slice = build_scene_slice(scene, comm);
   p.diagonal = slice_bounding_box_diagonal(slice);
   p.fingerprint = scene_fingerprint(scene, slice_digest(slice));
-  p.partitioner = options.partitioner != "auto"                           ? parse_partitioner(options.partitioner)
+  p.partitioner = options.partitioner != "auto"                             ? parse_partitioner(options.partitioner)
                   : slice.num_global_elements <= options.metis_max_elements ? Partitioner::metis
                   : ptscotch_available()                                    ? Partitioner::ptscotch
                                                                             : Partitioner::rcb;
   p.slices_seconds = MPI_Wtime() - start;
-  p.mesh = distribute_slices(slice, p.partitioner, scene.contact.enabled, &p.distribution);  // the surface only for contact
+  p.mesh = distribute_slices(slice, p.partitioner, scene.contact.enabled,
+                             &p.distribution);  // the surface only for contact
   return p;
 }
 
@@ -401,14 +438,18 @@ PetscErrorCode print_partition(MPI_Comm comm, const PartitionedScene& partitione
   PetscFunctionBeginUser;
   const DistributeReport& distribution = partitioned.distribution;
   double parts[7] = {partitioned.slices_seconds, distribution.match_faces, distribution.partition,
-                     distribution.quality_check, distribution.elements, distribution.nodes, distribution.surface};
+                     distribution.quality_check, distribution.elements,    distribution.nodes,
+                     distribution.surface};
   MPI_Allreduce(MPI_IN_PLACE, parts, 7, MPI_DOUBLE, MPI_MAX, comm);
   const PartitionQuality& q = distribution.quality;
-  PetscCall(PetscPrintf(comm, "  partitioner %s | edge cut %lld of %lld interior faces | imbalance %.3f (parts %lld..%lld)\n",
+  PetscCall(PetscPrintf(comm,
+                        "  partitioner %s | edge cut %lld of %lld interior faces | imbalance %.3f (parts %lld..%lld)\n",
                         partitioner_name(partitioned.partitioner), (long long)q.edge_cut, (long long)q.dual_edges,
                         q.imbalance, (long long)q.smallest_part, (long long)q.largest_part));
-  PetscCall(PetscPrintf(comm, "  partition phases (s): slices %.3f faces %.3f partitioner %.3f quality %.3f elements %.3f "
-                        "nodes %.3f surface %.3f\n", parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6]));
+  PetscCall(PetscPrintf(comm,
+                        "  partition phases (s): slices %.3f faces %.3f partitioner %.3f quality %.3f elements %.3f "
+                        "nodes %.3f surface %.3f\n",
+                        parts[0], parts[1], parts[2], parts[3], parts[4], parts[5], parts[6]));
   PetscFunctionReturn(0);
 }
 
@@ -427,7 +468,8 @@ DeviceUse device_use_before_setup(MPI_Comm comm, const BackendChoice& backend, i
 double min_substep(const Scene& scene, const RunOptions& options) {
   const double dt_min = options.dt_min > 0 ? options.dt_min : scene.dt / 1024;
   if (dt_min > scene.dt)
-    throw std::runtime_error("-dipc_dt_min " + format_number(dt_min) + " is larger than the scene's dt " + format_number(scene.dt));
+    throw std::runtime_error("-dipc_dt_min " + format_number(dt_min) + " is larger than the scene's dt " +
+                             format_number(scene.dt));
   return dt_min;
 }
 
@@ -463,8 +505,8 @@ PetscErrorCode restart_from_checkpoint(MPI_Comm comm, const std::string& restart
                                        bool* restarted) {
   PetscFunctionBeginUser;
   const bool automatic = restart == "auto";
-  const std::vector<std::string> candidates =
-      automatic ? list_checkpoints(comm, output_dir, name) : std::vector<std::string>{restart};
+  const std::vector<std::string> candidates = automatic ? list_checkpoints(comm, output_dir, name)
+                                                        : std::vector<std::string>{restart};
   if (candidates.empty())
     PetscCall(PetscPrintf(comm, "dipc: -dipc_restart auto: no checkpoint of \"%s\" in %s, starting from step 0\n",
                           name.c_str(), output_dir.c_str()));
@@ -503,8 +545,8 @@ class Checkpoints {
   // Step boundary: the ranks agree on a stop signal and on rank 0's wall-clock rule; a
   // checkpoint is due by either, every -dipc_checkpoint_every steps, and at the end.
   StopDecision decide_stop() const {
-    const bool minutes_due =
-        options_.checkpoint_minutes > 0 && MPI_Wtime() - last_wall_ >= 60 * options_.checkpoint_minutes;
+    const bool minutes_due = options_.checkpoint_minutes > 0 &&
+                             MPI_Wtime() - last_wall_ >= 60 * options_.checkpoint_minutes;
     return agree_on_stop(comm_, minutes_due);
   }
   bool due(int s, const StopDecision& stop, bool at_end) const {
@@ -572,10 +614,11 @@ PetscErrorCode print_step(MPI_Comm comm, const StepReport& r, const ProblemSetup
   if (r.dt_cuts)
     contact += "  (" + std::to_string(r.substeps) + " sub-steps after " + std::to_string(r.dt_cuts) +
                " cut(s), smallest dt " + std::to_string(r.dt) + ")";
-  PetscCall(PetscPrintf(comm, "step %5d  t %-10.5g newton %3d (%s)  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
-                        r.step, r.time, (int)r.newton.iterations, r.newton.ended_by.c_str(),
-                        (int)r.newton.linear_iterations, r.newton.min_alpha, r.energy, r.min_volume_ratio,
-                        r.wall_seconds, contact.c_str()));
+  PetscCall(
+      PetscPrintf(comm,
+                  "step %5d  t %-10.5g newton %3d (%s)  ksp %5d  alpha_min %-8.3g E %-14.8g J_min %-8.4g %.3f s%s\n",
+                  r.step, r.time, (int)r.newton.iterations, r.newton.ended_by.c_str(), (int)r.newton.linear_iterations,
+                  r.newton.min_alpha, r.energy, r.min_volume_ratio, r.wall_seconds, contact.c_str()));
   PetscFunctionReturn(0);
 }
 
@@ -610,7 +653,8 @@ PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions&
         PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
                               r.failure.empty() || &cut != &r.cuts.back() ? ": retrying with dt halved" : ""));
     if (!r.failure.empty()) {
-      result->failure = "step " + std::to_string(r.step) + " (t = " + format_number(integrator.time()) + " reached): " + r.failure;
+      result->failure = "step " + std::to_string(r.step) + " (t = " + format_number(integrator.time()) +
+                        " reached): " + r.failure;
       result->fatal = r.fatal;
       break;
     }
@@ -635,9 +679,10 @@ PetscErrorCode print_peak_memory(MPI_Comm comm, const PhaseMeasures& measured) {
   double rss_max[3], rss_min[3];
   MPI_Allreduce(rss, rss_max, 3, MPI_DOUBLE, MPI_MAX, comm);
   MPI_Allreduce(rss, rss_min, 3, MPI_DOUBLE, MPI_MIN, comm);
-  PetscCall(PetscPrintf(comm, "peak host memory per rank (ru_maxrss, MiB, max/min over ranks): after partition %.1f/%.1f, "
-                        "after setup %.1f/%.1f, at end %.1f/%.1f\n", rss_max[0], rss_min[0], rss_max[1], rss_min[1],
-                        rss_max[2], rss_min[2]));
+  PetscCall(PetscPrintf(comm,
+                        "peak host memory per rank (ru_maxrss, MiB, max/min over ranks): after partition %.1f/%.1f, "
+                        "after setup %.1f/%.1f, at end %.1f/%.1f\n",
+                        rss_max[0], rss_min[0], rss_max[1], rss_min[1], rss_max[2], rss_min[2]));
   PetscFunctionReturn(0);
 }
 
@@ -661,10 +706,23 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
   const double linear = integrator.solve_seconds() - evaluation_seconds(ev);
   const double total = MPI_Wtime() - measured.start;
   const double other = total - measured.partition - measured.setup - integrator.solve_seconds() - measured.output;
-  enum Row { partition, setup, assembly_row, coo, line_search_row, contact, patterns, linear_row, output_row, other_row,
-             total_row, rows };
-  const double local[rows] = {measured.partition, measured.setup, assembly, ev.coo_insert, line_search,
-                              contact_row ? contact_work : 0, ev.preallocation, linear, measured.output, other, total};
+  enum Row {
+    partition,
+    setup,
+    assembly_row,
+    coo,
+    line_search_row,
+    contact,
+    patterns,
+    linear_row,
+    output_row,
+    other_row,
+    total_row,
+    rows
+  };
+  const double local[rows] = {
+      measured.partition, measured.setup, assembly,        ev.coo_insert, line_search, contact_row ? contact_work : 0,
+      ev.preallocation,   linear,         measured.output, other,         total};
   double worst[rows];
   MPI_Allreduce(local, worst, rows, MPI_DOUBLE, MPI_MAX, comm);
   PhaseTimes& pt = result->times;
@@ -734,7 +792,8 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   ProblemSetup problem = build_problem(scene, mesh, partitioned.diagonal);
   double velocity_tol = 0;
   PetscCall(read_velocity_tol(comm, options, partitioned.diagonal, &velocity_tol));
-  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(), options.auto_gpu_min_elements);
+  const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(),
+                                               options.auto_gpu_min_elements);
   DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
   const double dt_min = min_substep(scene, options);
   TimeIntegrator integrator;

@@ -17,36 +17,36 @@ namespace dipc {
 // wall time (linear_solve, other), so none is negative. A phase the run does not have is 0.
 struct PhaseTimes {
   double partition = 0, setup = 0;  // setup: problem, forms, the first matrix, solver setup
-  double assembly = 0;     // gradient and Hessian evaluation in the solves, COO insertion included
-  double coo_insert = 0;   // MatSetValuesCOO alone
-  double line_search = 0;  // energy and validity of trial states, gathering each segment
-  double contact = 0;      // ghost-surface exchange, broad phase and CCD (the barrier is in assembly)
-  double preallocation = 0;  // new matrices for patterns that changed after setup (contact)
-  double linear_solve = 0; // the rest of the Newton solves: KSP, AMG setup, vector work
+  double assembly = 0;              // gradient and Hessian evaluation in the solves, COO insertion included
+  double coo_insert = 0;            // MatSetValuesCOO alone
+  double line_search = 0;           // energy and validity of trial states, gathering each segment
+  double contact = 0;               // ghost-surface exchange, broad phase and CCD (the barrier is in assembly)
+  double preallocation = 0;         // new matrices for patterns that changed after setup (contact)
+  double linear_solve = 0;          // the rest of the Newton solves: KSP, AMG setup, vector work
   double output = 0;
-  double other = 0;        // the rest of the run: step reports, energies and checks between solves
+  double other = 0;  // the rest of the run: step reports, energies and checks between solves
   double total = 0;
 };
 
 struct RunResult {
   int steps_taken = 0;
-  std::string failure;  // why the run stopped early; empty if it completed
-  bool fatal = false;   // the failure is a violated invariant (not a step recovery could not take)
+  std::string failure;    // why the run stopped early; empty if it completed
+  bool fatal = false;     // the failure is a violated invariant (not a step recovery could not take)
   long long dt_cuts = 0;  // failed attempts retried with a halved step
   // On rank 0 of the run's communicator: final positions and velocities, 3 per node of the
   // input mesh (input numbering, independent of the partition).
   std::vector<double> positions, velocities;
-  std::string xdmf_path;  // empty without output
-  int stop_signal = 0;          // the signal that stopped the run at a step boundary (0: none)
-  std::string checkpoint_path;  // the last checkpoint written (empty: none)
+  std::string xdmf_path;          // empty without output
+  int stop_signal = 0;            // the signal that stopped the run at a step boundary (0: none)
+  std::string checkpoint_path;    // the last checkpoint written (empty: none)
   double checkpoint_seconds = 0;  // writing checkpoints (part of the output time)
   PhaseTimes times;
   long long newton_iterations = 0, linear_iterations = 0;
   long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
   long long num_elements = 0, num_dofs = 0;
-  int openmp_threads = 0;           // per rank, as set for the libraries (openmp_threads.hpp; 0: unknown)
-  long max_contact_pairs = 0;       // over the steps (contact runs)
-  long new_matrix_patterns = 0;     // matrices made after setup because a pattern changed (contact)
+  int openmp_threads = 0;                // per rank, as set for the libraries (openmp_threads.hpp; 0: unknown)
+  long max_contact_pairs = 0;            // over the steps (contact runs)
+  long new_matrix_patterns = 0;          // matrices made after setup because a pattern changed (contact)
   std::vector<std::string> timing_rows;  // the timing table's rows: the phases this run has
 };
 

@@ -61,8 +61,8 @@ PetscErrorCode apply_solver_preset(MPI_Comm comm, std::string* applied, std::vec
   }
   PetscOptionsBegin(comm, nullptr, "dipc solver preset", "dipc");
   constexpr const OptionSpec& preset = dipc_option("-dipc_preset");
-  PetscCall(PetscOptionsEList(preset.name, preset.help, preset.manual, names.data(), static_cast<PetscInt>(names.size()),
-                              names[chosen], &chosen, nullptr));
+  PetscCall(PetscOptionsEList(preset.name, preset.help, preset.manual, names.data(),
+                              static_cast<PetscInt>(names.size()), names[chosen], &chosen, nullptr));
   PetscOptionsEnd();
   inserted->clear();
   for (const auto& [name, value] : preset_options(presets[chosen])) {

@@ -75,9 +75,8 @@ CooReduction CooReduction::build(const PetscInt* rows, const PetscInt* cols, std
   for (std::size_t s = 0; s < num_rows; ++s) {
     Entry* b = bucket.data() + start[s];
     Entry* e = bucket.data() + start[s + 1];
-    std::sort(b, e, [](const Entry& x, const Entry& y) {
-      return x.col < y.col || (x.col == y.col && x.source < y.source);
-    });
+    std::sort(b, e,
+              [](const Entry& x, const Entry& y) { return x.col < y.col || (x.col == y.col && x.source < y.source); });
     for (const Entry* it = b; it != e; ++it)
       if (it == b || it->col != (it - 1)->col) ++num_unique;
   }

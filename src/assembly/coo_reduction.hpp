@@ -37,8 +37,8 @@ struct CooReduction {
   // The unique entries, by row then column; reduce() does not read them, so a caller may move
   // them out (to MatSetPreallocationCOO, which may reorder them).
   std::vector<PetscInt> rows, cols;
-  std::vector<Index> offsets;        // num_unique() + 1 starts into sources
-  std::vector<Index> sources;        // raw ids of each unique entry, ascending; dropped ones absent
+  std::vector<Index> offsets;  // num_unique() + 1 starts into sources
+  std::vector<Index> sources;  // raw ids of each unique entry, ascending; dropped ones absent
   std::size_t num_raw = 0;
 };
 

@@ -16,9 +16,9 @@
 #include <petsc/private/petscimpl.h>
 
 #if PetscDefined(HAVE_HYPRE_DEVICE)
-#include <petscmathypre.h>
 #include <_hypre_parcsr_mv.h>
 #include <petsc/private/petschypre.h>  // PetscHYPREInitialize: hypre's device state, as PETSc starts it
+#include <petscmathypre.h>
 #endif
 
 namespace dipc {
@@ -267,36 +267,40 @@ std::vector<DirectMatrix::ChunkCounts> DirectMatrix::count_row_columns(const Row
   diag_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   offd_i_.assign(static_cast<std::size_t>(num_rows) + 1, 0);
   device_block_row_.assign(on_device ? static_cast<std::size_t>(num_rows) : 0, -1);
-  const int chunks = parallel_chunks(static_cast<std::size_t>(num_rows), [&](int c, std::size_t r0, std::size_t r1) {
-    ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
-    std::vector<Entry> line;
-    for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
-      const std::int64_t s = entries.block_row(r);
-      const int i = static_cast<int>(r % 3);
-      PetscInt n_diag = 0, n_offd = 0;
-      if (entries.blocks_only(r)) {
-        for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-          const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
-          const std::int64_t col_node = blocks->block_col[k];
-          (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
+  const int chunks = parallel_chunks(
+      static_cast<std::size_t>(num_rows),
+      [&](int c, std::size_t r0, std::size_t r1) {
+        ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
+        std::vector<Entry> line;
+        for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
+          const std::int64_t s = entries.block_row(r);
+          const int i = static_cast<int>(r % 3);
+          PetscInt n_diag = 0, n_offd = 0;
+          if (entries.blocks_only(r)) {
+            for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+              const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
+              const std::int64_t col_node = blocks->block_col[k];
+              (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
+            }
+            if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
+          } else {
+            entries.sorted_line(r, line);
+            for (std::size_t a = 0; a < line.size();) {
+              std::size_t b = a + 1;
+              while (b < line.size() && line[b].first == line[a].first) ++b;
+              const bool own = !entries.is_received(line[a].second);
+              (entries.is_diag(line[a].first) ? n_diag : n_offd) += 1;
+              if (on_device)
+                (entries.is_diag(line[a].first) ? mine.side_diag : mine.side_offd) += 1, mine.side_position += own;
+              mine.slots += b > a + (own ? 1 : 0);
+              a = b;
+            }
+          }
+          diag_i_[r + 1] = n_diag;
+          offd_i_[r + 1] = n_offd;
         }
-        if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
-      } else {
-        entries.sorted_line(r, line);
-        for (std::size_t a = 0; a < line.size();) {
-          std::size_t b = a + 1;
-          while (b < line.size() && line[b].first == line[a].first) ++b;
-          const bool own = !entries.is_received(line[a].second);
-          (entries.is_diag(line[a].first) ? n_diag : n_offd) += 1;
-          if (on_device) (entries.is_diag(line[a].first) ? mine.side_diag : mine.side_offd) += 1, mine.side_position += own;
-          mine.slots += b > a + (own ? 1 : 0);
-          a = b;
-        }
-      }
-      diag_i_[r + 1] = n_diag;
-      offd_i_[r + 1] = n_offd;
-    }
-  }, kRowGrain);
+      },
+      kRowGrain);
   for (PetscInt r = 0; r < num_rows; ++r) diag_i_[r + 1] += diag_i_[r], offd_i_[r + 1] += offd_i_[r];
   num_diag_ = static_cast<std::uint32_t>(diag_i_[num_rows]);
   num_offd_ = static_cast<std::uint32_t>(offd_i_[num_rows]);
@@ -327,64 +331,67 @@ std::vector<std::uint32_t> DirectMatrix::write_rows(const RowEntries& entries, s
   const bool on_device = entries.on_device;
   const PetscInt col_begin = entries.row_begin;
   std::vector<std::uint32_t> received_slot(entries.received.size());
-  parallel_chunks(static_cast<std::size_t>(entries.num_rows), [&](int c, std::size_t r0, std::size_t r1) {
-    ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
-    std::vector<Entry> line_entries;
-    for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
-      // A column's place in its block (a provisional one in the off-diagonal block).
-      std::uint32_t d = static_cast<std::uint32_t>(diag_i_[r]), o = static_cast<std::uint32_t>(offd_i_[r]);
-      const auto next_position = [&](PetscInt col) {
-        if (entries.is_diag(col)) {
-          if (on_device)
-            side_diag_[mine.side_diag++] = {d, col - col_begin};
-          else
-            diag_j_[d] = col - col_begin;
-          return d++;
+  parallel_chunks(
+      static_cast<std::size_t>(entries.num_rows),
+      [&](int c, std::size_t r0, std::size_t r1) {
+        ChunkCounts& mine = chunk[static_cast<std::size_t>(c)];
+        std::vector<Entry> line_entries;
+        for (PetscInt r = static_cast<PetscInt>(r0); r < static_cast<PetscInt>(r1); ++r) {
+          // A column's place in its block (a provisional one in the off-diagonal block).
+          std::uint32_t d = static_cast<std::uint32_t>(diag_i_[r]), o = static_cast<std::uint32_t>(offd_i_[r]);
+          const auto next_position = [&](PetscInt col) {
+            if (entries.is_diag(col)) {
+              if (on_device)
+                side_diag_[mine.side_diag++] = {d, col - col_begin};
+              else
+                diag_j_[d] = col - col_begin;
+              return d++;
+            }
+            if (on_device)
+              side_offd_[mine.side_offd++] = {o, col};
+            else
+              offd_j_[o] = col;
+            return kOffdFlag | o++;
+          };
+          if (entries.blocks_only(r)) {
+            if (on_device) continue;
+            const std::int64_t s = entries.block_row(r);
+            const int i = static_cast<int>(r % 3);
+            for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
+              const unsigned mask = blocks->block_mask[k];
+              for (int j = 0; j < 3; ++j)
+                if (mask >> (3 * i + j) & 1u)
+                  position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
+                      next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
+            }
+            continue;
+          }
+          entries.sorted_line(r, line_entries);
+          const Entry* line = line_entries.data();
+          const std::size_t size = line_entries.size();
+          for (std::size_t a = 0; a < size;) {
+            std::size_t b = a + 1;
+            while (b < size && line[b].first == line[a].first) ++b;
+            const std::uint32_t p = next_position(line[a].first);
+            const bool own = !entries.is_received(line[a].second);
+            if (own) {
+              if (on_device)
+                side_position_[mine.side_position++] = {line[a].second, p};
+              else
+                position_[line[a].second] = p;
+            }
+            if (b > a + (own ? 1 : 0)) {
+              const std::size_t slot = mine.slots++;
+              for (std::size_t c2 = a + (own ? 1 : 0); c2 < b; ++c2)
+                received_slot[line[c2].second - entries.total] = static_cast<std::uint32_t>(slot);
+              slot_position_[slot] = p;
+              slot_keep_[slot] = own ? 1 : 0;
+            }
+            a = b;
+          }
         }
-        if (on_device)
-          side_offd_[mine.side_offd++] = {o, col};
-        else
-          offd_j_[o] = col;
-        return kOffdFlag | o++;
-      };
-      if (entries.blocks_only(r)) {
-        if (on_device) continue;
-        const std::int64_t s = entries.block_row(r);
-        const int i = static_cast<int>(r % 3);
-        for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-          const unsigned mask = blocks->block_mask[k];
-          for (int j = 0; j < 3; ++j)
-            if (mask >> (3 * i + j) & 1u)
-              position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
-                  next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
-        }
-        continue;
-      }
-      entries.sorted_line(r, line_entries);
-      const Entry* line = line_entries.data();
-      const std::size_t size = line_entries.size();
-      for (std::size_t a = 0; a < size;) {
-        std::size_t b = a + 1;
-        while (b < size && line[b].first == line[a].first) ++b;
-        const std::uint32_t p = next_position(line[a].first);
-        const bool own = !entries.is_received(line[a].second);
-        if (own) {
-          if (on_device)
-            side_position_[mine.side_position++] = {line[a].second, p};
-          else
-            position_[line[a].second] = p;
-        }
-        if (b > a + (own ? 1 : 0)) {
-          const std::size_t slot = mine.slots++;
-          for (std::size_t c2 = a + (own ? 1 : 0); c2 < b; ++c2)
-            received_slot[line[c2].second - entries.total] = static_cast<std::uint32_t>(slot);
-          slot_position_[slot] = p;
-          slot_keep_[slot] = own ? 1 : 0;
-        }
-        a = b;
-      }
-    }
-  }, kRowGrain);
+      },
+      kRowGrain);
   return received_slot;
 }
 
@@ -417,8 +424,8 @@ PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
   arrays->diag_j = std::move(diag_j_);
   arrays->diag_a.assign(num_diag_, 0.0);
   if (seq) {
-    PetscCall(MatCreateSeqAIJWithArrays(comm, m, m, arrays->diag_i.data(), arrays->diag_j.data(),
-                                        arrays->diag_a.data(), J));
+    PetscCall(
+        MatCreateSeqAIJWithArrays(comm, m, m, arrays->diag_i.data(), arrays->diag_j.data(), arrays->diag_a.data(), J));
   } else {
     arrays->offd_i = std::move(offd_i_);
     arrays->offd_j = std::move(offd_j_);
@@ -436,7 +443,8 @@ PetscErrorCode DirectMatrix::make_host_aij(Mat like, Mat* J) {
   PetscCall(PetscContainerCreate(comm, &container));
   PetscCall(PetscContainerSetPointer(container, arrays.release()));
   PetscCall(PetscContainerSetUserDestroy(container, destroy_host_arrays));
-  PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*J), "dipc_direct_arrays", reinterpret_cast<PetscObject>(container)));
+  PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(*J), "dipc_direct_arrays",
+                               reinterpret_cast<PetscObject>(container)));
   PetscCall(PetscContainerDestroy(&container));
   PetscCall(check_host_pattern(*J, offd_columns));
   PetscFunctionReturn(0);
@@ -511,7 +519,8 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   PetscCallExternal(HYPRE_SetMemoryLocation, HYPRE_MEMORY_DEVICE);
   HYPRE_BigInt starts[2] = {static_cast<HYPRE_BigInt>(begin), static_cast<HYPRE_BigInt>(begin + m)};
   hypre_ParCSRMatrix* A = hypre_ParCSRMatrixCreate(comm, M, M, starts, starts, static_cast<HYPRE_Int>(col_map.size()),
-                                                   static_cast<HYPRE_Int>(num_diag_), static_cast<HYPRE_Int>(num_offd_));
+                                                   static_cast<HYPRE_Int>(num_diag_),
+                                                   static_cast<HYPRE_Int>(num_offd_));
   hypre_ParCSRMatrixInitialize_v2(A, HYPRE_MEMORY_DEVICE);
   hypre_CSRMatrix* diag = hypre_ParCSRMatrixDiag(A);
   hypre_CSRMatrix* offd = hypre_ParCSRMatrixOffd(A);

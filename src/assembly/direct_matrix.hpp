@@ -30,10 +30,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "device/device_runtime.hpp"
 #include "assembly/large_page_vector.hpp"
 #include "assembly/node_block_reduction.hpp"
 #include "assembly/remote_entry_sums.hpp"
+#include "device/device_runtime.hpp"
 
 namespace dipc {
 
@@ -66,8 +66,8 @@ class DirectMatrix {
  private:
   // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
   // of other ranks' rows.
-  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
-                               const PetscInt* rows, const PetscInt* cols, std::size_t n);
+  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks, const PetscInt* rows,
+                               const PetscInt* cols, std::size_t n);
   // build_pattern's steps (direct_matrix.cpp): the rank's rows' entries as they are gathered,
   // the entries of other ranks' rows sent to their owners, then two passes over the rows.
   struct RowEntries;

@@ -57,8 +57,7 @@ void DirichletElimination::apply(double* unique) const {
 }
 
 void DirichletElimination::apply_on_device(double* d_unique) const {
-  device::eliminate(d_unique, d_zero_entries_.data(), zero_entries_.size(), d_one_entries_.data(),
-                    one_entries_.size());
+  device::eliminate(d_unique, d_zero_entries_.data(), zero_entries_.size(), d_one_entries_.data(), one_entries_.size());
 }
 
 }  // namespace dipc

@@ -21,7 +21,8 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
       device::NodeBlocks on_device;
       blocks_ = NodeBlockReduction::build_on_device(inputs, owned_begin, owned_end, &on_device);
       d_block_mask_.resize(on_device.mask.size());
-      device::copy_on_device(d_block_mask_.data(), on_device.mask.data(), on_device.mask.size() * sizeof(std::uint16_t));
+      device::copy_on_device(d_block_mask_.data(), on_device.mask.data(),
+                             on_device.mask.size() * sizeof(std::uint16_t));
       d_block_start_.resize(on_device.start.size());
       device::copy_on_device(d_block_start_.data(), on_device.start.data(),
                              on_device.start.size() * sizeof(std::uint64_t));
@@ -62,8 +63,8 @@ void ElementBlockPart::reduce(const double* raw, double* unique) const {
 void ElementBlockPart::reduce_on_device(const double* d_raw, double* d_unique) const {
   std::vector<device::ElementBlockMap> maps;
   for (std::size_t m = 0; m < blocks_.forms.size(); ++m)
-    maps.push_back({blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(),
-                    d_block_sources_[m].data()});
+    maps.push_back(
+        {blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(), d_block_sources_[m].data()});
   device::reduce_element_blocks(d_raw, blocks_.num_blocks(), d_block_mask_.data(), d_block_start_.data(), maps.data(),
                                 static_cast<int>(maps.size()), d_unique);
 }

@@ -6,8 +6,8 @@
 #include <limits>
 #include <type_traits>
 
-#include "physics/hex8_mean_dilatation.hpp"
 #include "physics/hex8_mass.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
 
 namespace dipc {
 
@@ -49,8 +49,8 @@ bool element_terms(const ElementBlock& block, int e, const double Xe[24], const 
     return hex8_elastic(block.volumetric_term(e), block.model[e], Xe, xe, block.lambda[e], block.mu[e], energy,
                         gradient, hessian);
   else
-    return hex8_elastic<NeoHookean>(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], energy,
-                                    gradient, hessian);
+    return hex8_elastic<NeoHookean>(block.volumetric_term(e), Xe, xe, block.lambda[e], block.mu[e], energy, gradient,
+                                    hessian);
 }
 
 // Runs loop(std::bool_constant<AnyModel>) with AnyModel true when the block has a per-element
@@ -69,9 +69,8 @@ void element_dofs(const ElementBlock& block, int e, const std::int64_t* local_to
     const std::int64_t global_node = local_to_global[en[a]];
     const std::int64_t first = 3 * global_node;
     if (global_node < 0 || first + 2 > std::numeric_limits<std::int32_t>::max())
-      throw DofIndexOverflow("element_loops: element " + std::to_string(e) + " local node " +
-                             std::to_string(en[a]) + " has global id " + std::to_string(global_node) +
-                             " whose dofs do not fit a 32-bit index");
+      throw DofIndexOverflow("element_loops: element " + std::to_string(e) + " local node " + std::to_string(en[a]) +
+                             " has global id " + std::to_string(global_node) + " whose dofs do not fit a 32-bit index");
     for (int c = 0; c < 3; ++c) dofs[3 * a + c] = static_cast<std::int32_t>(first + c);
   }
 }

@@ -9,27 +9,25 @@
 #include <string>
 #include <vector>
 
+#include "math/host_device.hpp"
 #include "physics/hex8_mean_dilatation.hpp"
 #include "physics/materials.hpp"
-#include "math/host_device.hpp"
 
 namespace dipc {
 
 // Structure-of-arrays view of an element block; nothing owned.
 struct ElementBlock {
   int num_elements = 0;
-  const std::int32_t* nodes = nullptr;  // 8*num_elements local node ids, element-major
-  const double* reference = nullptr;    // 3*num_local_nodes reference coordinates
-  const double* lambda = nullptr;       // per element
-  const double* mu = nullptr;           // per element
+  const std::int32_t* nodes = nullptr;         // 8*num_elements local node ids, element-major
+  const double* reference = nullptr;           // 3*num_local_nodes reference coordinates
+  const double* lambda = nullptr;              // per element
+  const double* mu = nullptr;                  // per element
   const VolumetricTerm* volumetric = nullptr;  // per element; nullptr: all at the Gauss points
   const MaterialModel* model = nullptr;        // per element; nullptr: all neo-Hookean
   DIPC_HD VolumetricTerm volumetric_term(std::int64_t e) const {
     return volumetric ? volumetric[e] : VolumetricTerm::gauss_points;
   }
-  DIPC_HD MaterialModel material_model(std::int64_t e) const {
-    return model ? model[e] : MaterialModel::neo_hookean;
-  }
+  DIPC_HD MaterialModel material_model(std::int64_t e) const { return model ? model[e] : MaterialModel::neo_hookean; }
 };
 
 // Elements [first, first + count) of a block, as a block of their own (its node ids index the

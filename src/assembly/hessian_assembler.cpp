@@ -84,8 +84,8 @@ PetscErrorCode HessianAssembler::build_element_part() {
     element_map_[t] = static_cast<int>(inputs.size());
     all_host = all_host && terms_[t].space == MemorySpace::host;
     term_begin_[t] = raw;
-    term_size_[t] =
-        static_cast<std::size_t>(element_values(pattern.layout)) * static_cast<std::size_t>(pattern.num_elements);
+    term_size_[t] = static_cast<std::size_t>(element_values(pattern.layout)) *
+                    static_cast<std::size_t>(pattern.num_elements);
     inputs.push_back({pattern, raw});
     raw += term_size_[t];
   }

@@ -120,16 +120,16 @@ class HessianAssembler {
   Dofs dofs_;
   std::vector<Term> terms_;
   std::vector<long> pattern_versions_;
-  bool any_device_ = false;                    // terms that write on the device
-  bool direct_matrix_allowed_ = true;          // -dipc_direct_matrix, read at setup
-  Mat J_ = nullptr;                            // not owned
-  bool device_matrix_ = false;                 // values are summed on the device (device terms and matrix)
+  bool any_device_ = false;            // terms that write on the device
+  bool direct_matrix_allowed_ = true;  // -dipc_direct_matrix, read at setup
+  Mat J_ = nullptr;                    // not owned
+  bool device_matrix_ = false;         // values are summed on the device (device terms and matrix)
   // Each term's values in the raw array: start and count; element terms first.
   std::vector<std::size_t> term_begin_, term_size_;
-  std::vector<int> element_map_;               // per term: its index among the node blocks' forms, or -1
-  std::size_t num_element_raw_ = 0;            // raw values of the element part (the array's start)
-  std::size_t dirichlet_raw_begin_ = 0;        // the Dirichlet diagonal's raw values, to the end
-  std::size_t num_raw_entries_ = 0;            // element part, COO part (with the Dirichlet diagonal)
+  std::vector<int> element_map_;         // per term: its index among the node blocks' forms, or -1
+  std::size_t num_element_raw_ = 0;      // raw values of the element part (the array's start)
+  std::size_t dirichlet_raw_begin_ = 0;  // the Dirichlet diagonal's raw values, to the end
+  std::size_t num_raw_entries_ = 0;      // element part, COO part (with the Dirichlet diagonal)
   // The raw values on the host: only for a host matrix, and without the element part's when it
   // is summed chunk by chunk (values_ then starts at the COO part). With a device matrix the host
   // keeps neither these nor the maps, only the block of the largest host term (friction) in
@@ -140,10 +140,10 @@ class HessianAssembler {
   ElementBlockPart elements_;
   CooPart others_;
   DirichletElimination dirichlet_;
-  std::size_t num_unique_ = 0;                 // the matrix's entries on this rank
+  std::size_t num_unique_ = 0;  // the matrix's entries on this rank
   LargePageVector<PetscScalar> unique_values_;
   device::Array<double> d_unique_values_{"Hessian unique COO values"};
-  DirectMatrix direct_;                        // the matrix made from the entries, unless direct_kind_ is coo
+  DirectMatrix direct_;  // the matrix made from the entries, unless direct_kind_ is coo
   DirectMatrix::Kind direct_kind_ = DirectMatrix::Kind::coo;
 };
 

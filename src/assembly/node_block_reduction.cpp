@@ -102,8 +102,8 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
           Item* out = items.data() + next[slot_of(g[a])];
           next[slot_of(g[a])] += 8;
           for (int b = 0; b < 8; ++b)
-            out[b] = {g[b], (static_cast<std::uint64_t>(f) << kFormShift) |
-                                static_cast<std::uint64_t>(64 * e + 8 * a + b)};
+            out[b] = {g[b],
+                      (static_cast<std::uint64_t>(f) << kFormShift) | static_cast<std::uint64_t>(64 * e + 8 * a + b)};
         }
       }
     }
@@ -172,8 +172,8 @@ NodeBlockReduction NodeBlockReduction::build_on_device(const std::vector<Input>&
   }
   std::vector<device::NodeBlockForm> forms;
   for (std::size_t f = 0; f < inputs.size(); ++f)
-    forms.push_back({d_slots[f].data(), static_cast<std::size_t>(inputs[f].pattern.num_elements),
-                     inputs[f].pattern.layout});
+    forms.push_back(
+        {d_slots[f].data(), static_cast<std::size_t>(inputs[f].pattern.num_elements), inputs[f].pattern.layout});
   device::Array<std::int64_t> d_row_nodes("node-block row nodes");
   d_row_nodes.upload(r.row_nodes);
   device::build_node_blocks(forms.data(), static_cast<int>(forms.size()), slots.num_rows, d_row_nodes.data(),
@@ -251,8 +251,7 @@ void NodeBlockReduction::index_elements() {
   }
 }
 
-void NodeBlockReduction::add_elements(std::size_t m, int first, int count, const double* values,
-                                      double* unique) const {
+void NodeBlockReduction::add_elements(std::size_t m, int first, int count, const double* values, double* unique) const {
   const FormMap& form = forms[m];
   const std::size_t per = static_cast<std::size_t>(element_values(form.layout));
   const unsigned form_mask = element_block_mask(form.layout);

@@ -95,12 +95,12 @@ class NodeBlockReduction {
   // in the same order.
   void add_elements(std::size_t m, int first, int count, const double* values, double* unique) const;
 
-  std::vector<std::int64_t> row_nodes;     // global node of each block row, ascending
-  std::vector<std::size_t> row_start;      // blocks of row r: [row_start[r], row_start[r+1])
+  std::vector<std::int64_t> row_nodes;         // global node of each block row, ascending
+  std::vector<std::size_t> row_start;          // blocks of row r: [row_start[r], row_start[r+1])
   LargePageVector<std::int64_t> block_col;     // global column node of each block, ascending in a row
   LargePageVector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)
   LargePageVector<std::uint64_t> block_start;  // first entry of each block; num_blocks() + 1
-  std::vector<FormMap> forms;              // in the order of build()'s inputs
+  std::vector<FormMap> forms;                  // in the order of build()'s inputs
 };
 
 }  // namespace dipc

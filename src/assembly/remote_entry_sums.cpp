@@ -60,8 +60,7 @@ void RemoteEntrySums::sum(const double* values, double* sums) {
   constexpr int kTag = 1;
   for (const Neighbour& n : from_) {
     requests.emplace_back();
-    MPI_Irecv(received_.data() + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_,
-              &requests.back());
+    MPI_Irecv(received_.data() + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_, &requests.back());
   }
   for (const Neighbour& n : to_) {
     requests.emplace_back();

@@ -7,7 +7,6 @@
 // take the plane's point and unit normal (3 doubles each; the solid side lies behind the
 // normal), the others ignore them. Distances are squared, as the barrier's d and d̂ (docs/design.md §1.3).
 #pragma once
-#include "math/symmetric_eigen.hpp"
 #include "contact/ccd/time_of_impact.hpp"
 #include "contact/geometry/barrier.hpp"
 #include "contact/geometry/edge_edge_distance.hpp"
@@ -15,6 +14,7 @@
 #include "contact/geometry/point_triangle_distance.hpp"
 #include "contact/pair_kind.hpp"
 #include "math/host_device.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "math/vector3.hpp"
 
 namespace dipc {
@@ -94,7 +94,8 @@ DIPC_HD bool contact_pair_terms(PairKind kind, const double* X, const double* pl
                b2 = contact::barrier_second_derivative(d, dhat2);
   const double s = kappa * weight;
   double m = 1, gm[12] = {}, Hm[144] = {};
-  const bool mollified = kind == PairKind::edge_edge && contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
+  const bool mollified = kind == PairKind::edge_edge &&
+                         contact::edge_edge_cross_squared_norm(X, X + 3, X + 6, X + 9) < eps_x;
   if (mollified) {
     m = contact::edge_edge_mollifier(X, X + 3, X + 6, X + 9, eps_x);
     if (want_g || want_H) contact::edge_edge_mollifier_gradient(X, X + 3, X + 6, X + 9, eps_x, gm);

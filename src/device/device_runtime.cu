@@ -259,8 +259,8 @@ void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* 
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
-                std::size_t num_unique, double* unique) {
+void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources, std::size_t num_unique,
+                double* unique) {
   if (!num_unique) return;
   reduce_coo_kernel<<<blocks_for(num_unique, 256), 256>>>(raw, offsets, sources, num_unique, unique);
   DIPC_CUDA_CHECK_LAUNCH();

@@ -142,7 +142,7 @@ void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* 
                std::size_t num_diag, double* offd);
 // unique[u] = sum of raw[sources[j]] for j in [offsets[u], offsets[u+1]), added from 0 in that
 // order: CooReduction::reduce on device arrays, bit for bit the same.
-void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources,
-                std::size_t num_unique, double* unique);
+void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources, std::size_t num_unique,
+                double* unique);
 
 }  // namespace dipc::device

@@ -17,8 +17,8 @@ std::vector<double> scaled_body_forces(const std::vector<double>& node_mass, int
 class BodyForceForm : public Form {
  public:
   // space: where value and gradient run (device: through a DeviceBodyForcePart).
-  BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes,
-                const std::array<double, 3>& acceleration, double scale, MemorySpace space = MemorySpace::host);
+  BodyForceForm(const std::vector<double>& node_mass, int num_owned_nodes, const std::array<double, 3>& acceleration,
+                double scale, MemorySpace space = MemorySpace::host);
   std::string name() const override { return "body force"; }
   MemorySpace memory_space() const override { return device_ ? MemorySpace::device : MemorySpace::host; }
   bool value(const double* x, double* energy) override;
@@ -30,7 +30,7 @@ class BodyForceForm : public Form {
  private:
   std::vector<double> node_mass_;  // owned nodes
   std::array<double, 3> acceleration_;
-  std::vector<double> force_;  // scale · m_i g, owned nodes, 3 per node
+  std::vector<double> force_;                    // scale · m_i g, owned nodes, 3 per node
   std::unique_ptr<DeviceBodyForcePart> device_;  // device space only
 };
 

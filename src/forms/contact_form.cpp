@@ -23,7 +23,9 @@ MemorySpace ContactForm::checked_space(MemorySpace space) {
 
 ContactForm::ContactForm(const DistributedMesh& mesh, ContactParameters parameters, MemorySpace space,
                          const GhostExchange* nodal)
-    : parameters_(std::move(parameters)), space_(checked_space(space)), set_(mesh, parameters_, space_, &stats_, nodal) {}
+    : parameters_(std::move(parameters)),
+      space_(checked_space(space)),
+      set_(mesh, parameters_, space_, &stats_, nodal) {}
 
 void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
   // IPC supplement (adaptive barrier stiffness): κ_min makes the barrier's stiffness at a
@@ -100,8 +102,8 @@ device::BarrierConstants ContactForm::barrier_constants() const {
 bool ContactForm::value(const double* x, double* energy) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
-    const bool ok =
-        device::contact_barrier_energy(device_candidates_, set_.device_obstacles(), barrier_constants(), x, reducer_, energy);
+    const bool ok = device::contact_barrier_energy(device_candidates_, set_.device_obstacles(), barrier_constants(), x,
+                                                   reducer_, energy);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -121,8 +123,8 @@ bool ContactForm::value(const double* x, double* energy) {
 bool ContactForm::gradient(const double* x, double* g) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
-    const bool ok =
-        device::add_contact_barrier_gradient(device_candidates_, set_.device_obstacles(), barrier_constants(), x, g, reducer_);
+    const bool ok = device::add_contact_barrier_gradient(device_candidates_, set_.device_obstacles(),
+                                                         barrier_constants(), x, g, reducer_);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -144,8 +146,8 @@ bool ContactForm::gradient(const double* x, double* g) {
 bool ContactForm::hessian(const double* x, double* values) {
   const double start = MPI_Wtime();
   if (space_ == MemorySpace::device) {
-    const bool ok =
-        device::contact_barrier_hessian(device_pattern_, set_.device_obstacles(), barrier_constants(), x, values, reducer_);
+    const bool ok = device::contact_barrier_hessian(device_pattern_, set_.device_obstacles(), barrier_constants(), x,
+                                                    values, reducer_);
     stats_.barrier_seconds += MPI_Wtime() - start;
     return ok;
   }
@@ -219,9 +221,9 @@ std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) 
 }
 
 const char* ContactForm::pair_kind_name(int kind) {
-  static const char* const names[num_pair_kinds] = {"point_triangle",          "edge_edge",
-                                                    "point_plane",             "point_obstacle_triangle",
-                                                    "edge_obstacle_edge",      "obstacle_point_triangle"};
+  static const char* const names[num_pair_kinds] = {"point_triangle",     "edge_edge",
+                                                    "point_plane",        "point_obstacle_triangle",
+                                                    "edge_obstacle_edge", "obstacle_point_triangle"};
   return kind >= 0 && kind < num_pair_kinds ? names[kind] : "unknown";
 }
 

@@ -107,8 +107,7 @@ class ContactForm : public Form {
 
  private:
   static MemorySpace checked_space(MemorySpace space);  // throws DeviceError without a device
-  bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active,
-             ContactPairTerms* t) const;
+  bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active, ContactPairTerms* t) const;
   void append(device::ContactPairList* list, const PairInfo& info) const;
   device::BarrierConstants barrier_constants() const;
 

@@ -52,7 +52,9 @@ bool DeviceElasticPart::hessian(const double* x, double scale, double* values) {
   return device::elastic_evaluate(device_.block(), x, scale, nullptr, nullptr, values, reducer_);
 }
 
-bool DeviceElasticPart::is_valid(const double* x) { return device::min_volume_ratio(device_.block(), x, reducer_) > 0.0; }
+bool DeviceElasticPart::is_valid(const double* x) {
+  return device::min_volume_ratio(device_.block(), x, reducer_) > 0.0;
+}
 
 // ---- lumped inertia -------------------------------------------------------------------------
 

@@ -41,7 +41,7 @@ class ElasticForm : public Form, public VolumetricSplit {
   double scale_;
   std::unique_ptr<DeviceElasticPart> device_;  // device space only
   std::vector<double> gradient_work_;
-  std::vector<int> split_elements_;       // the mean-dilatation elements, one volumetric row each
+  std::vector<int> split_elements_;  // the mean-dilatation elements, one volumetric row each
   bool split_ = false;
   VolumetricPart part_;
   std::vector<double> volumes_;           // reference volume per split element

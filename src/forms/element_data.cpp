@@ -15,8 +15,8 @@ ElementData::ElementData(const DistributedMesh& mesh, const std::vector<BodyMate
   for (int e = 0; e < mesh.num_elements(); ++e) {
     const int b = mesh.element_body[e];
     if (b < 0 || b >= static_cast<int>(materials.size()))
-      throw std::runtime_error("element " + std::to_string(mesh.element_input_id[e]) +
-                               " has body id " + std::to_string(b) + " without a material");
+      throw std::runtime_error("element " + std::to_string(mesh.element_input_id[e]) + " has body id " +
+                               std::to_string(b) + " without a material");
     if (b < static_cast<int>(skip_body.size()) && skip_body[b]) continue;
     if (materials[b].volumetric == VolumetricTerm::mean_dilatation && materials[b].model != MaterialModel::neo_hookean)
       throw std::runtime_error("body " + std::to_string(b) + ": the mean-dilatation element is neo-Hookean only, not " +

@@ -32,8 +32,8 @@ PetscErrorCode add_contact_forms(const DistributedMesh& mesh, const ProblemSetup
   built->contact = contact.get();
   built->forms.push_back(std::move(contact));
   if (problem.friction > 0 && !problem.is_static) {
-    auto friction =
-        std::make_unique<FrictionForm>(*built->contact, problem.friction, problem.friction_epsv, problem.dt);
+    auto friction = std::make_unique<FrictionForm>(*built->contact, problem.friction, problem.friction_epsv,
+                                                   problem.dt);
     built->friction = friction.get();
     built->forms.push_back(std::move(friction));
   }

@@ -42,9 +42,9 @@ class FrictionForm : public Form {
 
  private:
   struct Pair {
-    int count = 0;                          // 4 (point–triangle, edge–edge) or 1 (point–plane)
-    std::array<std::int64_t, 4> global{};   // global node ids
-    std::array<double, 12> x_start{};       // their positions at the start of the step
+    int count = 0;                         // 4 (point–triangle, edge–edge) or 1 (point–plane)
+    std::array<std::int64_t, 4> global{};  // global node ids
+    std::array<double, 12> x_start{};      // their positions at the start of the step
     contact::LaggedPairFriction pair{};
     contact::LaggedPointPlaneFriction plane{};
   };

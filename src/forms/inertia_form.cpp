@@ -4,10 +4,12 @@
 
 namespace dipc {
 
-LumpedInertiaForm::LumpedInertiaForm(std::vector<double> node_mass, int num_owned_nodes,
-                                     std::int64_t node_offset, MemorySpace space)
-    : mass_(std::move(node_mass)), x_hat_(3 * static_cast<std::size_t>(num_owned_nodes), 0.0),
-      num_owned_(num_owned_nodes), node_offset_(node_offset) {
+LumpedInertiaForm::LumpedInertiaForm(std::vector<double> node_mass, int num_owned_nodes, std::int64_t node_offset,
+                                     MemorySpace space)
+    : mass_(std::move(node_mass)),
+      x_hat_(3 * static_cast<std::size_t>(num_owned_nodes), 0.0),
+      num_owned_(num_owned_nodes),
+      node_offset_(node_offset) {
   if (space == MemorySpace::device) device_ = std::make_unique<DeviceLumpedInertiaPart>(mass_, num_owned_nodes);
 }
 
@@ -53,8 +55,7 @@ bool LumpedInertiaForm::hessian(const double*, double* values) {
   return true;
 }
 
-ConsistentInertiaForm::ConsistentInertiaForm(const ElementData& elements, MemorySpace space)
-    : elements_(elements) {
+ConsistentInertiaForm::ConsistentInertiaForm(const ElementData& elements, MemorySpace space) : elements_(elements) {
   if (space == MemorySpace::device) {  // the element masses live on the device only
     device_ = std::make_unique<DeviceConsistentInertiaPart>(elements);
     return;
@@ -83,8 +84,7 @@ bool ConsistentInertiaForm::value(const double* x, double* energy) {
     for (int a = 0; a < 8; ++a)
       for (int b = 0; b < 8; ++b)
         for (int c = 0; c < 3; ++c)
-          e += 0.5 * M[8 * a + b] * (x[3 * n[a] + c] - x_hat_[3 * n[a] + c]) *
-               (x[3 * n[b] + c] - x_hat_[3 * n[b] + c]);
+          e += 0.5 * M[8 * a + b] * (x[3 * n[a] + c] - x_hat_[3 * n[a] + c]) * (x[3 * n[b] + c] - x_hat_[3 * n[b] + c]);
   }
   *energy = e;
   return true;

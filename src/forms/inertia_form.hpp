@@ -56,8 +56,8 @@ class ConsistentInertiaForm : public Form {
 
  private:
   const ElementData& elements_;
-  std::vector<double> element_mass_;  // 64 per element: 8×8 scalar M_ab
-  std::vector<double> x_hat_;         // all local nodes
+  std::vector<double> element_mass_;                     // 64 per element: 8×8 scalar M_ab
+  std::vector<double> x_hat_;                            // all local nodes
   std::unique_ptr<DeviceConsistentInertiaPart> device_;  // device space only
 };
 

@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/hex8_mean_dilatation.hpp"
-#include "physics/materials.hpp"
 #include "contact/distributed/contact_parameters.hpp"
 #include "mesh/prescribed_motion.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
+#include "physics/materials.hpp"
 
 namespace dipc {
 
@@ -31,7 +31,7 @@ struct ProblemSetup {
   std::vector<char> body_kinematic;  // per body id: prescribed entirely (no elastic energy)
   std::array<double, 3> gravity{0, 0, 0};
   std::vector<DirichletSet> dirichlet;  // later sets win where they overlap
-  bool is_static = false;  // minimise Ψ(x) − fᵀx once instead of stepping in time
+  bool is_static = false;               // minimise Ψ(x) − fᵀx once instead of stepping in time
   double dt = 0.01;
   int steps = 1;
   bool lumped_mass = true;
@@ -39,9 +39,9 @@ struct ProblemSetup {
   // Contact: built only when enabled (IPC barrier; friction only when friction > 0).
   bool contact = false;
   ContactParameters contact_parameters;
-  double friction = 0;           // Coulomb coefficient μ
-  double friction_epsv = 1e-3;   // ε_v [m/s]: below this relative sliding speed friction is smoothed
-  int friction_iterations = 1;   // lagging iterations per step
+  double friction = 0;          // Coulomb coefficient μ
+  double friction_epsv = 1e-3;  // ε_v [m/s]: below this relative sliding speed friction is smoothed
+  int friction_iterations = 1;  // lagging iterations per step
 };
 
 }  // namespace dipc

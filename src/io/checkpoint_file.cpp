@@ -95,18 +95,22 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
     Hdf5Handle file;
     {
       Hdf5Handle access(mpio_file_access(comm), H5Pclose);
-      if (access.valid()) file = Hdf5Handle(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
+      if (access.valid())
+        file = Hdf5Handle(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
       if (!file.valid()) error = "cannot create checkpoint '" + temporary + "': " + hdf5_error_text();
     }
     throw_if_failed_anywhere(comm, error);
     // Attributes are metadata: every rank writes the same values (collective metadata writes).
     const std::int64_t version = kCheckpointVersion;
     error = write_text_attribute(file.get(), "format", kFormat, temporary);
-    if (error.empty()) error = write_attribute(file.get(), "version", H5T_STD_I64LE, H5T_NATIVE_INT64, &version, temporary);
+    if (error.empty())
+      error = write_attribute(file.get(), "version", H5T_STD_I64LE, H5T_NATIVE_INT64, &version, temporary);
     for (const auto& [name, value] : c.integers)
-      if (error.empty()) error = write_attribute(file.get(), name.c_str(), H5T_STD_I64LE, H5T_NATIVE_INT64, &value, temporary);
+      if (error.empty())
+        error = write_attribute(file.get(), name.c_str(), H5T_STD_I64LE, H5T_NATIVE_INT64, &value, temporary);
     for (const auto& [name, value] : c.reals)
-      if (error.empty()) error = write_attribute(file.get(), name.c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value, temporary);
+      if (error.empty())
+        error = write_attribute(file.get(), name.c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value, temporary);
     for (const auto& [name, value] : c.texts)
       if (error.empty()) error = write_text_attribute(file.get(), name.c_str(), value, temporary);
     throw_if_failed_anywhere(comm, error);
@@ -123,8 +127,9 @@ void write_checkpoint_file(MPI_Comm comm, const std::string& path, const Checkpo
                                                 values.data(), temporary));
       Hdf5Handle dataset(H5Dopen2(nodes.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
       const std::uint64_t sum = checksum(comm, values, c.node_offset);
-      error = dataset.valid() ? write_attribute(dataset.get(), "checksum", H5T_STD_U64LE, H5T_NATIVE_UINT64, &sum, temporary)
-                              : hdf5_failure("cannot open dataset " + name, temporary);
+      error = dataset.valid()
+                  ? write_attribute(dataset.get(), "checksum", H5T_STD_U64LE, H5T_NATIVE_UINT64, &sum, temporary)
+                  : hdf5_failure("cannot open dataset " + name, temporary);
       throw_if_failed_anywhere(comm, error);
     }
     nodes.reset();

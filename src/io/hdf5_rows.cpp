@@ -77,8 +77,8 @@ std::string write_rows(hid_t parent, const std::string& dataset_path, hid_t file
   if (!file_space.valid() || !dcpl.valid()) return hdf5_failure("cannot create dataspace for " + dataset_path, h5_path);
   // Every element is written by some rank, so HDF5's fill pass would be a wasted second write.
   H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER);
-  Hdf5Handle dataset(H5Dcreate2(parent, dataset_path.c_str(), file_type, file_space.get(), H5P_DEFAULT,
-                                dcpl.get(), H5P_DEFAULT),
+  Hdf5Handle dataset(H5Dcreate2(parent, dataset_path.c_str(), file_type, file_space.get(), H5P_DEFAULT, dcpl.get(),
+                                H5P_DEFAULT),
                      H5Dclose);
   if (!dataset.valid()) return hdf5_failure("cannot create dataset " + dataset_path, h5_path);
   Hdf5Handle memory_space, transfer;

@@ -19,21 +19,15 @@ class KeyPathTracker {
  public:
   bool on_event(json::parse_event_t event, const json& parsed) {
     switch (event) {
-      case json::parse_event_t::object_start:
-        frames_.push_back(Frame{false, 0, {}, {}});
-        break;
-      case json::parse_event_t::array_start:
-        frames_.push_back(Frame{true, 0, {}, {}});
-        break;
+      case json::parse_event_t::object_start: frames_.push_back(Frame{false, 0, {}, {}}); break;
+      case json::parse_event_t::array_start: frames_.push_back(Frame{true, 0, {}, {}}); break;
       case json::parse_event_t::key: {
         Frame& top = frames_.back();
         top.key = parsed.get<std::string>();
         if (!top.keys_seen.insert(top.key).second) throw DuplicateKey{path()};
         break;
       }
-      case json::parse_event_t::value:
-        complete_element();
-        break;
+      case json::parse_event_t::value: complete_element(); break;
       case json::parse_event_t::object_end:
       case json::parse_event_t::array_end:
         frames_.pop_back();
@@ -63,8 +57,8 @@ class KeyPathTracker {
  private:
   struct Frame {
     bool is_array;
-    std::size_t index;             // arrays: index of the element being parsed
-    std::string key;               // objects: key of the value being parsed
+    std::size_t index;  // arrays: index of the element being parsed
+    std::string key;    // objects: key of the value being parsed
     std::set<std::string> keys_seen;
   };
   void complete_element() {
@@ -76,8 +70,7 @@ class KeyPathTracker {
 // nlohmann's what() starts with "[json.exception.parse_error.101] "; users need the rest.
 std::string without_exception_id(const std::string& what) {
   const auto end = what.find("] ");
-  return (what.rfind("[json.exception.", 0) == 0 && end != std::string::npos) ? what.substr(end + 2)
-                                                                              : what;
+  return (what.rfind("[json.exception.", 0) == 0 && end != std::string::npos) ? what.substr(end + 2) : what;
 }
 
 }  // namespace
@@ -95,8 +88,8 @@ json parse_json_document(const std::string& text, const std::string& source) {
   } catch (const json::out_of_range& e) {
     // A number literal too large for a double (1e999): the lexer read it as inf.
     const std::string where = tracker.path();
-    throw SceneError(source + ": " + (where.empty() ? std::string() : where + ": ") +
-                     without_exception_id(e.what()) + " (numbers must be finite)");
+    throw SceneError(source + ": " + (where.empty() ? std::string() : where + ": ") + without_exception_id(e.what()) +
+                     " (numbers must be finite)");
   }
 }
 

@@ -51,24 +51,29 @@ MeshFileReader::MeshFileReader(MPI_Comm comm, const std::string& path) : comm_(c
   std::string error;
   {
     Hdf5Handle access(mpio_file_access(comm), H5Pclose);
-    if (!access.valid()) error = hdf5_failure("cannot set up MPI-IO access", path);
-    else file_ = Hdf5Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose);
+    if (!access.valid())
+      error = hdf5_failure("cannot set up MPI-IO access", path);
+    else
+      file_ = Hdf5Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose);
     if (error.empty() && !file_.valid()) error = hdf5_failure("cannot open the mesh file", path);
   }
   hsize_t coordinates[2] = {0, 0}, topology[2] = {0, 0};
   if (error.empty()) error = dataset_dims(file_.get(), "/mesh/coordinates", path, 2, coordinates);
   if (error.empty()) error = dataset_dims(file_.get(), "/mesh/topology", path, 2, topology);
   if (error.empty() && coordinates[1] != 3)
-    error = "dataset /mesh/coordinates in '" + path + "' has " + std::to_string(coordinates[1]) + " columns, expected 3";
+    error = "dataset /mesh/coordinates in '" + path + "' has " + std::to_string(coordinates[1]) +
+            " columns, expected 3";
   if (error.empty() && topology[1] != 8)
     error = "dataset /mesh/topology in '" + path + "' has " + std::to_string(topology[1]) +
             " columns, expected 8 (hexahedra)";
   if (error.empty() && H5Lexists(file_.get(), "/mesh/sets", H5P_DEFAULT) > 0) {
     Hdf5Handle group(H5Gopen2(file_.get(), "/mesh/sets", H5P_DEFAULT), H5Gclose);
     H5G_info_t info;
-    if (!group.valid() || H5Gget_info(group.get(), &info) < 0) error = hdf5_failure("cannot open group /mesh/sets", path);
+    if (!group.valid() || H5Gget_info(group.get(), &info) < 0)
+      error = hdf5_failure("cannot open group /mesh/sets", path);
     for (hsize_t i = 0; error.empty() && i < info.nlinks; ++i) {
-      const ssize_t length = H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+      const ssize_t length = H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                                H5P_DEFAULT);
       std::string name(static_cast<std::size_t>(std::max<ssize_t>(length, 0)) + 1, '\0');
       H5Lget_name_by_idx(group.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(), H5P_DEFAULT);
       name.resize(static_cast<std::size_t>(std::max<ssize_t>(length, 0)));
@@ -87,7 +92,8 @@ std::vector<double> MeshFileReader::read_coordinates(std::int64_t begin, std::in
   QuietHdf5Errors quiet;
   std::vector<double> x(3 * static_cast<std::size_t>(count));
   const RowBlock block{hsize_t(num_nodes_), 3, hsize_t(begin), hsize_t(count)};
-  throw_if_failed_anywhere(comm_, read_rows(file_.get(), "/mesh/coordinates", H5T_NATIVE_DOUBLE, block, x.data(), path_));
+  throw_if_failed_anywhere(comm_,
+                           read_rows(file_.get(), "/mesh/coordinates", H5T_NATIVE_DOUBLE, block, x.data(), path_));
   throw_if_failed_anywhere(comm_, non_finite_coordinate(x, begin, path_));
   return x;
 }

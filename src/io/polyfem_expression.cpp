@@ -53,17 +53,23 @@ class PolyfemExpressionParser {
   int sum() {
     int left = product();
     for (;;) {
-      if (accept('+')) left = binary('+', left, product());
-      else if (accept('-')) left = binary('-', left, product());
-      else return left;
+      if (accept('+'))
+        left = binary('+', left, product());
+      else if (accept('-'))
+        left = binary('-', left, product());
+      else
+        return left;
     }
   }
   int product() {
     int left = unary();
     for (;;) {
-      if (accept('*')) left = binary('*', left, unary());
-      else if (accept('/')) left = binary('/', left, unary());
-      else return left;
+      if (accept('*'))
+        left = binary('*', left, unary());
+      else if (accept('/'))
+        left = binary('/', left, unary());
+      else
+        return left;
     }
   }
   int unary() {
@@ -137,7 +143,8 @@ class PolyfemExpressionParser {
     const auto f = functions.find(name);
     if (f == functions.end()) {
       pos_ = start;
-      fail("unknown name \"" + name + "\" (variables x y z t, constant pi, functions sin cos tan asin acos atan exp log sqrt abs)");
+      fail("unknown name \"" + name +
+           "\" (variables x y z t, constant pi, functions sin cos tan asin acos atan exp log sqrt abs)");
     }
     if (!accept('(')) fail("expected '(' after " + name);
     PolyfemExpression::Node n{'f'};

@@ -21,8 +21,8 @@ class PolyfemExpression {
   bool uses_time() const { return uses_time_; }
 
   struct Node {
-    char op;             // '#' number, 'x' 'y' 'z' 't' variables, + - * / ^, '~' negation, 'f' function
-    double value = 0;    // the number
+    char op;           // '#' number, 'x' 'y' 'z' 't' variables, + - * / ^, '~' negation, 'f' function
+    double value = 0;  // the number
     double (*function)(double) = nullptr;
     int left = -1, right = -1;  // operand nodes
   };

@@ -68,7 +68,7 @@ PolyfemExpression expression(const SceneJsonNode& node) {
   }
   if (!node.json().is_string())
     node.fail(std::string(kNotModelled) + "expected a number or an expression of x, y, z, t (PolyFEM's values "
-              "with units, from files or from Python functions are not read)");
+                                          "with units, from files or from Python functions are not read)");
   try {
     return PolyfemExpression(node.string());
   } catch (const std::invalid_argument& e) {
@@ -119,7 +119,9 @@ struct Translator {
   std::vector<std::optional<int>> obstacle_id;
   std::vector<std::string> obstacle_key;  // "geometry[i]" of each obstacle
 
-  void note(const SceneJsonNode& node, const std::string& what) { scene.notes.push_back(source + ": " + node.path() + ": " + what); }
+  void note(const SceneJsonNode& node, const std::string& what) {
+    scene.notes.push_back(source + ": " + node.path() + ": " + what);
+  }
 
   // ---- materials ----------------------------------------------------------------------------
   struct MaterialIds {
@@ -148,8 +150,9 @@ struct Translator {
         m.nu = constant_number(*nu, why);
       } else {
         const double l = constant_number(item.required("lambda"), why), u = constant_number(item.required("mu"), why);
-        if (!(u > 0) || !(l + u > 0)) item.fail("lambda = " + format_number(l) + ", mu = " + format_number(u) +
-                                                 ": must have mu > 0 and lambda + mu > 0");
+        if (!(u > 0) || !(l + u > 0))
+          item.fail("lambda = " + format_number(l) + ", mu = " + format_number(u) +
+                    ": must have mu > 0 and lambda + mu > 0");
         // Young's modulus and Poisson's ratio from the Lamé parameters (any elasticity text).
         m.E = u * (3 * l + 2 * u) / (l + u);
         m.nu = l / (2 * (l + u));
@@ -252,14 +255,16 @@ struct Translator {
               2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
               2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
     }
-    if (r.size() != 3) node.fail("rotation_mode \"" + mode + "\" takes 3 angles (degrees), got " + std::to_string(r.size()));
+    if (r.size() != 3)
+      node.fail("rotation_mode \"" + mode + "\" takes 3 angles (degrees), got " + std::to_string(r.size()));
     if (mode == "rotation_vector") {
       const double angle = std::sqrt(squared_norm3(r.data()));
       if (angle == 0) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
       return axis_angle({r[0], r[1], r[2]}, angle * degree);
     }
     if (mode.empty() || mode.find_first_not_of("xyz") != std::string::npos)
-      node.fail("unknown rotation_mode \"" + mode + "\" (allowed: a sequence of x, y, z; axis_angle; quaternion; rotation_vector)");
+      node.fail("unknown rotation_mode \"" + mode +
+                "\" (allowed: a sequence of x, y, z; axis_angle; quaternion; rotation_vector)");
     std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};
     for (char axis : mode) {
       std::array<double, 3> a{0, 0, 0};
@@ -274,11 +279,13 @@ struct Translator {
     std::vector<FaceSelection> selections;
     for (const SceneJsonNode& item : one_or_many(node)) {
       if (!item.json().is_object()) item.fail("expected an integer id or a {id, box} selection");
-      if (has_any(item.json(), {"threshold", "radius", "center", "p1", "p2", "point", "normal", "axis", "position", "file"}))
+      if (has_any(item.json(),
+                  {"threshold", "radius", "center", "p1", "p2", "point", "normal", "axis", "position", "file"}))
         item.fail(std::string(kNotModelled) + "dipc reads box selections ({id, box}) and whole-body ids only");
       item.expect_object({"id", "box", "relative", "boundary_only"});
       if (auto relative = item.find("relative"))
-        if (relative->boolean()) relative->fail_value(std::string(kNotModelled) + "give the box in absolute coordinates");
+        if (relative->boolean())
+          relative->fail_value(std::string(kNotModelled) + "give the box in absolute coordinates");
       FaceSelection s;
       s.id = item.required("id").integer();
       const SceneJsonNode box = item.required("box");
@@ -323,13 +330,17 @@ struct Translator {
         continue;
       }
       if (type != "mesh")
-        item.required("type").fail_value(std::string(kNotModelled) + "dipc reads \"mesh\", \"plane\" and \"ground\" geometry");
+        item.required("type").fail_value(std::string(kNotModelled) +
+                                         "dipc reads \"mesh\", \"plane\" and \"ground\" geometry");
       for (const char* key : {"point_selection", "curve_selection"})
-        if (auto s = item.find(key)) s->fail(std::string(kNotModelled) + "dipc selects surfaces (surface_selection) only");
+        if (auto s = item.find(key))
+          s->fail(std::string(kNotModelled) + "dipc selects surfaces (surface_selection) only");
       if (auto refs = item.find("n_refs"))
-        if (refs->integer() != 0) refs->fail_value(std::string(kNotModelled) + "refine the mesh before (dipc does not refine meshes)");
+        if (refs->integer() != 0)
+          refs->fail_value(std::string(kNotModelled) + "refine the mesh before (dipc does not refine meshes)");
       if (auto unit = item.find("unit"))
-        if (!unit->string().empty() && unit->string() != "m") unit->fail_value(std::string(kNotModelled) + "dipc's lengths are metres");
+        if (!unit->string().empty() && unit->string() != "m")
+          unit->fail_value(std::string(kNotModelled) + "dipc's lengths are metres");
       if (auto advanced = item.find("advanced")) {
         for (const auto& entry : advanced->json().items()) {
           const SceneJsonNode child = *advanced->find(entry.key());
@@ -356,7 +367,8 @@ struct Translator {
         o.translation = translation;
         std::optional<int> id;
         if (auto s = item.find("surface_selection")) {
-          if (!s->json().is_number_integer()) s->fail("an obstacle's surface_selection must be an integer id (as in PolyFEM)");
+          if (!s->json().is_number_integer())
+            s->fail("an obstacle's surface_selection must be an integer id (as in PolyFEM)");
           id = s->integer();
         }
         if (auto v = item.find("volume_selection")) note(*v, "ignored (an obstacle has no volume)");
@@ -368,7 +380,7 @@ struct Translator {
       }
       if (extension != ".msh")
         mesh.fail_value(std::string(kNotModelled) + "a deformable body must be a hexahedral Gmsh MSH mesh "
-                        "(dipc-voxelize turns a closed OBJ or STL surface into one)");
+                                                    "(dipc-voxelize turns a closed OBJ or STL surface into one)");
       if (auto e = item.find("extract"))
         if (e->string() != "volume") e->fail_value(std::string(kNotModelled) + "dipc simulates volumes");
       Body b;
@@ -451,7 +463,8 @@ struct Translator {
     const std::vector<PolyfemExpression> u = expression3(value);
     for (int c = 0; c < 3; ++c)
       if (u[c].uses_position())
-        value.elements()[c].fail_value(std::string(kNotModelled) + "it depends on x, y or z; dipc's displacements here are "
+        value.elements()[c].fail_value(std::string(kNotModelled) +
+                                       "it depends on x, y or z; dipc's displacements here are "
                                        "uniform translations (rotations: dipc's own format, motion type \"rotation\")");
     std::vector<std::array<double, 3>> d(scene.steps + 1);
     double largest = 0;
@@ -465,7 +478,8 @@ struct Translator {
     Motion m;
     if (largest == 0) return m;  // fixed
     if (std::max({std::abs(d[0][0]), std::abs(d[0][1]), std::abs(d[0][2])}) > 1e-12 * largest)
-      value.fail_value(std::string(kNotModelled) + "the displacement at t = 0 is not zero (dipc starts from the rest placement)");
+      value.fail_value(std::string(kNotModelled) +
+                       "the displacement at t = 0 is not zero (dipc starts from the rest placement)");
     // u = v t when every sample lies on the line through the first step (to round-off).
     std::array<double, 3> v;
     for (int c = 0; c < 3; ++c) v[c] = d[1][c] / scene.dt;
@@ -478,7 +492,8 @@ struct Translator {
       return m;
     }
     m.kind = Motion::Kind::Path;
-    for (int k = 0; k <= scene.steps; ++k) m.path.push_back({k * scene.dt, k == 0 ? 0 : d[k][0], k == 0 ? 0 : d[k][1], k == 0 ? 0 : d[k][2]});
+    for (int k = 0; k <= scene.steps; ++k)
+      m.path.push_back({k * scene.dt, k == 0 ? 0 : d[k][0], k == 0 ? 0 : d[k][1], k == 0 ? 0 : d[k][2]});
     note(value, "not linear in t: followed as a path through its values at the " + std::to_string(scene.steps) +
                     " step times (where PolyFEM evaluates it), linear in between");
     return m;
@@ -491,33 +506,39 @@ struct Translator {
       entry.expect_object({"id", "value", "interpolation"});
     if (auto dim = entry.find("dimension"))
       for (const SceneJsonNode& flag : dim->elements())
-        if (!flag.boolean()) flag.fail_value(std::string(kNotModelled) + "dipc prescribes all three components of a node");
+        if (!flag.boolean())
+          flag.fail_value(std::string(kNotModelled) + "dipc prescribes all three components of a node");
     if (auto times = entry.find("time_reference"))
       if (!times->elements().empty())
         times->fail(std::string(kNotModelled) + "write the displacement as an expression of t instead");
     if (auto interpolation = entry.find("interpolation")) {
       for (const SceneJsonNode& i : one_or_many(*interpolation)) {
         if (!i.json().is_object() || i.required("type").string() != "none")
-          i.fail(std::string(kNotModelled) + "write the displacement as an expression of t instead of an interpolation");
+          i.fail(std::string(kNotModelled) +
+                 "write the displacement as an expression of t instead of an interpolation");
       }
     }
   }
 
   void boundary_conditions(const SceneJsonNode& node) {
     node.expect_object({"rhs", "dirichlet_boundary", "neumann_boundary", "pressure_boundary",
-                        "normal_aligned_neumann_boundary", "pressure_cavity", "periodic_boundary", "obstacle_displacements"});
+                        "normal_aligned_neumann_boundary", "pressure_cavity", "periodic_boundary",
+                        "obstacle_displacements"});
     if (auto rhs = node.find("rhs")) {
       if (!(rhs->json().is_array() && rhs->json().empty())) {
         const std::array<double, 3> f = constant3(*rhs, "dipc's body force is uniform gravity");
         scene.gravity = {-f[0], -f[1], -f[2]};  // PolyFEM's energy +∫ ρ rhs·u: the force is −ρ rhs
       }
     }
-    for (const char* key : {"neumann_boundary", "pressure_boundary", "normal_aligned_neumann_boundary", "pressure_cavity"})
+    for (const char* key :
+         {"neumann_boundary", "pressure_boundary", "normal_aligned_neumann_boundary", "pressure_cavity"})
       if (auto n = node.find(key))
-        if (!n->json().empty()) n->fail(std::string(kNotModelled) + "dipc has no traction or pressure boundary conditions");
+        if (!n->json().empty())
+          n->fail(std::string(kNotModelled) + "dipc has no traction or pressure boundary conditions");
     if (auto periodic = node.find("periodic_boundary")) {
       const auto enabled = periodic->json().is_object() ? periodic->find("enabled") : std::nullopt;
-      if (!enabled || enabled->boolean()) periodic->fail(std::string(kNotModelled) + "dipc has no periodic boundary conditions");
+      if (!enabled || enabled->boolean())
+        periodic->fail(std::string(kNotModelled) + "dipc has no periodic boundary conditions");
     }
     // An obstacle takes the motion of the first Dirichlet entry with its id, overridden by the
     // first obstacle_displacements entry with it (GeometryReader.cpp, read_obstacle_geometry).
@@ -525,7 +546,8 @@ struct Translator {
     std::vector<std::string> obstacle_key_path(obstacle_id.size());
     if (auto dirichlet = node.find("dirichlet_boundary")) {
       for (const SceneJsonNode& entry : dirichlet->elements()) {
-        if (!entry.json().is_object()) entry.fail(std::string(kNotModelled) + "Dirichlet values from files are not read");
+        if (!entry.json().is_object())
+          entry.fail(std::string(kNotModelled) + "Dirichlet values from files are not read");
         check_displacement_entry(entry, true);
         const Motion motion = displacement_motion(entry);
         const SceneJsonNode id_node = entry.required("id");
@@ -569,8 +591,10 @@ struct Translator {
       }
     }
     for (std::size_t o = 0; o < obstacle_id.size(); ++o) {
-      if (from_displacements[o]) scene.contact.obstacles[o].motion = *from_displacements[o];
-      else if (from_dirichlet[o]) scene.contact.obstacles[o].motion = *from_dirichlet[o];
+      if (from_displacements[o])
+        scene.contact.obstacles[o].motion = *from_displacements[o];
+      else if (from_dirichlet[o])
+        scene.contact.obstacles[o].motion = *from_dirichlet[o];
     }
   }
 
@@ -579,9 +603,11 @@ struct Translator {
     if (auto solution = node.find("solution"))
       for (const SceneJsonNode& entry : solution->elements()) {
         entry.expect_object({"id", "value"});
-        const std::array<double, 3> u = constant3(entry.required("value"), "dipc starts every body at its rest placement");
+        const std::array<double, 3> u = constant3(entry.required("value"),
+                                                  "dipc starts every body at its rest placement");
         if (u[0] != 0 || u[1] != 0 || u[2] != 0)
-          entry.required("value").fail_value(std::string(kNotModelled) + "dipc starts every body at its rest placement");
+          entry.required("value").fail_value(std::string(kNotModelled) +
+                                             "dipc starts every body at its rest placement");
       }
     if (auto velocity = node.find("velocity")) {
       std::set<int> seen;
@@ -590,7 +616,8 @@ struct Translator {
         const std::array<double, 3> v = constant3(entry.required("value"), "dipc's initial velocity is one per body");
         const SceneJsonNode id_node = entry.required("id");
         for (int id : ids_of(id_node)) {
-          if (!seen.insert(id).second) id_node.fail_value("a second initial velocity for volume id " + std::to_string(id));
+          if (!seen.insert(id).second)
+            id_node.fail_value("a second initial velocity for volume id " + std::to_string(id));
           bool used = false;
           for (std::size_t b = 0; b < scene.bodies.size(); ++b)
             if (volume_id[b] == id) scene.bodies[b].initial_velocity = v, used = true;
@@ -599,15 +626,16 @@ struct Translator {
       }
     }
     if (auto acceleration = node.find("acceleration"))
-      if (!acceleration->json().empty()) note(*acceleration, "ignored (implicit Euler does not use an initial acceleration)");
+      if (!acceleration->json().empty())
+        note(*acceleration, "ignored (implicit Euler does not use an initial acceleration)");
   }
 
   // ---- contact and solver -------------------------------------------------------------------
   void contact(const SceneJsonNode& node) {
-    node.expect_object({"enabled", "dhat", "dhat_percentage", "epsv", "friction_coefficient", "use_convergent_formulation",
-                        "use_area_weighting", "use_improved_max_operator", "use_physical_barrier", "collision_mesh",
-                        "use_gcp_formulation", "alpha_n", "alpha_t", "min_distance_ratio", "use_adaptive_dhat", "periodic",
-                        "adhesion"});
+    node.expect_object({"enabled", "dhat", "dhat_percentage", "epsv", "friction_coefficient",
+                        "use_convergent_formulation", "use_area_weighting", "use_improved_max_operator",
+                        "use_physical_barrier", "collision_mesh", "use_gcp_formulation", "alpha_n", "alpha_t",
+                        "min_distance_ratio", "use_adaptive_dhat", "periodic", "adhesion"});
     ContactSettings& c = scene.contact;
     if (auto enabled = node.find("enabled")) c.enabled = enabled->boolean();
     c.dhat_relative = false;  // PolyFEM's dhat is a length
@@ -617,7 +645,8 @@ struct Translator {
       if (!(c.dhat > 0)) dhat->fail_value("must be > 0");
       if (auto p = node.find("dhat_percentage")) note(*p, "ignored (dhat is given)");
     } else if (c.enabled) {
-      scene.notes.push_back(source + ": contact.dhat: not given: 1e-3 (PolyFEM's default; PolyFEM would lower it to "
+      scene.notes.push_back(source +
+                            ": contact.dhat: not given: 1e-3 (PolyFEM's default; PolyFEM would lower it to "
                             "dhat_percentage × the shortest boundary edge where that edge is shorter, dipc does not)");
     }
     if (auto epsv = node.find("epsv")) {
@@ -630,13 +659,15 @@ struct Translator {
     }
     for (const char* key : {"use_convergent_formulation", "use_gcp_formulation", "use_adaptive_dhat", "periodic"})
       if (auto flag = node.find(key))
-        if (flag->boolean()) flag->fail_value(std::string(kNotModelled) + "dipc's barrier is IPC's original one, without this option");
-    for (const char* key : {"use_area_weighting", "use_improved_max_operator", "use_physical_barrier", "alpha_n", "alpha_t",
-                            "min_distance_ratio"})
+        if (flag->boolean())
+          flag->fail_value(std::string(kNotModelled) + "dipc's barrier is IPC's original one, without this option");
+    for (const char* key : {"use_area_weighting", "use_improved_max_operator", "use_physical_barrier", "alpha_n",
+                            "alpha_t", "min_distance_ratio"})
       if (auto option = node.find(key)) note(*option, "ignored (it applies only to a formulation that is off)");
     if (auto mesh = node.find("collision_mesh")) {
       const auto enabled = mesh->json().is_object() ? mesh->find("enabled") : std::nullopt;
-      if (!enabled || enabled->boolean()) mesh->fail(std::string(kNotModelled) + "dipc's contact surface is the mesh's boundary");
+      if (!enabled || enabled->boolean())
+        mesh->fail(std::string(kNotModelled) + "dipc's contact surface is the mesh's boundary");
     }
     if (auto adhesion = node.find("adhesion")) {
       const auto enabled = adhesion->json().is_object() ? adhesion->find("adhesion_enabled") : std::nullopt;
@@ -677,8 +708,10 @@ struct Translator {
       } else if (entry.key() == "advanced") {
         for (const auto& option : child.json().items()) {
           const SceneJsonNode o = *child.find(option.key());
-          if (option.key() == "lump_mass_matrix") scene.lumped_mass = o.boolean();
-          else note(o, "ignored (a solver choice; dipc's numerics are PETSc options)");
+          if (option.key() == "lump_mass_matrix")
+            scene.lumped_mass = o.boolean();
+          else
+            note(o, "ignored (a solver choice; dipc's numerics are PETSc options)");
         }
       } else if (entry.key() == "rayleigh_damping") {
         if (!child.json().empty()) child.fail(std::string(kNotModelled) + "dipc has no Rayleigh damping");
@@ -698,7 +731,8 @@ struct Translator {
       } else if (entry.key() == "basis_type") {
         if (child.string() != "Lagrange") child.fail_value(std::string(kNotModelled) + "dipc's basis is Lagrange");
       } else if (entry.key() == "use_p_ref" || entry.key() == "remesh") {
-        const bool on = child.json().is_boolean() ? child.boolean() : child.find("enabled") && child.required("enabled").boolean();
+        const bool on = child.json().is_boolean() ? child.boolean()
+                                                  : child.find("enabled") && child.required("enabled").boolean();
         if (on) child.fail(std::string(kNotModelled) + "dipc does not refine or remesh");
       } else {
         note(child, "ignored (dipc's hexahedra are trilinear with 2×2×2 Gauss points)");
@@ -712,7 +746,8 @@ struct Translator {
     for (const auto& [key, unit] : si)
       if (auto u = node.find(key))
         if (u->string() != unit) u->fail_value(std::string(kNotModelled) + "dipc's units are m, kg, s");
-    if (auto l = node.find("characteristic_length")) note(*l, "ignored (dipc's tolerances scale with the scene's size)");
+    if (auto l = node.find("characteristic_length"))
+      note(*l, "ignored (dipc's tolerances scale with the scene's size)");
   }
 };
 
@@ -726,20 +761,23 @@ std::string polyfem_marker(const nlohmann::json& d) {
         if (object.contains(key)) return key;
     return "";
   };
-  std::string key = first(d, {"space", "initial_conditions", "units", "common", "root_path", "tests", "preset_problem", "input"});
+  std::string key = first(d, {"space", "initial_conditions", "units", "common", "root_path", "tests", "preset_problem",
+                              "input"});
   if (!key.empty()) return key;
   for (const char* list : {"geometry", "materials"}) {
     if (!d.contains(list)) continue;
     if (d[list].is_object()) return list;
     if (!d[list].is_array()) continue;
     for (std::size_t i = 0; i < d[list].size(); ++i) {
-      key = first(d[list][i], {"transformation", "volume_selection", "surface_selection", "is_obstacle", "type", "id", "enabled", "n_refs"});
+      key = first(d[list][i], {"transformation", "volume_selection", "surface_selection", "is_obstacle", "type", "id",
+                               "enabled", "n_refs"});
       if (!key.empty()) return std::string(list) + "[" + std::to_string(i) + "]." + key;
     }
   }
   const std::pair<const char*, std::vector<const char*>> sections[] = {
       {"time", {"time_steps", "tend", "t0", "quasistatic"}},
-      {"boundary_conditions", {"rhs", "dirichlet_boundary", "neumann_boundary", "obstacle_displacements", "pressure_boundary"}},
+      {"boundary_conditions",
+       {"rhs", "dirichlet_boundary", "neumann_boundary", "obstacle_displacements", "pressure_boundary"}},
       {"contact", {"friction_coefficient", "dhat_percentage"}}};
   for (const auto& [section, keys] : sections) {
     if (!d.contains(section) || !d[section].is_object()) continue;
@@ -760,7 +798,9 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
   root.expect_object({"geometry", "materials", "boundary_conditions", "initial_conditions", "time", "contact", "solver",
                       "output", "space", "units", "root_path", "common", "tests", "preset_problem", "input"});
   for (const char* key : {"common", "preset_problem", "input"})
-    if (auto n = root.find(key)) n->fail(std::string(kNotModelled) + "write the scene out in full (patches, preset problems and restarts are not read)");
+    if (auto n = root.find(key))
+      n->fail(std::string(kNotModelled) +
+              "write the scene out in full (patches, preset problems and restarts are not read)");
   if (auto r = root.find("root_path")) {
     std::filesystem::path path(r->string());
     if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
@@ -775,7 +815,8 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
   if (auto bc = root.find("boundary_conditions")) t.boundary_conditions(*bc);
   if (auto ic = root.find("initial_conditions")) t.initial_conditions(*ic);
   if (auto s = root.find("solver")) t.solver(*s);
-  if (auto o = root.find("output")) t.note(*o, "ignored (dipc writes XDMF + HDF5 to its output directory, -dipc_output)");
+  if (auto o = root.find("output"))
+    t.note(*o, "ignored (dipc writes XDMF + HDF5 to its output directory, -dipc_output)");
   if (auto tests = root.find("tests")) t.note(*tests, "ignored (PolyFEM's regression-test data)");
   return t.scene;
 }

@@ -42,9 +42,9 @@ struct FaceSelection {
 };
 
 struct Body {
-  std::string name;                  // used to prefix generated selections ("beam.xmin")
-  std::string mesh_file;             // Gmsh MSH 4.1/2.2 (resolved relative to the scene file), or
-  std::optional<BoxGenerator> box;   // a generated box (exactly one of the two)
+  std::string name;                            // used to prefix generated selections ("beam.xmin")
+  std::string mesh_file;                       // Gmsh MSH 4.1/2.2 (resolved relative to the scene file), or
+  std::optional<BoxGenerator> box;             // a generated box (exactly one of the two)
   std::array<double, 3> translation{0, 0, 0};  // applied to a mesh file's coordinates
   double scale = 1.0;                          // applied before the translation
   // A linear map applied first (row-major): x = scale·(linear·X) + translation. The identity
@@ -64,18 +64,18 @@ struct Body {
 // Which nodes a boundary condition acts on: a named node set of the mesh, or all nodes
 // inside an axis-aligned box (inclusive, with a tolerance of 1e-9 x the scene diagonal).
 struct Selection {
-  std::string name;                                   // named set, or empty
-  std::optional<std::array<double, 6>> box;           // xmin ymin zmin xmax ymax zmax
-  std::string describe() const;                       // for messages
+  std::string name;                          // named set, or empty
+  std::optional<std::array<double, 6>> box;  // xmin ymin zmin xmax ymax zmax
+  std::string describe() const;              // for messages
 };
 
 // A prescribed motion as the scene gives it (Dirichlet conditions, kinematic bodies, obstacles).
 struct Motion {
   enum class Kind { Fixed, Velocity, Rotation, Path };
   Kind kind = Kind::Fixed;
-  std::array<double, 3> velocity{0, 0, 0};   // Velocity: x(t) = X + v t
-  std::array<double, 3> axis{0, 0, 1};       // Rotation: about `axis` (normalised) through
-  std::array<double, 3> center{0, 0, 0};     //   `center` at `angular_velocity` [rad/s]
+  std::array<double, 3> velocity{0, 0, 0};  // Velocity: x(t) = X + v t
+  std::array<double, 3> axis{0, 0, 1};      // Rotation: about `axis` (normalised) through
+  std::array<double, 3> center{0, 0, 0};    //   `center` at `angular_velocity` [rad/s]
   double angular_velocity = 0;
   // Path: x(t) = X + d(t), piecewise linear through keyframes (t, dx, dy, dz); the first is
   // (0, 0, 0, 0), times strictly increase, d is held after the last.
@@ -84,7 +84,7 @@ struct Motion {
 
 struct DirichletCondition : Motion {
   Selection selection;
-  std::string key_path;                      // e.g. "boundary_conditions.dirichlet[0]"
+  std::string key_path;  // e.g. "boundary_conditions.dirichlet[0]"
 };
 
 // A half-space obstacle: the solid occupies {x : (x - point)·normal < 0}, bodies stay on the
@@ -104,7 +104,7 @@ struct Obstacle {
   std::array<double, 3> translation{0, 0, 0};
   std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};  // x = scale·(linear·X) + translation
   Motion motion;
-  std::string key_path;   // "contact.obstacles[0]"
+  std::string key_path;  // "contact.obstacles[0]"
 };
 
 struct ContactSettings {
@@ -114,12 +114,12 @@ struct ContactSettings {
   // bounding box of all bodies' rest positions (dhat then in (0, 1)).
   double dhat = 1e-3;
   bool dhat_relative = true;
-  bool kappa_adaptive = true;  // adaptive barrier stiffness (Li et al. 2020, IPC)
-  double kappa = 0;            // the fixed barrier stiffness κ when !kappa_adaptive (> 0)
-  double friction = 0.0;       // Coulomb coefficient μ (no friction form when 0)
-  double epsv = 1e-3;          // friction smoothing velocity ε_v [m/s]
-  int friction_iterations = 1; // lagged friction updates per time step, >= 1
-  std::vector<Plane> planes;   // analytic obstacles
+  bool kappa_adaptive = true;       // adaptive barrier stiffness (Li et al. 2020, IPC)
+  double kappa = 0;                 // the fixed barrier stiffness κ when !kappa_adaptive (> 0)
+  double friction = 0.0;            // Coulomb coefficient μ (no friction form when 0)
+  double epsv = 1e-3;               // friction smoothing velocity ε_v [m/s]
+  int friction_iterations = 1;      // lagged friction updates per time step, >= 1
+  std::vector<Plane> planes;        // analytic obstacles
   std::vector<Obstacle> obstacles;  // triangle-mesh obstacles
 };
 
@@ -153,8 +153,7 @@ struct SceneError : std::runtime_error {
 // Either format: dipc's own (scene_parser.cpp) or PolyFEM's (polyfem_scene.cpp), told apart
 // by is_polyfem_scene().
 Scene parse_scene_file(const std::string& path);
-Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
-                       const std::string& base_directory);
+Scene parse_scene_text(const std::string& json_text, const std::string& source_name, const std::string& base_directory);
 // The scene embedded in the program, used when no scene file is given: a soft box dropped
 // onto a wider box that rests on a ground plane (contact with friction).
 Scene default_scene();

@@ -31,8 +31,7 @@ SceneJsonNode SceneJsonNode::child(const std::string& suffix, const nlohmann::js
   return SceneJsonNode(value, path_ + suffix, *source_);
 }
 
-void SceneJsonNode::expect_object(const std::vector<std::string>& allowed,
-                                  const std::string& context) const {
+void SceneJsonNode::expect_object(const std::vector<std::string>& allowed, const std::string& context) const {
   if (!value_->is_object()) fail_type("an object");
   for (const auto& item : value_->items()) {
     bool known = false;
@@ -41,8 +40,8 @@ void SceneJsonNode::expect_object(const std::vector<std::string>& allowed,
     std::string list;
     for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
     const std::string key_path = path_.empty() ? item.key() : path_ + "." + item.key();
-    throw SceneError(*source_ + ": " + key_path + ": unknown key (allowed" +
-                     (context.empty() ? "" : " " + context) + ": " + list + ")");
+    throw SceneError(*source_ + ": " + key_path + ": unknown key (allowed" + (context.empty() ? "" : " " + context) +
+                     ": " + list + ")");
   }
 }
 

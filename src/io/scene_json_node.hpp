@@ -36,8 +36,8 @@ class SceneJsonNode {
   // Elements of an array (fails when this is not an array).
   std::vector<SceneJsonNode> elements() const;
 
-  double number() const;         // any finite JSON number
-  int integer() const;           // a JSON integer that fits in an int
+  double number() const;  // any finite JSON number
+  int integer() const;    // a JSON integer that fits in an int
   bool boolean() const;
   std::string string() const;
   std::array<double, 3> vec3() const;  // array of exactly 3 finite numbers

@@ -122,8 +122,7 @@ std::size_t material_reference(const std::optional<SceneJsonNode>& node, const S
                                const std::vector<Material>& materials) {
   if (!node) {
     if (materials.size() == 1) return 0;
-    body.fail("\"material\" is required when the scene has " + std::to_string(materials.size()) +
-              " materials");
+    body.fail("\"material\" is required when the scene has " + std::to_string(materials.size()) + " materials");
   }
   if (node->json().is_string()) {
     const std::string name = node->string();
@@ -177,7 +176,6 @@ BoxGenerator parse_box(const SceneJsonNode& node) {
   return box;
 }
 
-
 // A path's keyframes: [{time, translation}], at least two, the first (0, [0, 0, 0]) so that the
 // motion starts at the rest placement, times strictly increasing.
 std::vector<std::array<double, 4>> parse_path(const SceneJsonNode& node) {
@@ -192,7 +190,8 @@ std::vector<std::array<double, 4>> parse_path(const SceneJsonNode& node) {
     const std::array<double, 3> d = item.required("translation").vec3();
     if (k == 0 && t != 0) time.fail_value("the first keyframe must be at time 0");
     if (k == 0 && (d[0] != 0 || d[1] != 0 || d[2] != 0))
-      item.required("translation").fail_value("the first keyframe's translation must be [0, 0, 0] (the rest placement)");
+      item.required("translation")
+          .fail_value("the first keyframe's translation must be [0, 0, 0] (the rest placement)");
     if (k > 0 && !(t > path.back()[0]))
       time.fail_value("keyframe times must strictly increase (previous " + format_number(path.back()[0]) + ")");
     path.push_back({t, d[0], d[1], d[2]});
@@ -222,9 +221,7 @@ void parse_motion(const SceneJsonNode& node, const std::vector<std::string>& oth
   allowed.push_back("type");
   const std::string context = "for type \"" + type + "\"";
   switch (motion.kind) {
-    case Motion::Kind::Fixed:
-      node.expect_object(allowed, context);
-      break;
+    case Motion::Kind::Fixed: node.expect_object(allowed, context); break;
     case Motion::Kind::Velocity:
       allowed.push_back("velocity");
       node.expect_object(allowed, context);
@@ -266,8 +263,8 @@ Geometry parse_geometry(const SceneJsonNode& node, const std::vector<Material>& 
   std::map<std::string, std::string> first_path_of_name;
   for (std::size_t i = 0; i < items.size(); ++i) {
     const SceneJsonNode& item = items[i];
-    item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity",
-                        "initial_spin", "self_contact", "kinematic"});
+    item.expect_object({"name", "box", "mesh", "translation", "scale", "material", "initial_velocity", "initial_spin",
+                        "self_contact", "kinematic"});
     Body b;
     b.name = "body" + std::to_string(i);
     if (auto name = item.find("name")) {
@@ -306,7 +303,8 @@ Geometry parse_geometry(const SceneJsonNode& node, const std::vector<Material>& 
     if (auto kinematic = item.find("kinematic")) {
       b.kinematic = true;
       for (const char* key : {"initial_velocity", "initial_spin"})
-        if (auto v = item.find(key)) v->fail("a kinematic body's motion is prescribed by \"kinematic\", not by an initial velocity");
+        if (auto v = item.find(key))
+          v->fail("a kinematic body's motion is prescribed by \"kinematic\", not by an initial velocity");
       DirichletCondition motion;
       motion.key_path = kinematic->path();
       parse_motion(*kinematic, {}, motion);
@@ -334,8 +332,8 @@ Selection parse_selection(const SceneJsonNode& node) {
   const std::array<double, 3> hi = corners[1].vec3();
   for (int d = 0; d < 3; ++d) {
     if (lo[d] > hi[d]) {
-      box.fail("min corner exceeds max corner in coordinate " + std::to_string(d) + " (" +
-               format_number(lo[d]) + " > " + format_number(hi[d]) + ")");
+      box.fail("min corner exceeds max corner in coordinate " + std::to_string(d) + " (" + format_number(lo[d]) +
+               " > " + format_number(hi[d]) + ")");
     }
   }
   s.box = std::array<double, 6>{lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
@@ -413,8 +411,8 @@ void parse_time(const SceneJsonNode& node, Scene& scene) {
   const long long n = std::llround(ratio);
   if (n < 1) t_end->fail_value("shorter than one step of dt = " + format_number(scene.dt));
   if (std::abs(static_cast<double>(n) * scene.dt - end) > 1e-9 * end) {
-    t_end->fail_value("not a whole number of steps of dt = " + format_number(scene.dt) + " (" +
-                      format_number(ratio) + " steps)");
+    t_end->fail_value("not a whole number of steps of dt = " + format_number(scene.dt) + " (" + format_number(ratio) +
+                      " steps)");
   }
   scene.steps = static_cast<int>(n);
 }
@@ -454,7 +452,8 @@ void parse_output(const SceneJsonNode& node, Scene& scene) {
 
 void parse_barrier_stiffness(const SceneJsonNode& node, ContactSettings& contact) {
   if (node.json().is_string()) {
-    if (node.string() != "adaptive") node.fail_value("unknown barrier stiffness (allowed: \"adaptive\" or a number > 0)");
+    if (node.string() != "adaptive")
+      node.fail_value("unknown barrier stiffness (allowed: \"adaptive\" or a number > 0)");
     contact.kappa_adaptive = true;
     contact.kappa = 0;
     return;
@@ -543,8 +542,8 @@ void parse_contact(const SceneJsonNode& node, ContactSettings& contact, const st
 std::string Selection::describe() const {
   if (box) {
     const std::array<double, 6>& b = *box;
-    return "box [" + format_number(b[0]) + ", " + format_number(b[1]) + ", " + format_number(b[2]) +
-           "] - [" + format_number(b[3]) + ", " + format_number(b[4]) + ", " + format_number(b[5]) + "]";
+    return "box [" + format_number(b[0]) + ", " + format_number(b[1]) + ", " + format_number(b[2]) + "] - [" +
+           format_number(b[3]) + ", " + format_number(b[4]) + ", " + format_number(b[5]) + "]";
   }
   return "node set \"" + name + "\"";
 }

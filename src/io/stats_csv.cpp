@@ -3,8 +3,8 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -100,14 +100,15 @@ StatsCsv::Cell::Cell(const std::string& text) {
 
 void StatsCsv::row(const std::vector<Cell>& values) {
   if (values.size() != columns_.size()) {
-    throw std::invalid_argument("StatsCsv '" + path_ + "': row has " + std::to_string(values.size()) +
-                                " values for " + std::to_string(columns_.size()) + " columns");
+    throw std::invalid_argument("StatsCsv '" + path_ + "': row has " + std::to_string(values.size()) + " values for " +
+                                std::to_string(columns_.size()) + " columns");
   }
   std::string error;
   if (writes_) {
     bool ok = true;
     for (std::size_t i = 0; i < values.size(); ++i) {
-      ok = ok && (i == 0 || std::fputc(',', file_.get()) != EOF) && std::fputs(values[i].csv().c_str(), file_.get()) >= 0;
+      ok = ok && (i == 0 || std::fputc(',', file_.get()) != EOF) &&
+           std::fputs(values[i].csv().c_str(), file_.get()) >= 0;
     }
     ok = ok && std::fputc('\n', file_.get()) != EOF && std::fflush(file_.get()) == 0;
     if (!ok) error = "cannot write '" + path_ + "': " + std::strerror(errno);

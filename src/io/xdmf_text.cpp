@@ -59,8 +59,7 @@ void write_topology_item(std::ostream& out, const std::string& h5_file, const Xd
 
 void write_attribute(std::ostream& out, const std::string& h5_file, const char* name, const char* type,
                      const char* center, const DataItem& item) {
-  out << "        <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\"" << center
-      << "\">\n";
+  out << "        <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\"" << center << "\">\n";
   write_data_item(out, h5_file, item);
   out << "        </Attribute>\n";
 }

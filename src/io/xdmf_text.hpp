@@ -15,7 +15,7 @@ struct XdmfObstacle {
   std::string name;
   int nodes_per_cell = 3;  // 3 Triangle, 4 Quadrilateral
   std::int64_t num_vertices = 0, num_cells = 0;
-  bool moving = false;     // displacement per step (else /obstacles/<j>/displacement)
+  bool moving = false;  // displacement per step (else /obstacles/<j>/displacement)
 };
 
 // A grid over rows [first, first + count) of the /mesh cell datasets: its cells a HyperSlab of
@@ -30,10 +30,10 @@ struct XdmfLayout {
   std::string h5_file_name;  // relative to the .xmf (same directory), e.g. "dipc.h5"
   std::int64_t num_nodes = 0;
   std::int64_t num_elements = 0;
-  bool kinematic = false;                         // /mesh/kinematic exists
+  bool kinematic = false;  // /mesh/kinematic exists
   bool contact_force = false, friction_force = false;
-  std::vector<std::string> body_names;            // listed in an Information element
-  std::vector<XdmfObstacle> obstacles;            // /obstacles/<j>, j in this order
+  std::vector<std::string> body_names;  // listed in an Information element
+  std::vector<XdmfObstacle> obstacles;  // /obstacles/<j>, j in this order
   // The bodies' grids, index = position; empty: one grid "bodies" with every element.
   std::vector<XdmfCellRange> body_grids;
 };

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "io/collective_error.hpp"
@@ -39,8 +39,8 @@ std::string check_tiling(MPI_Comm comm, const char* what, std::int64_t global, s
   }
   if (global < 1) return prefix + "the mesh is empty";
   if (offset != expected_offset) {
-    return prefix + "offset " + std::to_string(offset) + " on rank " + std::to_string(rank) +
-           " should be " + std::to_string(expected_offset) + " (blocks must follow rank order)";
+    return prefix + "offset " + std::to_string(offset) + " on rank " + std::to_string(rank) + " should be " +
+           std::to_string(expected_offset) + " (blocks must follow rank order)";
   }
   return {};
 }
@@ -87,7 +87,6 @@ RowBlock rank0_rows(MPI_Comm comm, hsize_t rows, hsize_t columns) {
   MPI_Comm_rank(comm, &rank);
   return RowBlock{rows, columns, 0, rank == 0 ? rows : 0};
 }
-
 
 // The bodies' grids of a scene with kinematic bodies: each kinematic body its own grid named
 // by the body, the other bodies in runs of consecutive rows (a run of one body named by it, a
@@ -150,7 +149,8 @@ std::string XdmfWriter::write_strings(hid_t parent, const std::string& path, con
   if (!type.valid()) return hdf5_failure("cannot make a string type for " + path, h5);
   const std::size_t width = H5Tget_size(type.get());
   std::vector<char> buffer(std::max<std::size_t>(1, texts.size()) * width, '\0');
-  for (std::size_t i = 0; i < texts.size(); ++i) std::copy(texts[i].begin(), texts[i].end(), buffer.begin() + i * width);
+  for (std::size_t i = 0; i < texts.size(); ++i)
+    std::copy(texts[i].begin(), texts[i].end(), buffer.begin() + i * width);
   return write_rows(parent, path, type.get(), type.get(), rank0_rows(comm_, texts.size(), 0), buffer.data(), h5);
 }
 
@@ -246,20 +246,23 @@ void XdmfWriter::write_grid_cells(hid_t parent, const std::string& parent_path,
                                   const std::vector<CellField>& fields) const {
   const std::string h5 = h5_path();
   Hdf5Handle grids(H5Gcreate2(parent, "grids", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  throw_if_failed_anywhere(comm_, grids.valid() ? "" : hdf5_failure("cannot create group " + parent_path + "/grids", h5));
+  throw_if_failed_anywhere(comm_,
+                           grids.valid() ? "" : hdf5_failure("cannot create group " + parent_path + "/grids", h5));
   for (std::size_t g = 0; g < body_grids_.size(); ++g) {
     const XdmfCellRange& cells = body_grids_[g];
     const std::string name = std::to_string(g);
     Hdf5Handle group(H5Gcreate2(grids.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    throw_if_failed_anywhere(
-        comm_, group.valid() ? "" : hdf5_failure("cannot create group " + parent_path + "/grids/" + name, h5));
+    throw_if_failed_anywhere(comm_, group.valid()
+                                        ? ""
+                                        : hdf5_failure("cannot create group " + parent_path + "/grids/" + name, h5));
     const std::int64_t begin = std::max(cells.first, element_offset_);
     const std::int64_t end = std::min(cells.first + cells.count, element_offset_ + num_elements_);
     const std::int64_t rows = std::max<std::int64_t>(0, end - begin);
     const auto block = RowBlock{hsize_t(cells.count), 0, hsize_t(rows > 0 ? begin - cells.first : 0), hsize_t(rows)};
     for (const CellField& f : fields) {
       const char* first_row = static_cast<const char*>(f.data) + (rows > 0 ? (begin - element_offset_) * f.bytes : 0);
-      throw_if_failed_anywhere(comm_, write_rows(group.get(), f.name, f.file_type, f.memory_type, block, first_row, h5));
+      throw_if_failed_anywhere(comm_,
+                               write_rows(group.get(), f.name, f.file_type, f.memory_type, block, first_row, h5));
     }
   }
 }
@@ -289,12 +292,12 @@ void XdmfWriter::create_file(const OutputMesh& mesh) {
   const auto cells = RowBlock{hsize_t(num_global_elements_), 0, hsize_t(element_offset_), hsize_t(num_elements_)};
   const std::vector<int> own_rank(static_cast<std::size_t>(num_elements_), rank_);
   const int* owner = mesh.element_rank != nullptr ? mesh.element_rank : own_rank.data();
-  throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                                             nodes, mesh.owned_coordinates, h5));
+  throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes,
+                                             mesh.owned_coordinates, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/topology", H5T_STD_I64LE, H5T_NATIVE_INT64, hex,
                                              mesh.element_nodes, h5));
-  throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/rank", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
-                                             owner, h5));
+  throw_if_failed_anywhere(comm_,
+                           write_rows(file_.get(), "/mesh/rank", H5T_STD_I32LE, H5T_NATIVE_INT, cells, owner, h5));
   throw_if_failed_anywhere(comm_, write_rows(file_.get(), "/mesh/body", H5T_STD_I32LE, H5T_NATIVE_INT, cells,
                                              mesh.element_body, h5));
   if (kinematic_)
@@ -348,8 +351,8 @@ void XdmfWriter::continue_file(std::int64_t keep_steps) {
     hsize_t dims[2] = {0, 0};
     if (!space.valid() || H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0 ||
         dims[0] != static_cast<hsize_t>(rows)) {
-      error = "the output '" + h5 + "' to continue has " + std::to_string(dims[0]) + " rows in " + path + ", this run " +
-              std::to_string(rows) + " (another mesh)";
+      error = "the output '" + h5 + "' to continue has " + std::to_string(dims[0]) + " rows in " + path +
+              ", this run " + std::to_string(rows) + " (another mesh)";
       break;
     }
   }
@@ -394,9 +397,7 @@ XdmfWriter::~XdmfWriter() {
 
 std::string XdmfWriter::h5_path() const { return (std::filesystem::path(directory_) / (name_ + ".h5")).string(); }
 
-std::string XdmfWriter::xdmf_path() const {
-  return (std::filesystem::path(directory_) / (name_ + ".xmf")).string();
-}
+std::string XdmfWriter::xdmf_path() const { return (std::filesystem::path(directory_) / (name_ + ".xmf")).string(); }
 
 void XdmfWriter::write_step(const StepFields& f) {
   const QuietHdf5Errors quiet;
@@ -406,8 +407,8 @@ void XdmfWriter::write_step(const StepFields& f) {
   for (const OutputObstacle& o : obstacles_) moving += o.moving ? 1 : 0;
   if (num_owned_nodes_ > 0 && (f.displacement == nullptr || f.velocity == nullptr)) {
     error = missing_array("displacement or velocity", num_owned_nodes_);
-  } else if (num_owned_nodes_ > 0 && ((contact_force_ && f.contact_force == nullptr) ||
-                                      (friction_force_ && f.friction_force == nullptr))) {
+  } else if (num_owned_nodes_ > 0 &&
+             ((contact_force_ && f.contact_force == nullptr) || (friction_force_ && f.friction_force == nullptr))) {
     error = missing_array("contact_force or friction_force", num_owned_nodes_);
   } else if (num_elements_ > 0 && f.volume_ratio == nullptr) {
     error = missing_array("volume_ratio", num_elements_);
@@ -444,8 +445,7 @@ void XdmfWriter::write_step(const StepFields& f) {
   const auto nodes = RowBlock{hsize_t(num_global_nodes_), 3, hsize_t(node_offset_), hsize_t(num_owned_nodes_)};
   const auto cells = RowBlock{hsize_t(num_global_elements_), 0, hsize_t(element_offset_), hsize_t(num_elements_)};
   const auto node_field = [&](const char* name, const double* data) {
-    throw_if_failed_anywhere(comm_,
-                             write_rows(group.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes, data, h5));
+    throw_if_failed_anywhere(comm_, write_rows(group.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nodes, data, h5));
   };
   node_field("displacement", f.displacement);
   node_field("velocity", f.velocity);
@@ -454,8 +454,8 @@ void XdmfWriter::write_step(const StepFields& f) {
   throw_if_failed_anywhere(comm_, write_rows(group.get(), "volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, cells,
                                              f.volume_ratio, h5));
   if (!body_grids_.empty())
-    write_grid_cells(group.get(), step, {{"volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, f.volume_ratio,
-                                          sizeof(double)}});
+    write_grid_cells(group.get(), step,
+                     {{"volume_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, f.volume_ratio, sizeof(double)}});
   if (moving > 0) {
     Hdf5Handle obstacles(H5Gcreate2(group.get(), "obstacles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!obstacles.valid()) error = hdf5_failure("cannot create group " + step + "/obstacles", h5);

@@ -42,11 +42,11 @@ namespace dipc {
 // triangle-mesh obstacle as its triangles. Positions at time t are rest + displacement.
 struct OutputObstacle {
   std::string name;
-  std::string kind;                  // "plane" or "triangle_mesh"
-  int nodes_per_cell = 3;            // 3 (triangles) or 4 (quadrilaterals)
-  std::vector<double> rest;          // 3 per vertex
-  std::vector<std::int64_t> cells;   // nodes_per_cell vertex ids per cell
-  bool moving = false;               // a displacement per written step
+  std::string kind;                 // "plane" or "triangle_mesh"
+  int nodes_per_cell = 3;           // 3 (triangles) or 4 (quadrilaterals)
+  std::vector<double> rest;         // 3 per vertex
+  std::vector<std::int64_t> cells;  // nodes_per_cell vertex ids per cell
+  bool moving = false;              // a displacement per written step
 };
 
 struct OutputMesh {  // this rank's part, partition-ordered global numbering
@@ -61,9 +61,9 @@ struct OutputMesh {  // this rank's part, partition-ordered global numbering
   const int* element_rank = nullptr;            // num_elements owning ranks; null: this rank
   const int* element_kinematic = nullptr;       // num_elements flags; null: no kinematic body
   // The rest is the same on every rank.
-  std::vector<std::string> body_names;          // per body id (none: no /mesh/body_names)
+  std::vector<std::string> body_names;                 // per body id (none: no /mesh/body_names)
   bool contact_force = false, friction_force = false;  // node fields every step carries
-  std::vector<std::string> contact_pair_kinds;  // step attributes "contact_pairs_<kind>"
+  std::vector<std::string> contact_pair_kinds;         // step attributes "contact_pairs_<kind>"
   std::vector<OutputObstacle> obstacles;
   // Named node selections, written to /mesh/sets/<name> (io/mesh_file.hpp) so that the file can
   // be a later run's mesh: this rank writes rows [offset, offset + count) of `size` ids. The
@@ -124,7 +124,7 @@ class XdmfWriter {
   struct CellField {
     const char* name;
     hid_t file_type, memory_type;
-    const void* data;  // this rank's element block
+    const void* data;   // this rank's element block
     std::size_t bytes;  // per row
   };
   void write_grid_cells(hid_t parent, const std::string& parent_path, const std::vector<CellField>& fields) const;

@@ -16,18 +16,15 @@ struct Aabb {
 
 // The empty box (lo = +inf, hi = -inf): growing it by a point gives that point's box, and it
 // overlaps nothing.
-DIPC_HD Aabb aabb_empty() {
-  return {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-}
+DIPC_HD Aabb aabb_empty() { return {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}; }
 
 DIPC_HD bool aabb_is_empty(const Aabb& b) { return b.lo[0] > b.hi[0]; }
 
 // Closed intervals: boxes that only touch overlap, so a pair at exactly the inflation
 // distance is still a candidate (a broad phase may report extra pairs, never miss one).
 DIPC_HD bool aabbs_overlap(const Aabb& a, const Aabb& b) {
-  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] &&
-         a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-         a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
+  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
+         b.lo[2] <= a.hi[2];
 }
 
 DIPC_HD void aabb_merge(Aabb* into, const Aabb& other) {

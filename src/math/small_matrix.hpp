@@ -8,8 +8,7 @@ namespace dipc {
 
 // det A by cofactor expansion along the first row.
 DIPC_HD double det3x3(const double A[9]) {
-  return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
-         A[2] * (A[3] * A[7] - A[4] * A[6]);
+  return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) + A[2] * (A[3] * A[7] - A[4] * A[6]);
 }
 
 // Inverse through the adjugate: A^{-1} = adj(A) / det A. Returns det A; the output is
@@ -44,15 +43,13 @@ DIPC_HD double inverse_transpose3x3(const double A[9], double AinvT[9]) {
 // C = A B
 DIPC_HD void multiply3x3(const double A[9], const double B[9], double C[9]) {
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      C[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+    for (int j = 0; j < 3; ++j) C[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
 }
 
 // C = A^T B
 DIPC_HD void multiply_transpose_a3x3(const double A[9], const double B[9], double C[9]) {
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      C[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j];
+    for (int j = 0; j < 3; ++j) C[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j];
 }
 
 // A : B = sum_ij A_ij B_ij

@@ -47,8 +47,7 @@ DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V) {
         if (mag <= floor_value || mag <= eps * sqrt(fabs(app * aqq))) continue;
         rotated = true;
         const double tau = (aqq - app) / (2.0 * apq);
-        const double t = fabs(tau) > 1e150 ? 0.5 / tau
-                                           : (tau >= 0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
+        const double t = fabs(tau) > 1e150 ? 0.5 / tau : (tau >= 0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
         const double c = 1.0 / sqrt(1.0 + t * t);
         const double s = t * c;
         // A <- J^T A J with J the (p,q) rotation [c s; -s c]; a_pq becomes exactly 0.

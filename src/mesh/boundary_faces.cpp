@@ -13,8 +13,8 @@
 namespace dipc {
 namespace {
 
-constexpr int kFaceNodes[kHexFaces][4] = {
-    {0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}};
+constexpr int kFaceNodes[kHexFaces][4] = {{0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4},
+                                          {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}};
 
 using FaceKey = std::array<std::int64_t, 4>;
 
@@ -36,17 +36,15 @@ void check_node_ids(const HexMesh& mesh) {
     for (int k = 0; k < 8; ++k) {
       const std::int64_t node = mesh.hexes[e][k];
       if (node < 0 || node >= nn) {
-        throw MeshError("extract_boundary_faces: element " + std::to_string(e) + " node " +
-                        std::to_string(k) + " has id " + std::to_string(node) +
-                        ", outside [0, " + std::to_string(nn) + ")");
+        throw MeshError("extract_boundary_faces: element " + std::to_string(e) + " node " + std::to_string(k) +
+                        " has id " + std::to_string(node) + ", outside [0, " + std::to_string(nn) + ")");
       }
     }
   }
 }
 
 std::string describe_face(std::int64_t code) {
-  return "element " + std::to_string(code / kHexFaces) + " face " +
-         std::to_string(code % kHexFaces);
+  return "element " + std::to_string(code / kHexFaces) + " face " + std::to_string(code % kHexFaces);
 }
 
 }  // namespace
@@ -102,16 +100,14 @@ std::vector<BoundaryFace> extract_boundary_faces(const HexMesh& mesh) {
       std::size_t j = i + 1;
       while (j < bucket.size() && bucket[j].first == bucket[i].first) ++j;
       if (j - i > 2) {
-        throw MeshError("extract_boundary_faces: " + std::to_string(j - i) +
-                        " elements share one face (" + describe_face(bucket[i].second) + ", " +
-                        describe_face(bucket[i + 1].second) + ", " +
+        throw MeshError("extract_boundary_faces: " + std::to_string(j - i) + " elements share one face (" +
+                        describe_face(bucket[i].second) + ", " + describe_face(bucket[i + 1].second) + ", " +
                         describe_face(bucket[i + 2].second) +
                         "): the mesh is non-manifold or has overlapping elements");
       }
       if (j - i == 1) {
         const std::int64_t code = bucket[i].second;
-        is_boundary[static_cast<std::size_t>(code / kHexFaces)] |=
-            static_cast<std::uint8_t>(1u << (code % kHexFaces));
+        is_boundary[static_cast<std::size_t>(code / kHexFaces)] |= static_cast<std::uint8_t>(1u << (code % kHexFaces));
         ++num_boundary;
       }
       i = j;

@@ -20,13 +20,12 @@ void validate_box(const std::array<double, 3>& size, const std::array<int, 3>& r
   if (name.empty()) throw MeshError("generate_box: the box needs a name to prefix its node sets");
   for (int d = 0; d < 3; ++d) {
     if (resolution[d] < 1)
-      throw MeshError(where(name) + "resolution along " + kAxis[d] + " is " +
-                      std::to_string(resolution[d]) + ", must be >= 1");
+      throw MeshError(where(name) + "resolution along " + kAxis[d] + " is " + std::to_string(resolution[d]) +
+                      ", must be >= 1");
     if (!std::isfinite(size[d]) || size[d] <= 0)
       throw MeshError(where(name) + "size along " + kAxis[d] + " is " + std::to_string(size[d]) +
                       ", must be finite and > 0");
-    if (!std::isfinite(origin[d]))
-      throw MeshError(where(name) + "origin along " + kAxis[d] + " is not finite");
+    if (!std::isfinite(origin[d])) throw MeshError(where(name) + "origin along " + kAxis[d] + " is not finite");
   }
   if (body < 0) throw MeshError(where(name) + "body id " + std::to_string(body) + " is negative");
   // 8 ids per element must be addressable as int64; check in floating point to avoid overflow.
@@ -42,9 +41,7 @@ HexMesh generate_box(const std::array<double, 3>& size, const std::array<int, 3>
   validate_box(size, resolution, origin, body, name);
   const std::int64_t nx = resolution[0], ny = resolution[1], nz = resolution[2];
   const std::int64_t px = nx + 1, py = ny + 1, pz = nz + 1;
-  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return i + px * (j + py * k);
-  };
+  auto node_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + px * (j + py * k); };
 
   HexMesh mesh;
   mesh.nodes.reserve(static_cast<std::size_t>(px * py * pz));
@@ -63,9 +60,9 @@ HexMesh generate_box(const std::array<double, 3>& size, const std::array<int, 3>
       for (std::int64_t i = 0; i < nx; ++i)
         // Gmsh order: bottom face (ζ=-1) counter-clockwise seen from +z, then the top face;
         // with x, y, z along ξ, η, ζ the Jacobian is diag(h/2) > 0.
-        mesh.hexes.push_back({node_id(i, j, k), node_id(i + 1, j, k), node_id(i + 1, j + 1, k),
-                              node_id(i, j + 1, k), node_id(i, j, k + 1), node_id(i + 1, j, k + 1),
-                              node_id(i + 1, j + 1, k + 1), node_id(i, j + 1, k + 1)});
+        mesh.hexes.push_back({node_id(i, j, k), node_id(i + 1, j, k), node_id(i + 1, j + 1, k), node_id(i, j + 1, k),
+                              node_id(i, j, k + 1), node_id(i + 1, j, k + 1), node_id(i + 1, j + 1, k + 1),
+                              node_id(i, j + 1, k + 1)});
   mesh.body.assign(mesh.hexes.size(), body);
 
   // Node ids grow with i fastest, then j, then k, so iterating in id order keeps every set

@@ -16,9 +16,7 @@ struct HalfEdge {
   std::int64_t lo, hi;  // vertex ids, lo < hi
   std::int64_t triangle;
   bool forward;  // the triangle runs lo -> hi
-  bool operator<(const HalfEdge& o) const {
-    return std::tie(lo, hi, triangle) < std::tie(o.lo, o.hi, o.triangle);
-  }
+  bool operator<(const HalfEdge& o) const { return std::tie(lo, hi, triangle) < std::tie(o.lo, o.hi, o.triangle); }
 };
 
 std::string point(const Vec3& p) {
@@ -43,23 +41,21 @@ void check_closed_surface(const TriangleSurface& surface) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
     auto edge = [&] {  // built for a message only: formatting every edge would be slow
-      return "edge " + point(surface.vertices[edges[i].lo]) + "-" +
-             point(surface.vertices[edges[i].hi]);
+      return "edge " + point(surface.vertices[edges[i].lo]) + "-" + point(surface.vertices[edges[i].hi]);
     };
     auto at = [&](std::size_t e) { return describe_triangle(surface, edges[e].triangle); };
     if (j - i == 1)
-      throw MeshError(surface.source + ": the surface is not closed: " + edge() +
-                      " belongs to one triangle only (" + at(i) +
-                      "); a solid needs a closed surface");
+      throw MeshError(surface.source + ": the surface is not closed: " + edge() + " belongs to one triangle only (" +
+                      at(i) + "); a solid needs a closed surface");
     if (j - i > 2) {
       std::string where;
       for (std::size_t e = i; e < j; ++e) where += (e > i ? ", " : "") + at(e);
-      throw MeshError(surface.source + ": the surface is not manifold: " + edge() +
-                      " is shared by " + std::to_string(j - i) + " triangles (" + where + ")");
+      throw MeshError(surface.source + ": the surface is not manifold: " + edge() + " is shared by " +
+                      std::to_string(j - i) + " triangles (" + where + ")");
     }
     if (edges[i].forward == edges[i + 1].forward)
-      throw MeshError(surface.source + ": the surface is not consistently oriented: triangles " +
-                      at(i) + " and " + at(i + 1) + " run along their shared " + edge() +
+      throw MeshError(surface.source + ": the surface is not consistently oriented: triangles " + at(i) + " and " +
+                      at(i + 1) + " run along their shared " + edge() +
                       " in the same direction (one of them is flipped)");
     i = j;
   }

@@ -83,9 +83,7 @@ const ElementType* find_element_type(std::int64_t type) {
 }
 
 bool feeds_node_sets(int type) { return type == 15 || type == 1 || type == 2 || type == 3; }
-bool is_higher_order_hexahedron(int type) {
-  return type == 12 || type == 17 || type == 92 || type == 93;
-}
+bool is_higher_order_hexahedron(int type) { return type == 12 || type == 17 || type == 92 || type == 93; }
 
 // Node tag -> 0-based index. Gmsh tags are usually dense (1..n), so a vector indexed by
 // tag - minTag is used when the header's range is not much larger than the node count;
@@ -143,27 +141,20 @@ class GmshReader {
   void read_elements_v2();
   // Adds one MSH 2 element: `tags` are its integer tags, `node_tags` its nodes.
   void add_element_v2(std::int64_t element_tag, std::int64_t location, const ElementType& type,
-                      const std::int64_t* tags, std::int64_t num_tags,
-                      const std::int64_t* node_tags);
+                      const std::int64_t* tags, std::int64_t num_tags, const std::int64_t* node_tags);
   // The element type `type_id`, or a located error when dipc cannot use it.
   const ElementType& usable_type(std::int64_t type_id, std::int64_t location) const;
 
   // Values that are text in ASCII files and raw data in binary ones.
-  std::int64_t int_value(const char* what) {
-    return binary_ ? in_.binary_int(what) : in_.integer(what);
-  }
+  std::int64_t int_value(const char* what) { return binary_ ? in_.binary_int(what) : in_.integer(what); }
   // A count (size_t in binary 4.1 files).
-  std::int64_t count_value(const char* what) {
-    return binary_ ? in_.binary_size(size_bytes_, what) : in_.count(what);
-  }
+  std::int64_t count_value(const char* what) { return binary_ ? in_.binary_size(size_bytes_, what) : in_.count(what); }
   // A node or element tag (size_t in binary 4.1 files, int in binary 2.2 files).
   std::int64_t tag_value(const char* what) {
     if (!binary_) return in_.integer(what);
     return version_ == 2 ? in_.binary_int(what) : in_.binary_size(size_bytes_, what);
   }
-  double real_value(const char* what) {
-    return binary_ ? in_.binary_double(what) : in_.real(what);
-  }
+  double real_value(const char* what) { return binary_ ? in_.binary_double(what) : in_.real(what); }
   void build_node_sets(HexMesh& mesh) const;
   std::int64_t node_index(std::int64_t tag, std::int64_t element_tag) const;
   std::size_t capped(std::int64_t count) const {
@@ -171,9 +162,9 @@ class GmshReader {
   }
 
   MshScanner in_;
-  int version_ = 4;        // 4 (MSH 4.1) or 2 (MSH 2.2)
+  int version_ = 4;  // 4 (MSH 4.1) or 2 (MSH 2.2)
   bool binary_ = false;
-  int size_bytes_ = 8;     // sizeof(size_t) of the writer, binary MSH 4.1
+  int size_bytes_ = 8;  // sizeof(size_t) of the writer, binary MSH 4.1
   std::set<std::string> seen_sections_;
 
   std::map<GroupKey, PhysicalGroup> groups_;
@@ -200,8 +191,8 @@ HexMesh GmshReader::read(int body) {
     if (header.size() < 2 || header.front() != '$' || header.compare(0, 4, "$End") == 0)
       in_.fail("expected a section header ($Name), found '" + header.substr(0, 40) + "'");
     const std::string name = header.substr(1);
-    const bool known = name == "PhysicalNames" || name == "Entities" || name == "Nodes" ||
-                       name == "Elements" || name == "PartitionedEntities";
+    const bool known = name == "PhysicalNames" || name == "Entities" || name == "Nodes" || name == "Elements" ||
+                       name == "PartitionedEntities";
     if (known && !seen_sections_.insert(name).second) in_.fail("second " + header + " section");
     in_.enter_section(header);
     if (name == "PhysicalNames") {
@@ -227,9 +218,8 @@ HexMesh GmshReader::read(int body) {
         read_elements_v2();
       }
     } else if (name == "PartitionedEntities") {
-      in_.fail(
-          "partitioned meshes are not supported: save the mesh unpartitioned "
-          "(dipc partitions it itself)");
+      in_.fail("partitioned meshes are not supported: save the mesh unpartitioned "
+               "(dipc partitions it itself)");
     } else {
       in_.skip_section(name);
     }
@@ -238,9 +228,8 @@ HexMesh GmshReader::read(int body) {
   if (!seen_sections_.count("Nodes")) in_.fail("no $Nodes section");
   if (!seen_sections_.count("Elements")) in_.fail("no $Elements section");
   if (hexes_.empty())
-    in_.fail_at(elements_line_,
-                "no hexahedra (element type 5) in $Elements; if the file has physical groups, "
-                "add the volume to one or save with Mesh.SaveAll = 1");
+    in_.fail_at(elements_line_, "no hexahedra (element type 5) in $Elements; if the file has physical groups, "
+                                "add the volume to one or save with Mesh.SaveAll = 1");
 
   HexMesh mesh;
   mesh.nodes = std::move(nodes_);
@@ -255,8 +244,7 @@ HexMesh GmshReader::read(int body) {
 void GmshReader::read_mesh_format() {
   const std::string_view first = in_.token("$MeshFormat");
   if (first != "$MeshFormat")
-    in_.fail("not a Gmsh MSH file: expected $MeshFormat first, found '" +
-             std::string(first.substr(0, 40)) + "'");
+    in_.fail("not a Gmsh MSH file: expected $MeshFormat first, found '" + std::string(first.substr(0, 40)) + "'");
   in_.enter_section("$MeshFormat");
   const std::string version(in_.token("the MSH version"));
   if (version == "4.1") {
@@ -293,8 +281,7 @@ void GmshReader::read_mesh_format() {
     in_.use_byte_offsets();
     const std::int64_t check = in_.binary_int("the binary byte-order check (the int 1)");
     if (check != 1)
-      in_.fail("$MeshFormat section is malformed: the binary byte-order check is " +
-               std::to_string(check) + ", not 1");
+      in_.fail("$MeshFormat section is malformed: the binary byte-order check is " + std::to_string(check) + ", not 1");
   }
   in_.expect("$EndMeshFormat", "$MeshFormat holds 3 values");
   in_.enter_section("");
@@ -306,8 +293,7 @@ void GmshReader::read_physical_names() {
     const std::int64_t dim = in_.integer("a physical group dimension");
     const std::int64_t line = in_.location();
     if (dim < 0 || dim > 3)
-      in_.fail("$PhysicalNames section is malformed: dimension " + std::to_string(dim) +
-               " is not 0..3");
+      in_.fail("$PhysicalNames section is malformed: dimension " + std::to_string(dim) + " is not 0..3");
     const std::int64_t tag = in_.integer("a physical group tag");
     std::string name = in_.quoted("a physical group name");
     auto& group = groups_[{static_cast<int>(dim), tag}];
@@ -365,14 +351,12 @@ void GmshReader::read_nodes() {
   for (std::int64_t b = 0; b < num_blocks; ++b) {
     const std::int64_t dim = int_value("a node block's entity dimension");
     if (dim < 0 || dim > 3)
-      in_.fail("$Nodes section is malformed: entity dimension " + std::to_string(dim) +
-               " is not 0..3");
+      in_.fail("$Nodes section is malformed: entity dimension " + std::to_string(dim) + " is not 0..3");
     int_value("a node block's entity tag");
     const std::int64_t parametric = binary_ ? in_.binary_int("a node block's parametric flag")
-                                                 : in_.count("a node block's parametric flag");
+                                            : in_.count("a node block's parametric flag");
     if (parametric < 0 || parametric > 1)
-      in_.fail("$Nodes section is malformed: parametric flag " + std::to_string(parametric) +
-               " is not 0 or 1");
+      in_.fail("$Nodes section is malformed: parametric flag " + std::to_string(parametric) + " is not 0 or 1");
     const std::int64_t n = count_value("a node block's node count");
     // Parametric blocks append the entity-dimension local coordinates (u, v, w) to x y z.
     const int values_per_node = 3 + (parametric ? static_cast<int>(dim) : 0);
@@ -383,8 +367,7 @@ void GmshReader::read_nodes() {
       const std::int64_t tag = tag_value("a node tag");
       if (tag <= 0) in_.fail("node tag " + std::to_string(tag) + " is not positive");
       const auto index = static_cast<std::int64_t>(source_.node_tags.size());
-      if (!node_index_.insert(tag, index))
-        in_.fail("node " + std::to_string(tag) + " is defined twice");
+      if (!node_index_.insert(tag, index)) in_.fail("node " + std::to_string(tag) + " is defined twice");
       block_tags.push_back(tag);
       source_.node_tags.push_back(tag);
       source_.node_lines.push_back(in_.location());
@@ -395,8 +378,7 @@ void GmshReader::read_nodes() {
         const double v = real_value(k < 3 ? "a node coordinate" : "a parametric coordinate");
         if (k >= 3) continue;
         if (!std::isfinite(v))
-          in_.fail("node " + std::to_string(block_tags[i]) + " has a non-finite " + "xyz"[k] +
-                   " coordinate");
+          in_.fail("node " + std::to_string(block_tags[i]) + " has a non-finite " + "xyz"[k] + " coordinate");
         x[k] = v;
       }
       nodes_.push_back(x);
@@ -432,23 +414,21 @@ void GmshReader::read_elements() {
     const std::int64_t n = count_value("an element block's element count");
     const ElementType* type = &usable_type(type_id, block_line);
     if (dim != type->dim)
-      in_.fail_at(block_line, "$Elements section is malformed: a block of " +
-                                  std::string(type->name) + " elements on an entity of dimension " +
-                                  std::to_string(dim));
+      in_.fail_at(block_line, "$Elements section is malformed: a block of " + std::string(type->name) +
+                                  " elements on an entity of dimension " + std::to_string(dim));
     const EntityKey key{static_cast<int>(dim), entity};
     const auto groups = entity_groups_.find(key);
     if (have_entities_ && groups == entity_groups_.end())
-      in_.fail_at(block_line, "element block on entity (dimension " + std::to_string(dim) +
-                                  ", tag " + std::to_string(entity) +
-                                  "), which is not in $Entities");
-    std::vector<std::int64_t>* set_nodes =
-        (groups != entity_groups_.end() && !groups->second.empty()) ? &entity_nodes_[key] : nullptr;
+      in_.fail_at(block_line, "element block on entity (dimension " + std::to_string(dim) + ", tag " +
+                                  std::to_string(entity) + "), which is not in $Entities");
+    std::vector<std::int64_t>* set_nodes = (groups != entity_groups_.end() && !groups->second.empty())
+                                               ? &entity_nodes_[key]
+                                               : nullptr;
 
     for (std::int64_t i = 0; i < n; ++i) {
       const std::int64_t element_tag = tag_value("an element tag");
       const std::int64_t element_line = in_.location();
-      if (element_tag <= 0)
-        in_.fail("element tag " + std::to_string(element_tag) + " is not positive");
+      if (element_tag <= 0) in_.fail("element tag " + std::to_string(element_tag) + " is not positive");
       for (int a = 0; a < type->nodes; ++a) tags[a] = tag_value("an element node tag");
       if (type->type == kHexahedron) {
         Hex h;
@@ -467,9 +447,8 @@ void GmshReader::read_elements() {
     total += n;
   }
   if (total != num_elements)
-    in_.fail("$Elements section is malformed: the header announces " +
-             std::to_string(num_elements) + " elements but its blocks hold " +
-             std::to_string(total));
+    in_.fail("$Elements section is malformed: the header announces " + std::to_string(num_elements) +
+             " elements but its blocks hold " + std::to_string(total));
   in_.expect("$EndElements", "more element blocks than the header announces?");
 }
 
@@ -482,12 +461,10 @@ const ElementType& GmshReader::usable_type(std::int64_t type_id, std::int64_t lo
   if (type->type != kHexahedron && !feeds_node_sets(type->type)) {
     std::string why = is_higher_order_hexahedron(type->type)
                           ? "dipc reads linear hexahedra only (type 5, Mesh.ElementOrder = 1)"
-                      : type->dim == 3
-                          ? "dipc needs an all-hexahedral mesh (e.g. transfinite volumes with "
-                            "Mesh.RecombineAll = 1)"
-                          : "use a first-order mesh (Mesh.ElementOrder = 1)";
-    in_.fail_at(location, "element type " + std::to_string(type_id) + " (" + type->name +
-                              ") is not supported: " + why);
+                      : type->dim == 3 ? "dipc needs an all-hexahedral mesh (e.g. transfinite volumes with "
+                                         "Mesh.RecombineAll = 1)"
+                                       : "use a first-order mesh (Mesh.ElementOrder = 1)";
+    in_.fail_at(location, "element type " + std::to_string(type_id) + " (" + type->name + ") is not supported: " + why);
   }
   return *type;
 }
@@ -534,8 +511,7 @@ void GmshReader::read_elements_v2() {
         if (t < 64) tags[static_cast<std::size_t>(t)] = v;
       }
       for (int a = 0; a < type.nodes; ++a) node_tags[a] = in_.integer("an element node tag");
-      add_element_v2(element_tag, location, type, tags.data(),
-                     static_cast<std::int64_t>(tags.size()), node_tags);
+      add_element_v2(element_tag, location, type, tags.data(), static_cast<std::int64_t>(tags.size()), node_tags);
     }
   } else {
     in_.begin_binary("the binary $Elements data");
@@ -546,11 +522,10 @@ void GmshReader::read_elements_v2() {
       const std::int64_t count = in_.binary_int("an element block's element count");
       const std::int64_t num_tags = in_.binary_int("an element block's number of tags");
       if (count <= 0 || count > n - read)
-        in_.fail("$Elements section is malformed: a block of " + std::to_string(count) +
-                 " elements where " + std::to_string(n - read) + " remain");
+        in_.fail("$Elements section is malformed: a block of " + std::to_string(count) + " elements where " +
+                 std::to_string(n - read) + " remain");
       if (num_tags < 0 || num_tags > 64)
-        in_.fail("$Elements section is malformed: " + std::to_string(num_tags) +
-                 " tags per element");
+        in_.fail("$Elements section is malformed: " + std::to_string(num_tags) + " tags per element");
       tags.resize(static_cast<std::size_t>(num_tags));
       for (std::int64_t i = 0; i < count; ++i) {
         const std::int64_t element_tag = in_.binary_int("an element tag");
@@ -565,18 +540,15 @@ void GmshReader::read_elements_v2() {
   in_.expect("$EndElements", "more elements than the count announces?");
 }
 
-void GmshReader::add_element_v2(std::int64_t element_tag, std::int64_t location,
-                                const ElementType& type, const std::int64_t* tags,
-                                std::int64_t num_tags, const std::int64_t* node_tags) {
-  if (element_tag <= 0)
-    in_.fail_at(location, "element tag " + std::to_string(element_tag) + " is not positive");
+void GmshReader::add_element_v2(std::int64_t element_tag, std::int64_t location, const ElementType& type,
+                                const std::int64_t* tags, std::int64_t num_tags, const std::int64_t* node_tags) {
+  if (element_tag <= 0) in_.fail_at(location, "element tag " + std::to_string(element_tag) + " is not positive");
   // MSH 2 has no entities: the physical group (first tag, 0 for none) stands in as the
   // entity whose elements feed the group's node set. Partition tags are not needed: dipc
   // partitions the whole mesh itself.
   const std::int64_t physical = num_tags > 0 ? tags[0] : 0;
   if (physical < 0)
-    in_.fail_at(location, "element " + std::to_string(element_tag) + " has physical tag " +
-                              std::to_string(physical));
+    in_.fail_at(location, "element " + std::to_string(element_tag) + " has physical tag " + std::to_string(physical));
   std::vector<std::int64_t>* set_nodes = nullptr;
   if (physical > 0) {
     const EntityKey key{type.dim, physical};
@@ -602,10 +574,8 @@ void GmshReader::add_element_v2(std::int64_t element_tag, std::int64_t location,
   const auto [it, inserted] = hex_of_nodes_.emplace(sorted, hexes_.size());
   if (!inserted) {
     if (hexes_[it->second] != h)
-      in_.fail_at(location, "element " + std::to_string(element_tag) +
-                                " has the nodes of element " +
-                                std::to_string(source_.element_tags[it->second]) +
-                                " in another order");
+      in_.fail_at(location, "element " + std::to_string(element_tag) + " has the nodes of element " +
+                                std::to_string(source_.element_tags[it->second]) + " in another order");
     return;  // the same element, written again for another physical group
   }
   hexes_.push_back(h);
@@ -617,8 +587,7 @@ void GmshReader::build_node_sets(HexMesh& mesh) const {
   // Set name of each physical group; detect names that two groups would share.
   std::map<std::string, std::vector<GroupKey>> by_name;
   for (const auto& [key, group] : groups_) {
-    const std::string name =
-        group.name.empty() ? "physical_" + std::to_string(key.second) : group.name;
+    const std::string name = group.name.empty() ? "physical_" + std::to_string(key.second) : group.name;
     by_name[name].push_back(key);
   }
   for (const auto& [name, keys] : by_name) {
@@ -628,10 +597,9 @@ void GmshReader::build_node_sets(HexMesh& mesh) const {
       if (!group.name.empty()) continue;
       const GroupKey& other = keys[0] == key ? keys[1] : keys[0];
       in_.fail_at(group.line, "physical groups (dimension " + std::to_string(key.first) + ", tag " +
-                                  std::to_string(key.second) + ") and (dimension " +
-                                  std::to_string(other.first) + ", tag " +
-                                  std::to_string(other.second) + ") would both be node set '" +
-                                  name + "': name them in $PhysicalNames");
+                                  std::to_string(key.second) + ") and (dimension " + std::to_string(other.first) +
+                                  ", tag " + std::to_string(other.second) + ") would both be node set '" + name +
+                                  "': name them in $PhysicalNames");
     }
   }
 

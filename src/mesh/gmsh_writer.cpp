@@ -38,10 +38,9 @@ void write_gmsh(const std::string& path, const HexMesh& mesh, const std::string&
   out << "$EndPhysicalNames\n";
   out << "$Entities\n0 0 " << n << " 1\n";
   for (std::size_t g = 0; g < n; ++g)
-    out << g + 1 << " " << lo[0] << " " << lo[1] << " " << lo[2] << " " << hi[0] << " " << hi[1]
-        << " " << hi[2] << " 1 " << g + 1 << " 0\n";
-  out << "1 " << lo[0] << " " << lo[1] << " " << lo[2] << " " << hi[0] << " " << hi[1] << " "
-      << hi[2] << " 1 1 " << n;
+    out << g + 1 << " " << lo[0] << " " << lo[1] << " " << lo[2] << " " << hi[0] << " " << hi[1] << " " << hi[2]
+        << " 1 " << g + 1 << " 0\n";
+  out << "1 " << lo[0] << " " << lo[1] << " " << lo[2] << " " << hi[0] << " " << hi[1] << " " << hi[2] << " 1 1 " << n;
   for (std::size_t g = 0; g < n; ++g) out << " " << g + 1;
   out << "\n$EndEntities\n";
 
@@ -68,8 +67,7 @@ void write_gmsh(const std::string& path, const HexMesh& mesh, const std::string&
   for (std::size_t g = 0; g < n; ++g) {
     out << "2 " << g + 1 << " 3 " << groups[g].quads.size() << "\n";
     for (const auto& q : groups[g].quads)
-      out << tag++ << " " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1
-          << "\n";
+      out << tag++ << " " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
   }
   out << "3 1 5 " << mesh.hexes.size() << "\n";
   for (const Hex& h : mesh.hexes) {

@@ -15,9 +15,9 @@ using Vec3 = std::array<double, 3>;
 using Hex = std::array<std::int64_t, 8>;
 
 struct HexMesh {
-  std::vector<Vec3> nodes;      // reference coordinates, node ids are 0-based indices
-  std::vector<Hex> hexes;       // 8 node ids per element
-  std::vector<int> body;        // body id per element (index into the scene's bodies)
+  std::vector<Vec3> nodes;  // reference coordinates, node ids are 0-based indices
+  std::vector<Hex> hexes;   // 8 node ids per element
+  std::vector<int> body;    // body id per element (index into the scene's bodies)
   // Named node sets (Gmsh physical groups of any dimension, generator faces such as
   // "beam.xmin"); sorted, unique node ids.
   std::map<std::string, std::vector<std::int64_t>> node_sets;

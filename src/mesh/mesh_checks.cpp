@@ -23,8 +23,7 @@ class Labels {
     return "node " + std::to_string(n);
   }
   std::string element(std::int64_t e) const {
-    if (map_ && in(map_->element_tags, e))
-      return "element " + std::to_string(map_->element_tags[e]) + " (hexahedron)";
+    if (map_ && in(map_->element_tags, e)) return "element " + std::to_string(map_->element_tags[e]) + " (hexahedron)";
     return "element " + std::to_string(e);
   }
   [[noreturn]] void fail(const std::string& what) const { throw MeshError(source_ + ": " + what); }
@@ -39,8 +38,7 @@ class Labels {
   static bool in(const std::vector<std::int64_t>& v, std::int64_t i) {
     return i >= 0 && static_cast<std::size_t>(i) < v.size();
   }
-  [[noreturn]] void fail_at(const std::vector<std::int64_t>* lines, std::int64_t i,
-                            const std::string& what) const {
+  [[noreturn]] void fail_at(const std::vector<std::int64_t>* lines, std::int64_t i, const std::string& what) const {
     if (lines && in(*lines, i)) {
       const std::string at = map_->byte_offsets ? ": byte " + std::to_string((*lines)[i]) + ": "
                                                 : ":" + std::to_string((*lines)[i]) + ": ";
@@ -106,10 +104,8 @@ void check_element_jacobian(const HexMesh& mesh, std::size_t e, const Labels& la
   if (det > tolerance) return;
   const auto id = static_cast<std::int64_t>(e);
   const std::string at = "det J = " + format_double(det) + " at " + worst_jacobian_point(X);
-  if (det < -tolerance)
-    labels.fail_at_element(id, "is inverted: " + at + " (check the node ordering)");
-  labels.fail_at_element(id,
-                         "is degenerate: " + at + " (longest edge " + format_double(edge) + ")");
+  if (det < -tolerance) labels.fail_at_element(id, "is inverted: " + at + " (check the node ordering)");
+  labels.fail_at_element(id, "is degenerate: " + at + " (longest edge " + format_double(edge) + ")");
 }
 
 }  // namespace
@@ -120,12 +116,11 @@ void check_mesh(const HexMesh& mesh, const std::string& source, const MeshSource
 
   if (mesh.hexes.empty()) labels.fail("mesh has no elements");
   if (mesh.body.size() != mesh.hexes.size())
-    labels.fail("mesh has " + std::to_string(mesh.body.size()) + " body ids for " +
-                std::to_string(mesh.hexes.size()) + " elements");
+    labels.fail("mesh has " + std::to_string(mesh.body.size()) + " body ids for " + std::to_string(mesh.hexes.size()) +
+                " elements");
   for (std::size_t e = 0; e < mesh.body.size(); ++e)
     if (mesh.body[e] < 0)
-      labels.fail_at_element(static_cast<std::int64_t>(e),
-                             "has negative body id " + std::to_string(mesh.body[e]));
+      labels.fail_at_element(static_cast<std::int64_t>(e), "has negative body id " + std::to_string(mesh.body[e]));
 
   for (std::int64_t n = 0; n < num_nodes; ++n)
     for (int i = 0; i < 3; ++i)
@@ -138,12 +133,12 @@ void check_mesh(const HexMesh& mesh, const std::string& source, const MeshSource
     const auto id = static_cast<std::int64_t>(e);
     for (int a = 0; a < 8; ++a) {
       if (h[a] < 0 || h[a] >= num_nodes)
-        labels.fail_at_element(id, "refers to node id " + std::to_string(h[a]) +
-                                       " out of range [0, " + std::to_string(num_nodes) + ")");
+        labels.fail_at_element(id, "refers to node id " + std::to_string(h[a]) + " out of range [0, " +
+                                       std::to_string(num_nodes) + ")");
       for (int b = 0; b < a; ++b)
         if (h[a] == h[b])
-          labels.fail_at_element(id, "uses " + labels.node(h[a]) + " twice (corners " +
-                                         std::to_string(b) + " and " + std::to_string(a) + ")");
+          labels.fail_at_element(id, "uses " + labels.node(h[a]) + " twice (corners " + std::to_string(b) + " and " +
+                                         std::to_string(a) + ")");
       used[h[a]] = 1;
     }
     check_element_jacobian(mesh, e, labels);
@@ -155,11 +150,10 @@ void check_mesh(const HexMesh& mesh, const std::string& source, const MeshSource
   for (const auto& [name, ids] : mesh.node_sets)
     for (std::size_t i = 0; i < ids.size(); ++i) {
       if (ids[i] < 0 || ids[i] >= num_nodes)
-        labels.fail("node set '" + name + "' holds node id " + std::to_string(ids[i]) +
-                    " out of range [0, " + std::to_string(num_nodes) + ")");
+        labels.fail("node set '" + name + "' holds node id " + std::to_string(ids[i]) + " out of range [0, " +
+                    std::to_string(num_nodes) + ")");
       if (i > 0 && ids[i] <= ids[i - 1])
-        labels.fail("node set '" + name + "' is not sorted and unique (at position " +
-                    std::to_string(i) + ")");
+        labels.fail("node set '" + name + "' is not sorted and unique (at position " + std::to_string(i) + ")");
     }
 }
 

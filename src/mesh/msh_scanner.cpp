@@ -9,8 +9,7 @@
 
 namespace dipc {
 
-MshScanner::MshScanner(std::string text, std::string path)
-    : text_(std::move(text)), path_(std::move(path)) {}
+MshScanner::MshScanner(std::string text, std::string path) : text_(std::move(text)), path_(std::move(path)) {}
 
 void MshScanner::fail_at(std::int64_t location, const std::string& what) const {
   if (byte_offsets_) throw MeshError(path_ + ": byte " + std::to_string(location) + ": " + what);
@@ -69,8 +68,7 @@ std::int64_t MshScanner::integer(const char* expected) {
   std::size_t skip = (!t.empty() && t.front() == '+') ? 1 : 0;
   std::int64_t value = 0;
   const auto [end, ec] = std::from_chars(t.data() + skip, t.data() + t.size(), value);
-  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip)
-    fail_unexpected(t, expected);
+  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip) fail_unexpected(t, expected);
   return value;
 }
 
@@ -89,8 +87,7 @@ double MshScanner::real(const char* expected) {
   std::size_t skip = (!t.empty() && t.front() == '+') ? 1 : 0;
   double value = 0;
   const auto [end, ec] = std::from_chars(t.data() + skip, t.data() + t.size(), value);
-  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip)
-    fail_unexpected(t, expected);
+  if (ec != std::errc() || end != t.data() + t.size() || t.size() == skip) fail_unexpected(t, expected);
   return value;
 }
 
@@ -100,9 +97,7 @@ std::string MshScanner::quoted(const char* expected) {
   token_offset_ = pos_;
   if (pos_ >= text_.size() || text_[pos_] != '"') {
     const std::size_t end = text_.find_first_of("\r\n", pos_);
-    fail_unexpected(
-        std::string_view(text_).substr(pos_, end == std::string::npos ? end : end - pos_),
-        expected);
+    fail_unexpected(std::string_view(text_).substr(pos_, end == std::string::npos ? end : end - pos_), expected);
   }
   const std::size_t close = text_.find_first_of("\"\n", pos_ + 1);
   if (close == std::string::npos || text_[close] != '"') {
@@ -118,8 +113,7 @@ void MshScanner::expect(const char* keyword, const char* hint) {
   const std::string_view t = token(keyword);
   if (t != keyword) {
     const std::string in = section_.empty() ? std::string("file") : section_ + " section";
-    fail(in + " is malformed: expected " + keyword + ", found '" + std::string(t.substr(0, 40)) +
-         "' (" + hint + ")");
+    fail(in + " is malformed: expected " + keyword + ", found '" + std::string(t.substr(0, 40)) + "' (" + hint + ")");
   }
 }
 
@@ -131,8 +125,7 @@ void MshScanner::skip_section(const std::string& name) {
     const std::size_t eol = text_.find('\n', pos_);
     const std::size_t stop = eol == std::string::npos ? text_.size() : eol;
     std::string_view line = std::string_view(text_).substr(pos_, stop - pos_);
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
-      line.remove_suffix(1);
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
     while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
     const bool found = line == end;
     pos_ = stop;
@@ -143,13 +136,11 @@ void MshScanner::skip_section(const std::string& name) {
     }
     if (eol != std::string::npos) ++pos_, ++line_;
   }
-  fail_at(start,
-          "section $" + name + " is not terminated (no " + end + " before the end of the file)");
+  fail_at(start, "section $" + name + " is not terminated (no " + end + " before the end of the file)");
 }
 
 void MshScanner::begin_binary(const char* expected) {
-  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r'))
-    ++pos_;
+  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r')) ++pos_;
   if (pos_ >= text_.size() || text_[pos_] != '\n') {
     token_offset_ = pos_;
     const std::string in = section_.empty() ? std::string("file") : section_ + " section";

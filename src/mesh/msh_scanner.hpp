@@ -72,8 +72,8 @@ class MshScanner {
   std::string path_;
   std::string section_;
   std::size_t pos_ = 0;
-  std::int64_t line_ = 1;        // line of text_[pos_]
-  std::int64_t token_line_ = 1;  // line of the last token
+  std::int64_t line_ = 1;         // line of text_[pos_]
+  std::int64_t token_line_ = 1;   // line of the last token
   std::size_t token_offset_ = 0;  // byte offset of the last token or binary value
   bool byte_offsets_ = false;
 };

@@ -80,7 +80,8 @@ NestedBodies find_nested_bodies(const HexMesh& mesh) {
   return {};
 }
 
-void check_no_nested_bodies(const HexMesh& mesh, const std::vector<std::string>& body_names, const std::string& source) {
+void check_no_nested_bodies(const HexMesh& mesh, const std::vector<std::string>& body_names,
+                            const std::string& source) {
   const NestedBodies nested = find_nested_bodies(mesh);
   if (nested.inner < 0) return;
   auto name = [&](int b) {

@@ -31,6 +31,7 @@ void check_no_nested_bodies(const HexMesh& mesh, const std::vector<std::string>&
 
 // Generalised winding number of the closed, outward-oriented triangle surface `triangles` at
 // `point` (Σ solid angles / 4π): 1 inside, 0 outside, about ½ on the surface.
-double winding_number(const HexMesh& mesh, const std::vector<std::array<std::int64_t, 3>>& triangles, const Vec3& point);
+double winding_number(const HexMesh& mesh, const std::vector<std::array<std::int64_t, 3>>& triangles,
+                      const Vec3& point);
 
 }  // namespace dipc

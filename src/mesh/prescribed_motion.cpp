@@ -30,10 +30,8 @@ std::size_t path_segment(const std::vector<std::array<double, 4>>& path, double 
 
 std::array<double, 3> PrescribedMotion::position(const std::array<double, 3>& X, double t) const {
   switch (kind) {
-    case Kind::Fixed:
-      return X;
-    case Kind::Velocity:
-      return {X[0] + velocity[0] * t, X[1] + velocity[1] * t, X[2] + velocity[2] * t};
+    case Kind::Fixed: return X;
+    case Kind::Velocity: return {X[0] + velocity[0] * t, X[1] + velocity[1] * t, X[2] + velocity[2] * t};
     case Kind::Affine: {
       const V3 v = velocity_at(X, t);
       return {X[0] + t * v[0], X[1] + t * v[1], X[2] + t * v[2]};
@@ -63,10 +61,8 @@ std::array<double, 3> PrescribedMotion::position(const std::array<double, 3>& X,
 
 std::array<double, 3> PrescribedMotion::velocity_at(const std::array<double, 3>& X, double t) const {
   switch (kind) {
-    case Kind::Fixed:
-      return {0, 0, 0};
-    case Kind::Velocity:
-      return velocity;
+    case Kind::Fixed: return {0, 0, 0};
+    case Kind::Velocity: return velocity;
     case Kind::Affine: {
       V3 v = velocity;
       for (int i = 0; i < 3; ++i)

@@ -14,9 +14,9 @@ struct PrescribedMotion {
   Kind kind = Kind::Fixed;
   std::array<double, 3> velocity{0, 0, 0};
   std::array<double, 9> rate{0, 0, 0, 0, 0, 0, 0, 0, 0};  // A, row-major (Affine only)
-  std::array<double, 3> axis{0, 0, 1};  // unit vector
+  std::array<double, 3> axis{0, 0, 1};                    // unit vector
   std::array<double, 3> center{0, 0, 0};
-  double angular_velocity = 0;  // rad/s, right-handed about axis
+  double angular_velocity = 0;              // rad/s, right-handed about axis
   std::vector<std::array<double, 4>> path;  // Path: (t, dx, dy, dz), t strictly increasing from 0
   std::array<double, 3> position(const std::array<double, 3>& X, double t) const;
   std::array<double, 3> velocity_at(const std::array<double, 3>& X, double t) const;

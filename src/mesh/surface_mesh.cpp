@@ -60,8 +60,7 @@ void collect_edges(SurfaceMesh& s) {
       s.edge_body.push_back(s.triangle_body[static_cast<std::size_t>(sides[i].side_code / 3)]);
     }
     const std::int64_t edge = static_cast<std::int64_t>(s.edges.size()) - 1;
-    s.triangle_edges[static_cast<std::size_t>(sides[i].side_code / 3)][sides[i].side_code % 3] =
-        edge;
+    s.triangle_edges[static_cast<std::size_t>(sides[i].side_code / 3)][sides[i].side_code % 3] = edge;
   }
 }
 
@@ -84,8 +83,8 @@ void collect_vertices(SurfaceMesh& s) {
 
 SurfaceMesh build_surface_mesh(const HexMesh& mesh) {
   if (mesh.body.size() != mesh.num_elements()) {
-    throw MeshError("build_surface_mesh: the mesh has " + std::to_string(mesh.body.size()) +
-                    " body ids for " + std::to_string(mesh.num_elements()) + " elements");
+    throw MeshError("build_surface_mesh: the mesh has " + std::to_string(mesh.body.size()) + " body ids for " +
+                    std::to_string(mesh.num_elements()) + " elements");
   }
   SurfaceMesh s;
   s.quads = extract_boundary_faces(mesh);

@@ -30,8 +30,7 @@ inline int quad_split_corner(const std::int64_t ids[4]) {
 // triangles face outward like the quad.
 inline std::array<int, 3> quad_triangle_corners(int split_corner, int k) {
   const int m = split_corner;
-  return k == 0 ? std::array<int, 3>{m, (m + 1) % 4, (m + 2) % 4}
-                : std::array<int, 3>{m, (m + 2) % 4, (m + 3) % 4};
+  return k == 0 ? std::array<int, 3>{m, (m + 1) % 4, (m + 2) % 4} : std::array<int, 3>{m, (m + 2) % 4, (m + 3) % 4};
 }
 
 struct SurfaceMesh {

@@ -20,9 +20,7 @@ Vec3 sub(const Vec3& a, const Vec3& b) {
   return c;
 }
 double dot(const Vec3& a, const Vec3& b) { return dot3(a.data(), b.data()); }
-Vec3 axpy(const Vec3& p, double s, const Vec3& d) {
-  return {p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]};
-}
+Vec3 axpy(const Vec3& p, double s, const Vec3& d) { return {p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]}; }
 
 // Closest point to p on triangle (a, b, c), by the Voronoi regions of its vertices, edges and
 // face (Ericson, "Real-Time Collision Detection", 2005, section 5.1.5).
@@ -41,8 +39,7 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return axpy(a, d2 / (d2 - d6), ac);
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return axpy(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), sub(c, b));
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return axpy(b, (d4 - d3) / ((d4 - d3) + (d5 - d6)), sub(c, b));
   const double denom = 1 / (va + vb + vc);
   const double v = vb * denom, w = vc * denom;
   return {a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
@@ -66,8 +63,7 @@ class TriangleBuckets {
       }
       for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
         for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-          for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-            buckets_[key(i, j, k)].push_back(static_cast<std::int64_t>(t));
+          for (std::int64_t k = lo[2]; k <= hi[2]; ++k) buckets_[key(i, j, k)].push_back(static_cast<std::int64_t>(t));
     }
   }
   // Calls f(t) for each triangle in the buckets around p (a triangle may come more than once).
@@ -88,9 +84,7 @@ class TriangleBuckets {
   // 21 bits per axis: bucket indices within ±2^20 of the origin, plenty for models whose
   // extent is a few hundred cells.
   static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
-    const auto bits = [](std::int64_t v) {
-      return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF;
-    };
+    const auto bits = [](std::int64_t v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF; };
     return bits(i) | bits(j) << 21 | bits(k) << 42;
   }
   double size_;
@@ -106,8 +100,7 @@ double min_det(const HexMesh& mesh, const std::vector<Vec3>& x, std::size_t e) {
 
 }  // namespace
 
-SnapStatistics snap_to_surface(HexMesh& mesh, const TriangleSurface& surface, double h,
-                               double min_det_ratio) {
+SnapStatistics snap_to_surface(HexMesh& mesh, const TriangleSurface& surface, double h, double min_det_ratio) {
   if (!(min_det_ratio > 0 && min_det_ratio < 1) || !(h > 0))
     throw MeshError(surface.source + ": snapping needs h > 0 and a det J ratio in (0, 1)");
   const double reach = std::sqrt(3.0) * h;
@@ -132,8 +125,8 @@ SnapStatistics snap_to_surface(HexMesh& mesh, const TriangleSurface& surface, do
     bool found = false;
     buckets.around(p, [&](std::int64_t t) {
       const Triangle& tri = surface.triangles[t];
-      const Vec3 q = closest_point_on_triangle(p, surface.vertices[tri[0]],
-                                               surface.vertices[tri[1]], surface.vertices[tri[2]]);
+      const Vec3 q = closest_point_on_triangle(p, surface.vertices[tri[0]], surface.vertices[tri[1]],
+                                               surface.vertices[tri[2]]);
       const Vec3 d = sub(q, p);
       if (dot(d, d) <= best) best = dot(d, d), target = q, found = true;
     });

@@ -27,7 +27,6 @@ struct SnapStatistics {
 // the bound, so the loop ends with every element satisfying it. min_det_ratio must lie in
 // (0, 1). Closest points move nodes sideways as well as inward or outward, so the volume is
 // not always closer to the enclosed one than the staircase's.
-SnapStatistics snap_to_surface(HexMesh& mesh, const TriangleSurface& surface, double h,
-                               double min_det_ratio = 0.1);
+SnapStatistics snap_to_surface(HexMesh& mesh, const TriangleSurface& surface, double h, double min_det_ratio = 0.1);
 
 }  // namespace dipc

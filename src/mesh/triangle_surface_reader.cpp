@@ -45,9 +45,7 @@ std::string shown(std::string_view token) {
   return "'" + s + "'";
 }
 
-bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
-}
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
 // Parses all of `t` as a double (a leading '+' allowed); false when it is not one number.
 // Non-finite values parse ("nan", "inf") so that the caller can name them as such.
@@ -104,8 +102,7 @@ TriangleSurface finish(const RawSurface& raw, std::string path, bool binary,
       if (new_id[v] < 0) {
         Vec3 p = raw.vertices[v];
         for (double& x : p) x = x == 0.0 ? 0.0 : x;  // -0.0 -> 0.0
-        const auto [it, inserted] =
-            id_of.emplace(p, static_cast<std::int64_t>(out.vertices.size()));
+        const auto [it, inserted] = id_of.emplace(p, static_cast<std::int64_t>(out.vertices.size()));
         if (inserted) out.vertices.push_back(p);
         new_id[v] = it->second;
       }
@@ -127,9 +124,8 @@ TriangleSurface finish(const RawSurface& raw, std::string path, bool binary,
     if (!(twice_area > 1e-12 * longest2)) {
       std::ostringstream msg;
       msg.precision(17);
-      msg << where(t) << "degenerate triangle with corners (" << a[0] << " " << a[1] << " " << a[2]
-          << "), (" << b[0] << " " << b[1] << " " << b[2] << "), (" << c[0] << " " << c[1] << " "
-          << c[2] << "): ";
+      msg << where(t) << "degenerate triangle with corners (" << a[0] << " " << a[1] << " " << a[2] << "), (" << b[0]
+          << " " << b[1] << " " << b[2] << "), (" << c[0] << " " << c[1] << " " << c[2] << "): ";
       if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
         msg << "two of its corners are the same point";
       else
@@ -189,10 +185,9 @@ class LineTokens {
 
 // OBJ statements that carry nothing a triangle surface needs.
 bool obj_ignored(const std::string& keyword) {
-  static const char* const kIgnored[] = {
-      "vt",       "vn",         "vp",        "g",      "o",     "s",
-      "mg",       "usemtl",     "mtllib",    "lod",    "bevel", "c_interp",
-      "d_interp", "shadow_obj", "trace_obj", "maplib", "usemap"};
+  static const char* const kIgnored[] = {"vt",       "vn",         "vp",        "g",      "o",     "s",
+                                         "mg",       "usemtl",     "mtllib",    "lod",    "bevel", "c_interp",
+                                         "d_interp", "shadow_obj", "trace_obj", "maplib", "usemap"};
   for (const char* k : kIgnored)
     if (keyword == k) return true;
   return false;
@@ -226,22 +221,19 @@ TriangleSurface read_obj(const std::string& path) {
       static const char* const kAxis[] = {"x", "y", "z"};
       for (int i = 0; i < 3; ++i) {
         if (!parse_real(tok[1 + i], p[i]))
-          fail(line, std::string("vertex ") + kAxis[i] +
-                         " coordinate is not a number: " + shown(tok[1 + i]));
+          fail(line, std::string("vertex ") + kAxis[i] + " coordinate is not a number: " + shown(tok[1 + i]));
         if (!std::isfinite(p[i]))
-          fail(line, "vertex " + std::to_string(raw.vertices.size() + 1) + " has a non-finite " +
-                         kAxis[i] + " coordinate");
+          fail(line,
+               "vertex " + std::to_string(raw.vertices.size() + 1) + " has a non-finite " + kAxis[i] + " coordinate");
       }
       if (tok.size() == 5) {
         double w;
         if (!parse_real(tok[4], w) || w != 1.0)
-          fail(line, "vertex weight w must be 1 (rational vertices are not supported), found " +
-                         shown(tok[4]));
+          fail(line, "vertex weight w must be 1 (rational vertices are not supported), found " + shown(tok[4]));
       }
       raw.vertices.push_back(p);
     } else if (keyword == "f") {
-      if (tok.size() < 4)
-        fail(line, "face needs at least 3 corners, found " + std::to_string(tok.size() - 1));
+      if (tok.size() < 4) fail(line, "face needs at least 3 corners, found " + std::to_string(tok.size() - 1));
       std::vector<std::int64_t> corner;
       for (std::size_t i = 1; i < tok.size(); ++i) {
         const std::string_view c = tok[i];
@@ -252,8 +244,8 @@ TriangleSurface read_obj(const std::string& path) {
         int parts = 0;
         while (true) {
           const std::size_t slash = c.find('/', part_begin);
-          const std::string_view part =
-              c.substr(part_begin, slash == std::string_view::npos ? c.npos : slash - part_begin);
+          const std::string_view part = c.substr(part_begin,
+                                                 slash == std::string_view::npos ? c.npos : slash - part_begin);
           if (parts == 3) fail(line, "face corner " + shown(c) + " has more than v/vt/vn");
           const bool empty_allowed = parts == 1 && slash != std::string_view::npos;
           if (!(part.empty() && empty_allowed) && !parse_integer(part, values[parts]))
@@ -264,12 +256,11 @@ TriangleSurface read_obj(const std::string& path) {
         }
         const std::int64_t v = values[0];
         const std::int64_t defined = static_cast<std::int64_t>(raw.vertices.size());
-        if (v == 0)
-          fail(line, "face corner " + shown(c) + " refers to vertex 0 (OBJ counts from 1)");
+        if (v == 0) fail(line, "face corner " + shown(c) + " refers to vertex 0 (OBJ counts from 1)");
         if (v < 0) {
           if (-v > defined)
-            fail(line, "face corner " + shown(c) + " refers to vertex " + std::to_string(v) +
-                           " but only " + std::to_string(defined) + " vertices precede it");
+            fail(line, "face corner " + shown(c) + " refers to vertex " + std::to_string(v) + " but only " +
+                           std::to_string(defined) + " vertices precede it");
           corner.push_back(defined + v);
         } else {
           if (v > defined) forward.push_back({v, line});
@@ -285,10 +276,9 @@ TriangleSurface read_obj(const std::string& path) {
     } else if (keyword == "l" || keyword == "p") {
       fail(line, "OBJ " + std::string(keyword == "l" ? "line" : "point") +
                      " elements are not supported: a triangle surface needs faces ('f')");
-    } else if (keyword == "cstype" || keyword == "curv" || keyword == "curv2" ||
-               keyword == "surf" || keyword == "deg" || keyword == "bmat" || keyword == "step") {
-      fail(line, "OBJ free-form geometry ('" + keyword +
-                     "') is not supported: export the surface as polygon faces");
+    } else if (keyword == "cstype" || keyword == "curv" || keyword == "curv2" || keyword == "surf" ||
+               keyword == "deg" || keyword == "bmat" || keyword == "step") {
+      fail(line, "OBJ free-form geometry ('" + keyword + "') is not supported: export the surface as polygon faces");
     } else {
       fail(line, "unknown OBJ statement " + shown(tok[0]));
     }
@@ -299,15 +289,13 @@ TriangleSurface read_obj(const std::string& path) {
       fail(p.line, "face refers to vertex " + std::to_string(p.reference) + " but the file has " +
                        std::to_string(total) + " vertices");
   if (raw.triangles.empty()) throw MeshError(path + ": no faces ('f' statements) in the file");
-  return finish(raw, path, false,
-                [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
+  return finish(raw, path, false, [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
 }
 
 namespace {
 
 std::uint32_t le32(const unsigned char* p) {
-  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
-         std::uint32_t(p[3]) << 24;
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
 }
 
 // An IEEE-754 binary32 stored little-endian, whatever the host's byte order.
@@ -318,14 +306,12 @@ double le_float(const unsigned char* p) {
   return f;
 }
 
-TriangleSurface read_binary_stl(const std::string& text, const std::string& path,
-                                std::uint32_t count) {
+TriangleSurface read_binary_stl(const std::string& text, const std::string& path, std::uint32_t count) {
   RawSurface raw;
   raw.vertices.reserve(3 * std::size_t(count));
   const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
   auto where = [&](std::size_t facet) {
-    return path + ": facet " + std::to_string(facet) + " (byte " + std::to_string(84 + 50 * facet) +
-           "): ";
+    return path + ": facet " + std::to_string(facet) + " (byte " + std::to_string(84 + 50 * facet) + "): ";
   };
   static const char* const kAxis[] = {"x", "y", "z"};
   for (std::size_t f = 0; f < count; ++f) {
@@ -335,8 +321,7 @@ TriangleSurface read_binary_stl(const std::string& text, const std::string& path
       for (int i = 0; i < 3; ++i) {
         p[i] = le_float(facet + 12 + 12 * k + 4 * i);
         if (!std::isfinite(p[i]))
-          throw MeshError(where(f) + "corner " + std::to_string(k) + " has a non-finite " +
-                          kAxis[i] + " coordinate");
+          throw MeshError(where(f) + "corner " + std::to_string(k) + " has a non-finite " + kAxis[i] + " coordinate");
       }
       raw.vertices.push_back(p);
     }
@@ -372,22 +357,19 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
   };
   auto next = [&](const char* expected) -> const Token& {
     if (i >= tokens.size())
-      fail(last_line,
-           std::string("ASCII STL is truncated: the file ends where ") + expected + " should be");
+      fail(last_line, std::string("ASCII STL is truncated: the file ends where ") + expected + " should be");
     return tokens[i++];
   };
   auto expect = [&](const char* keyword) {
     const Token& t = next(keyword);
     if (lower(t.text) != keyword)
-      fail(t.line, std::string("ASCII STL is malformed: expected '") + keyword + "', found " +
-                       shown(t.text));
+      fail(t.line, std::string("ASCII STL is malformed: expected '") + keyword + "', found " + shown(t.text));
   };
   auto real = [&](const char* what) {
     const Token& t = next(what);
     double v;
     if (!parse_real(t.text, v))
-      fail(t.line,
-           std::string("ASCII STL is malformed: expected a ") + what + ", found " + shown(t.text));
+      fail(t.line, std::string("ASCII STL is malformed: expected a ") + what + ", found " + shown(t.text));
     if (!std::isfinite(v)) fail(t.line, std::string("non-finite ") + what);
     return v;
   };
@@ -401,9 +383,7 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
       expect("solid");  // files that hold several solids
       continue;
     }
-    if (k != "facet")
-      fail(t.line,
-           "ASCII STL is malformed: expected 'facet' or 'endsolid', found " + shown(t.text));
+    if (k != "facet") fail(t.line, "ASCII STL is malformed: expected 'facet' or 'endsolid', found " + shown(t.text));
     expect("normal");
     for (int n = 0; n < 3; ++n) real("normal component");
     expect("outer");
@@ -417,14 +397,12 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
         fail(v.line, "ASCII STL is malformed: expected 'vertex', found " + shown(v.text));
       }
       if (c == 0) facet_line = v.line;
-      const Vec3 p{real("vertex x coordinate"), real("vertex y coordinate"),
-                   real("vertex z coordinate")};
+      const Vec3 p{real("vertex x coordinate"), real("vertex y coordinate"), real("vertex z coordinate")};
       raw.vertices.push_back(p);
     }
     {
       const Token& e = next("'endloop'");
-      if (lower(e.text) == "vertex")
-        fail(e.line, "facet has more than 3 vertices; STL facets are triangles");
+      if (lower(e.text) == "vertex") fail(e.line, "facet has more than 3 vertices; STL facets are triangles");
       if (lower(e.text) != "endloop")
         fail(e.line, "ASCII STL is malformed: expected 'endloop', found " + shown(e.text));
     }
@@ -434,8 +412,7 @@ TriangleSurface read_ascii_stl(const std::string& text, const std::string& path)
     raw.origin.push_back(facet_line);
   }
   if (raw.triangles.empty()) throw MeshError(path + ": no facets in the file");
-  return finish(raw, path, false,
-                [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
+  return finish(raw, path, false, [&](std::size_t t) { return path + ":" + std::to_string(raw.origin[t]) + ": "; });
 }
 
 }  // namespace
@@ -451,17 +428,15 @@ TriangleSurface read_stl(const std::string& path) {
   }
   std::size_t b = 0;
   while (b < text.size() && is_space(text[b])) ++b;
-  if (lower(std::string_view(text).substr(b, 5)) == "solid" &&
-      (b + 5 == text.size() || is_space(text[b + 5])))
+  if (lower(std::string_view(text).substr(b, 5)) == "solid" && (b + 5 == text.size() || is_space(text[b + 5])))
     return read_ascii_stl(text, path);
   if (text.size() < 84)
     throw MeshError(path + ": not an STL file: " + std::to_string(text.size()) +
                     " bytes, too short for binary STL, and it does not start with 'solid'");
   const std::uint32_t count = le32(reinterpret_cast<const unsigned char*>(text.data()) + 80);
-  throw MeshError(path + ": not an STL file: binary STL with " + std::to_string(count) +
-                  " facets (byte 80) must be " + std::to_string(84 + 50 * std::uint64_t(count)) +
-                  " bytes, the file has " + std::to_string(text.size()) +
-                  ", and it does not start with 'solid' (ASCII STL)");
+  throw MeshError(path + ": not an STL file: binary STL with " + std::to_string(count) + " facets (byte 80) must be " +
+                  std::to_string(84 + 50 * std::uint64_t(count)) + " bytes, the file has " +
+                  std::to_string(text.size()) + ", and it does not start with 'solid' (ASCII STL)");
 }
 
 TriangleSurface read_triangle_surface(const std::string& path) {

@@ -44,8 +44,7 @@ struct Crossing {
 
 }  // namespace
 
-VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolution,
-                          double cell_size) {
+VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolution, double cell_size) {
   if ((resolution > 0) == (cell_size > 0))
     throw MeshError(surface.source + ": give either a resolution or a cell size");
   Vec3 lo, hi;
@@ -53,8 +52,7 @@ VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolutio
   const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   for (int d = 0; d < 3; ++d)
     if (!(hi[d] - lo[d] > 1e-12 * longest))
-      throw MeshError(surface.source + ": the surface is flat (its bounding box has no extent in " +
-                      "xyz"[d] + ")");
+      throw MeshError(surface.source + ": the surface is flat (its bounding box has no extent in " + "xyz"[d] + ")");
   VoxelGrid grid;
   grid.h = resolution > 0 ? longest / static_cast<double>(resolution) : cell_size;
   double total = 1;
@@ -67,8 +65,8 @@ VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolutio
   }
   if (total > 2147483648.0) {
     std::ostringstream msg;
-    msg << surface.source << ": a grid of " << grid.cells[0] << " x " << grid.cells[1] << " x "
-        << grid.cells[2] << " cells is too large";
+    msg << surface.source << ": a grid of " << grid.cells[0] << " x " << grid.cells[1] << " x " << grid.cells[2]
+        << " cells is too large";
     throw MeshError(msg.str());
   }
   return grid;
@@ -91,8 +89,8 @@ namespace {
 // cell centre's winding number is the sum of the signs beyond it. Rows that pass within
 // `tol` of a projected edge or vertex, or whose signs do not sum to zero, and cells within
 // `tol` of a crossing, stay undecided.
-void ray_pass(const TriangleSurface& surface, const VoxelGrid& grid, int a, double tol,
-              int orientation, std::vector<char>& decided, std::vector<char>& inside) {
+void ray_pass(const TriangleSurface& surface, const VoxelGrid& grid, int a, double tol, int orientation,
+              std::vector<char>& decided, std::vector<char>& inside) {
   const int b = (a + 1) % 3, c = (a + 2) % 3;  // cyclic, so n_a = ((B-A) x (C-A))_a below
   const std::int64_t na = grid.cells[a], nb = grid.cells[b], nc = grid.cells[c];
   auto cell = [&](std::int64_t ia, std::int64_t ib, std::int64_t ic) {
@@ -111,13 +109,11 @@ void ray_pass(const TriangleSurface& surface, const VoxelGrid& grid, int a, doub
   std::vector<std::vector<Crossing>> rows(needed.size());
   std::vector<char> row_ambiguous(needed.size(), 0);
   const auto first = [&](double v, int d) {
-    return std::max<std::int64_t>(
-        0, static_cast<std::int64_t>(std::ceil((v - grid.origin[d]) / grid.h - 0.5)));
+    return std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((v - grid.origin[d]) / grid.h - 0.5)));
   };
   const auto last = [&](double v, int d) {
-    return std::min<std::int64_t>(
-        grid.cells[d] - 1,
-        static_cast<std::int64_t>(std::floor((v - grid.origin[d]) / grid.h - 0.5)));
+    return std::min<std::int64_t>(grid.cells[d] - 1,
+                                  static_cast<std::int64_t>(std::floor((v - grid.origin[d]) / grid.h - 0.5)));
   };
   for (const Triangle& t : surface.triangles) {
     const Vec3& A = surface.vertices[t[0]];
@@ -189,9 +185,8 @@ void ray_pass(const TriangleSurface& surface, const VoxelGrid& grid, int a, doub
 VoxelClassification classify_cells(const TriangleSurface& surface, const VoxelGrid& grid) {
   Vec3 lo, hi;
   bounding_box(surface, lo, hi);
-  const double diagonal =
-      std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
   // Closer than this to a projected edge, or to a crossing along the row, the ray count is
   // not trusted. Far above the rounding of the edge functions (~1e-16 of the model size).
   const double tol = 1e-9 * diagonal;
@@ -206,8 +201,7 @@ VoxelClassification classify_cells(const TriangleSurface& surface, const VoxelGr
   // Rays along x, then, for cells that no x-row could decide, along y and z (a surface
   // aligned with the grid, a cube say, puts whole x-rows on its edges), then the solid-angle
   // sum for what is left.
-  for (int axis = 0; axis < 3; ++axis)
-    ray_pass(surface, grid, axis, tol, orientation, decided, out.inside);
+  for (int axis = 0; axis < 3; ++axis) ray_pass(surface, grid, axis, tol, orientation, decided, out.inside);
   for (std::int64_t k = 0; k < grid.cells[2]; ++k)
     for (std::int64_t j = 0; j < grid.cells[1]; ++j)
       for (std::int64_t i = 0; i < grid.cells[0]; ++i) {
@@ -250,24 +244,23 @@ HexMesh voxel_mesh(const VoxelGrid& grid, const std::vector<char>& inside) {
       for (std::int64_t i = 0; i < nx; ++i)
         if (inside[static_cast<std::size_t>(grid.cell_index(i, j, k))])
           // Gmsh/VTK order (hex_mesh.hpp): the bottom face counter-clockwise, then the top.
-          mesh.hexes.push_back({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
-                                node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
-                                node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)});
+          mesh.hexes.push_back({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                                node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
+                                node(i, j + 1, k + 1)});
   mesh.body.assign(mesh.hexes.size(), 0);
   return mesh;
 }
 
-HexMesh voxelize(const TriangleSurface& surface, std::int64_t resolution, double cell_size,
-                 VoxelGrid* grid_out, VoxelClassification* classification_out) {
+HexMesh voxelize(const TriangleSurface& surface, std::int64_t resolution, double cell_size, VoxelGrid* grid_out,
+                 VoxelClassification* classification_out) {
   check_closed_surface(surface);
   const VoxelGrid grid = make_voxel_grid(surface, resolution, cell_size);
   VoxelClassification classification = classify_cells(surface, grid);
   HexMesh mesh = voxel_mesh(grid, classification.inside);
   if (mesh.hexes.empty()) {
     std::ostringstream msg;
-    msg << surface.source << ": no cell centre of the " << grid.cells[0] << " x " << grid.cells[1]
-        << " x " << grid.cells[2] << " grid (cell size " << grid.h
-        << ") is inside the surface: use a finer resolution";
+    msg << surface.source << ": no cell centre of the " << grid.cells[0] << " x " << grid.cells[1] << " x "
+        << grid.cells[2] << " grid (cell size " << grid.h << ") is inside the surface: use a finer resolution";
     throw MeshError(msg.str());
   }
   if (grid_out) *grid_out = grid;

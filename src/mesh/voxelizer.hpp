@@ -39,8 +39,7 @@ struct VoxelGrid {
 // cells of edge `cell_size` (exactly one of the two > 0): ceil(side / h) cells per axis (at
 // least 1), centred on the box. Throws MeshError for a flat bounding box or a grid of more
 // than 2^31 cells.
-VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolution,
-                          double cell_size);
+VoxelGrid make_voxel_grid(const TriangleSurface& surface, std::int64_t resolution, double cell_size);
 
 // w(p) by the solid-angle sum, each Ω_t from van Oosterom & Strackee (1983):
 // tan(Ω/2) = a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|), a, b, c the corners

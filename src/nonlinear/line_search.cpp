@@ -27,7 +27,7 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
 
   PetscReal E0, slope;
   PetscCall(VecDot(F, Y, &slope));
-  slope = -slope;  // d/dα E(X − αY) at α = 0
+  slope = -slope;                // d/dα E(X − αY) at α = 0
   PetscCall(VecScale(Y, -1.0));  // Y := p, the descent direction (restored below)
   PetscReal alpha;
   // max_step also keeps X and p where the forms evaluate, so every trial below moves only α
@@ -83,15 +83,16 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
 
 // Only dipc's criterion ends a solve as converged (newton_solver.hpp); PETSc's tests are
 // consulted first only when the user gave one of them. ctx->ended_by names the deciding test.
-PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
-                                         PetscReal fnorm, SNESConvergedReason* reason, void* ctx_) {
+PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                         SNESConvergedReason* reason, void* ctx_) {
   auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
   PetscFunctionBeginUser;
   *reason = SNES_CONVERGED_ITERATING;
   if (ctx->petsc_tests) {
     PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
     if (*reason != SNES_CONVERGED_ITERATING) {
-      ctx->ended_by = std::string(*reason > 0 ? "PETSc test (user -snes_ option): " : "") + SNESConvergedReasons[*reason];
+      ctx->ended_by = std::string(*reason > 0 ? "PETSc test (user -snes_ option): " : "") +
+                      SNESConvergedReasons[*reason];
       PetscFunctionReturn(0);
     }
   }
@@ -115,11 +116,11 @@ PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm
     // What held α down: the collision-free bound (contact), trial states with an inverted
     // element, or the energy (Armijo).
     char text[256];
-    std::snprintf(text, sizeof text,
-                  "line search stalled (alpha < %g in %d Newton iterations in a row; last alpha %.2g of a collision-free "
-                  "bound %.2g, %d of its halvings for an inverted element; |p|_inf/h %.3g)",
-                  ctx->alpha_floor, kStallIterations, ctx->last_alpha, ctx->last_alpha_ccd, ctx->last_invalid_trials,
-                  velocity);
+    std::snprintf(
+        text, sizeof text,
+        "line search stalled (alpha < %g in %d Newton iterations in a row; last alpha %.2g of a collision-free "
+        "bound %.2g, %d of its halvings for an inverted element; |p|_inf/h %.3g)",
+        ctx->alpha_floor, kStallIterations, ctx->last_alpha, ctx->last_alpha_ccd, ctx->last_invalid_trials, velocity);
     ctx->ended_by = text;
   } else if (it >= max_it) {
     *reason = SNES_DIVERGED_MAX_IT;

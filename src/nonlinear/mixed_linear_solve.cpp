@@ -145,8 +145,8 @@ PetscErrorCode MixedLinearSolve::create_block_matrices(Mat A) {
   PetscCall(MatSetPreallocationCOO(Bs_, static_cast<PetscCount>(rows.size()), rows.data(), cols.data()));
   bs_values_.resize(rows.size());
   diagonal_values_.resize(static_cast<std::size_t>(num_rows_));
-  PetscCall(MatCreateConstantDiagonal(comm_, num_rows_, num_rows_, PETSC_DETERMINE, PETSC_DETERMINE, -1.0,
-                                      &minus_identity_));
+  PetscCall(
+      MatCreateConstantDiagonal(comm_, num_rows_, num_rows_, PETSC_DETERMINE, PETSC_DETERMINE, -1.0, &minus_identity_));
   PetscCall(MatCreateVecs(Bs_, &rhs_u_, &rhs_s_));
   PetscCall(VecDuplicate(rhs_u_, &sol_u_));
   PetscCall(VecDuplicate(rhs_s_, &sol_s_));
@@ -177,7 +177,7 @@ PetscErrorCode MixedLinearSolve::update(Mat A) {
   for (std::size_t r = 0; r < diagonal_values_.size(); ++r) diag[r] = diagonal_values_[r];
   PetscCall(VecRestoreArrayWrite(diagonal_, &diag));
   if (!BsT_) PetscCall(MatCreateTranspose(Bs_, &BsT_));  // of an assembled Bs
-  if (A != A_) {  // the first matrix, or a new one for a new contact pattern
+  if (A != A_) {                                         // the first matrix, or a new one for a new contact pattern
     A_ = A;
     PetscCall(MatDestroy(&K_));
     Mat blocks[4] = {A_, BsT_, Bs_, minus_identity_};

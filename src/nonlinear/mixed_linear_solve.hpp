@@ -118,13 +118,13 @@ class MixedLinearSolve {
   const std::vector<char>* prescribed_ = nullptr;
   PetscInt num_rows_ = 0;  // this rank's volumetric rows
   std::vector<PetscScalar> bs_values_, diagonal_values_;
-  Mat A_ = nullptr;        // not owned: the potential's matrix
+  Mat A_ = nullptr;  // not owned: the potential's matrix
   Mat Bs_ = nullptr, BsT_ = nullptr, minus_identity_ = nullptr, K_ = nullptr;
   Vec diagonal_ = nullptr;  // I + D W, the s block of the preconditioner (mass)
   MixedSolveOptions options_;
   Mat scaled_bs_ = nullptr, schur_ = nullptr;  // selfp: Bs diag(A)^-1/2 and Ŝ
   Vec a_diagonal_ = nullptr;
-  KSP ksp_s_ = nullptr;  // selfp: Ŝ's solver, options prefix dipc_mixed_s_
+  KSP ksp_s_ = nullptr;                     // selfp: Ŝ's solver, options prefix dipc_mixed_s_
   Vec rhs_ = nullptr, solution_ = nullptr;  // nests (u, s)
   Vec rhs_u_ = nullptr, rhs_s_ = nullptr, sol_u_ = nullptr, sol_s_ = nullptr, work_s_ = nullptr, work_u_ = nullptr;
   KSP ksp_ = nullptr;

@@ -136,13 +136,22 @@ PetscErrorCode NewtonSolver::record_user_snes_options() {
   // up to the next option (a negative number is a value).
   std::size_t pos = 0;
   while ((pos = text.find("-snes_", pos)) != std::string::npos) {
-    if (pos > 0 && text[pos - 1] != ' ') { ++pos; continue; }
+    if (pos > 0 && text[pos - 1] != ' ') {
+      ++pos;
+      continue;
+    }
     std::size_t end = pos + 1;
     while (end < text.size()) {
       const std::size_t next = text.find(" -", end);
-      if (next == std::string::npos) { end = text.size(); break; }
+      if (next == std::string::npos) {
+        end = text.size();
+        break;
+      }
       const char c = next + 2 < text.size() ? text[next + 2] : '\0';
-      if (std::isalpha(static_cast<unsigned char>(c))) { end = next; break; }
+      if (std::isalpha(static_cast<unsigned char>(c))) {
+        end = next;
+        break;
+      }
       end = next + 2;
     }
     std::string option = text.substr(pos, end - pos);
@@ -158,8 +167,8 @@ PetscErrorCode NewtonSolver::record_user_snes_options() {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec,
-                                   double step_length, double velocity_tol, double alpha_floor) {
+PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec, double step_length,
+                                   double velocity_tol, double alpha_floor) {
   PetscFunctionBeginUser;
   ls_.potential = potential;
   ls_.step_length = step_length;
@@ -188,7 +197,8 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
     PetscCall(MatGetLocalSize(J_, &m, nullptr));
     PetscCall(MatGetSize(J_, &M, nullptr));
     PetscCall(MatCreateShell(comm, m, m, M, M, this, &newton_matrix_));
-    PetscCall(MatShellSetOperation(newton_matrix_, MATOP_MULT, reinterpret_cast<void (*)(void)>(newton_matrix_multiply)));
+    PetscCall(
+        MatShellSetOperation(newton_matrix_, MATOP_MULT, reinterpret_cast<void (*)(void)>(newton_matrix_multiply)));
   }
   PetscCall(SNESSetJacobian(snes_, mixed ? newton_matrix_ : J_, J_, hessian_callback, this));
   // -snes_max_it 100 unless the user says otherwise (SNESSetFromOptions below); set here rather
@@ -234,9 +244,10 @@ PetscErrorCode NewtonSolver::setup_mixed_solve() {
   if (matrix_on_device(J_)) {
     MatType type;
     PetscCall(MatGetType(J_, &type));
-    throw std::invalid_argument(std::string("the mixed solve of mean-dilatation elements has been run only with host ") +
-                                "matrices, and this run's matrix is a device one (" + type +
-                                "): give -dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
+    throw std::invalid_argument(
+        std::string("the mixed solve of mean-dilatation elements has been run only with host ") +
+        "matrices, and this run's matrix is a device one (" + type +
+        "): give -dipc_mixed_solve 0 for the plain Krylov solve of the full Hessian");
   }
   std::vector<const VolumetricPart*> parts;
   for (const auto& form : ls_.potential->forms())
@@ -311,10 +322,10 @@ PetscErrorCode NewtonSolver::attach_near_null_space(Vec x) {
   PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCGAMG, &gamg));
   PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCHYPRE, &hypre));
   PetscInt variant = 0;
-  if (hypre) PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-pc_hypre_boomeramg_vec_interp_variant", &variant, nullptr));
+  if (hypre)
+    PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-pc_hypre_boomeramg_vec_interp_variant", &variant, nullptr));
   if (!gamg && variant <= 0) PetscFunctionReturn(0);
-  PetscCheck(!(hypre && device_matrix_requested()), PetscObjectComm(reinterpret_cast<PetscObject>(x)),
-             PETSC_ERR_SUP,
+  PetscCheck(!(hypre && device_matrix_requested()), PetscObjectComm(reinterpret_cast<PetscObject>(x)), PETSC_ERR_SUP,
              "-pc_hypre_boomeramg_vec_interp_variant needs the rigid-body modes in hypre, which fails with a "
              "device matrix (PETSc 3.22 + hypre 2.32 on CUDA); drop the option or use -pc_type gamg");
   MatNullSpace rigid;

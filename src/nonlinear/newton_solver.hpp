@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "assembly/device_matrix.hpp"
-#include "potential/incremental_potential.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
 #include "nonlinear/preconditioner_reuse.hpp"
+#include "potential/incremental_potential.hpp"
 
 namespace dipc {
 
@@ -35,11 +35,11 @@ struct NewtonReport {
   PetscInt iterations = 0;
   PetscInt linear_iterations = 0;
   PetscInt preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
-  double min_alpha = 1.0;       // smallest accepted line-search step of the solve
-  double min_alpha_ccd = 1.0;   // smallest collision-free bound (CCD) on a Newton step
-  double step_inf_norm = 0.0;   // ‖p‖∞ of the last Newton direction
+  double min_alpha = 1.0;                // smallest accepted line-search step of the solve
+  double min_alpha_ccd = 1.0;            // smallest collision-free bound (CCD) on a Newton step
+  double step_inf_norm = 0.0;            // ‖p‖∞ of the last Newton direction
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
-  std::string ended_by;         // which test ended the solve, in words ("velocity", "max_it", ...)
+  std::string ended_by;  // which test ended the solve, in words ("velocity", "max_it", ...)
 };
 
 // Newton iterations in a row whose accepted line-search step stays below the floor before a
@@ -56,8 +56,8 @@ class NewtonSolver {
 
   // step_length: h (1 for a static solve); velocity_tol: tol_v in length units per second;
   // alpha_floor: see kStallIterations.
-  PetscErrorCode setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec,
-                       double step_length, double velocity_tol, double alpha_floor);
+  PetscErrorCode setup(MPI_Comm comm, IncrementalPotential* potential, Vec template_vec, double step_length,
+                       double velocity_tol, double alpha_floor);
   // The time step h of the next solves (step recovery changes it).
   void set_step_length(double h) { ls_.step_length = h; }
   // The -snes_* options the user gave (command line or options file), "-name value" each: they
@@ -74,17 +74,17 @@ class NewtonSolver {
   // Line-search state shared with the callbacks in line_search.cpp.
   struct LineSearchContext {
     IncrementalPotential* potential = nullptr;
-    double armijo = 1e-4;          // sufficient-decrease constant c in E(x+αp) ≤ E + cα∇E·p
+    double armijo = 1e-4;  // sufficient-decrease constant c in E(x+αp) ≤ E + cα∇E·p
     double min_alpha = 1.0;
     double min_alpha_ccd = 1.0;
     double direction_inf_norm = 0;
     double step_length = 1.0;
     double velocity_tol = 0;
     double alpha_floor = 0;
-    int small_steps_in_a_row = 0;  // accepted α < alpha_floor, consecutive
+    int small_steps_in_a_row = 0;               // accepted α < alpha_floor, consecutive
     double last_alpha = 1, last_alpha_ccd = 1;  // of the latest line search (stall message)
     int last_invalid_trials = 0;                // its halvings forced by an inverted element
-    bool petsc_tests = false;      // the user asked for PETSc's -snes_rtol/atol/stol tests
+    bool petsc_tests = false;                   // the user asked for PETSc's -snes_rtol/atol/stol tests
     std::string ended_by;
   };
 
@@ -110,11 +110,9 @@ class NewtonSolver {
   PetscInt mixed_iterations_ = 0;            // the mixed solve's Krylov iterations so far
 };
 
-
-
 // The line search and convergence test installed by NewtonSolver (line_search.cpp).
 PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx);
-PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm,
-                                         PetscReal fnorm, SNESConvergedReason* reason, void* ctx);
+PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                         SNESConvergedReason* reason, void* ctx);
 
 }  // namespace dipc

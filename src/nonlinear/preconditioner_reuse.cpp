@@ -81,8 +81,9 @@ PetscErrorCode PreconditionerReuse::begin_iteration(SNES snes, PetscInt iteratio
   if (iteration == 0) reuse_failures_ = 0;  // SNESSolve has reset its failure count
   const bool rebuild = cycle_.decide(new_pattern);
   if (rebuild) ++rebuilds_;
-  const PetscInt max_it =
-      rebuild ? user_max_it_ : static_cast<PetscInt>(std::min<long long>(user_max_it_, cycle_.reused_solve_limit()));
+  const PetscInt max_it = rebuild
+                              ? user_max_it_
+                              : static_cast<PetscInt>(std::min<long long>(user_max_it_, cycle_.reused_solve_limit()));
   PetscCall(PetscInfo(snes,
                       "dipc_pc_reuse: %s the preconditioner (last iteration cost %g, cycle average %g CG "
                       "iterations; setup %g; at most %" PetscInt_FMT " CG iterations)\n",

@@ -43,7 +43,7 @@ class ReuseCycle {
   long long reused_solve_limit() const;
   bool rebuilding() const { return rebuilding_; }
   double setup_cost() const { return setup_cost_; }
-  double last_cost() const { return last_cost_; }  // C_n
+  double last_cost() const { return last_cost_; }                                            // C_n
   double average_cost() const { return cycle_length_ ? cycle_cost_ / cycle_length_ : 0.0; }  // A_n
 
  private:

@@ -49,7 +49,8 @@ StepRecovery::StepRecovery(TimeIntegrator& integrator, double dt_min)
     throw std::invalid_argument("the smallest step must be in (0, dt = " + format_number(dt_) + "]");
 }
 
-PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep) {
+PetscErrorCode StepRecovery::step(StepReport* report,
+                                  const std::function<PetscErrorCode(const StepReport&)>& on_substep) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
   *report = StepReport{};
@@ -86,10 +87,11 @@ PetscErrorCode StepRecovery::step(StepReport* report, const std::function<PetscE
     report->cuts.emplace_back(line);
     if (sub.fatal || 0.5 * h < dt_min_ || level_ >= 60) {
       report->fatal = sub.fatal;
-      report->failure = sub.fatal ? sub.failure
-                                  : "at t = " + format_number(integrator_.time()) + " with dt = " + format_number(h) +
-                                        ": " + sub.failure + "; step recovery ran out (halving would go below -dipc_dt_min " +
-                                        format_number(dt_min_) + ")";
+      report->failure = sub.fatal
+                            ? sub.failure
+                            : "at t = " + format_number(integrator_.time()) + " with dt = " + format_number(h) + ": " +
+                                  sub.failure + "; step recovery ran out (halving would go below -dipc_dt_min " +
+                                  format_number(dt_min_) + ")";
       break;
     }
     ++report->dt_cuts;

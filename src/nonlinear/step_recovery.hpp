@@ -43,8 +43,8 @@ class StepRecovery {
   TimeIntegrator& integrator_;
   double dt_, dt_min_;
   int steps_taken_ = 0;
-  int level_ = 0;                 // sub-steps are dt / 2^level_
-  int successes_at_level_ = 0;    // accepted sub-steps in a row at level_
+  int level_ = 0;               // sub-steps are dt / 2^level_
+  int successes_at_level_ = 0;  // accepted sub-steps in a row at level_
 };
 
 }  // namespace dipc

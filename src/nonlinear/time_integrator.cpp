@@ -4,12 +4,12 @@
 #include <cmath>
 #include <optional>
 
-#include "physics/hex8_mass.hpp"
-#include "math/vector3.hpp"
 #include "forms/form_factory.hpp"
 #include "forms/friction_form.hpp"
 #include "logging/log_stages.hpp"
+#include "math/vector3.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
+#include "physics/hex8_mass.hpp"
 #include "threads/host_threads.hpp"
 
 namespace dipc {
@@ -242,7 +242,8 @@ PetscErrorCode TimeIntegrator::contact_state_problem(Vec x, std::string* problem
     *problem = std::to_string(total) + " edge-triangle crossing(s), e.g. " + first;
   } else {
     std::string pair;
-    PetscCall(potential_.with_local(x, [&](const double* xl, std::size_t) { pair = contact_->set().closest_pair(xl); }));
+    PetscCall(
+        potential_.with_local(x, [&](const double* xl, std::size_t) { pair = contact_->set().closest_pair(xl); }));
     *problem = "two surfaces touch: " + pair;
   }
   PetscFunctionReturn(0);
@@ -383,7 +384,8 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   if (contact_) PetscCall(collect_contact_stats(report));
   if (check_invariants_) {
     std::string violated;
-    if (report->min_volume_ratio <= 0) violated = "an element is inverted (min det F = " + std::to_string(report->min_volume_ratio) + ")";
+    if (report->min_volume_ratio <= 0)
+      violated = "an element is inverted (min det F = " + std::to_string(report->min_volume_ratio) + ")";
     if (contact_ && violated.empty()) PetscCall(contact_state_problem(x_, &violated));
     if (!violated.empty()) {
       report->failure = "invariant violated: " + violated;
@@ -512,7 +514,8 @@ PetscErrorCode TimeIntegrator::update_friction_lag(Vec x_lag) {
   friction_lagged_ = true;
   std::vector<double> start;
   PetscCall(potential_.with_local(x_n_, [&](const double* xl, std::size_t n) { start.assign(xl, xl + n); }));
-  PetscCall(potential_.with_local(x_lag, [&](const double* xl, std::size_t) { friction_->update_lag(xl, start.data()); }));
+  PetscCall(
+      potential_.with_local(x_lag, [&](const double* xl, std::size_t) { friction_->update_lag(xl, start.data()); }));
   PetscCall(potential_.prepare_point(x_lag));
   PetscFunctionReturn(0);
 }
@@ -549,20 +552,22 @@ PetscErrorCode TimeIntegrator::contact_forces(Vec contact_force, Vec friction_fo
   PetscCall(potential_.prepare_point(x_));
   const double h2 = problem_.is_static ? 1.0 : h_ * h_;
   const Form* contact = contact_;
-  PetscCall(potential_.partial_gradient(x_, contact_force, [contact](const Form& f) { return &f == contact; }, true));
+  PetscCall(potential_.partial_gradient(
+      x_, contact_force, [contact](const Form& f) { return &f == contact; }, true));
   PetscCall(VecScale(contact_force, -1.0 / h2));
   if (friction_force && friction_) {
     const Form* friction = friction_;
-    PetscCall(
-        potential_.partial_gradient(x_, friction_force, [friction](const Form& f) { return &f == friction; }, true));
+    PetscCall(potential_.partial_gradient(
+        x_, friction_force, [friction](const Form& f) { return &f == friction; }, true));
     PetscCall(VecScale(friction_force, -1.0 / h2));
   } else if (friction_force) {
     PetscCall(VecZeroEntries(friction_force));
   }
   std::array<long, ContactForm::num_pair_kinds> local{};
-  PetscCall(potential_.with_local(x_, [&](const double* xl, std::size_t) { local = contact_->active_pair_counts(xl); }));
-  PetscCallMPI(MPI_Allreduce(local.data(), pairs_by_kind->data(), ContactForm::num_pair_kinds, MPI_LONG, MPI_SUM,
-                             mesh_->comm));
+  PetscCall(
+      potential_.with_local(x_, [&](const double* xl, std::size_t) { local = contact_->active_pair_counts(xl); }));
+  PetscCallMPI(
+      MPI_Allreduce(local.data(), pairs_by_kind->data(), ContactForm::num_pair_kinds, MPI_LONG, MPI_SUM, mesh_->comm));
   PetscFunctionReturn(0);
 }
 

@@ -9,8 +9,8 @@
 
 #include "forms/contact_form.hpp"
 #include "forms/element_data.hpp"
-#include "nonlinear/newton_solver.hpp"
 #include "forms/problem.hpp"
+#include "nonlinear/newton_solver.hpp"
 
 namespace dipc {
 
@@ -20,26 +20,26 @@ class FrictionForm;
 // attempts and sub-steps of a scene step into one (iterations and times added up, the state
 // fields those at the step's end).
 struct StepReport {
-  int step = 0;          // 1-based index of the scene step
-  double time = 0;       // time at the end of the step (exactly k·dt for a scene step)
-  double dt = 0;         // the step length taken (the smallest sub-step's for a scene step)
+  int step = 0;     // 1-based index of the scene step
+  double time = 0;  // time at the end of the step (exactly k·dt for a scene step)
+  double dt = 0;    // the step length taken (the smallest sub-step's for a scene step)
   NewtonReport newton;
-  double energy = 0;     // E at the accepted state
+  double energy = 0;  // E at the accepted state
   double min_volume_ratio = 0;
   double wall_seconds = 0;
   int dirichlet_substeps = 0;  // partial solves needed to reach the prescribed positions
   // Contact (when the problem has it): global values at the end of the step.
-  long contact_pairs = 0;        // active pairs (d < d̂)
+  long contact_pairs = 0;                                                 // active pairs (d < d̂)
   std::array<long, ContactForm::num_pair_kinds> contact_pairs_by_kind{};  // the same by ContactForm::pair_kind_name
-  double min_distance = 0;       // unsquared, over candidate pairs (∞ without any)
-  double kappa = 0;              // barrier stiffness
-  double alpha_ccd = 1;          // smallest CCD bound on a Newton step during the step
+  double min_distance = 0;  // unsquared, over candidate pairs (∞ without any)
+  double kappa = 0;         // barrier stiffness
+  double alpha_ccd = 1;     // smallest CCD bound on a Newton step during the step
   double broad_phase_seconds = 0, ccd_seconds = 0, barrier_seconds = 0, exchange_seconds = 0;  // max over ranks
   // This rank's wall time in the Newton solves of the step apart from every evaluation of the
   // potential (assembly, line search, contact): KSP + AMG setup + vector work.
   double linear_solve_seconds = 0;
-  std::string failure;   // empty when the step succeeded; otherwise why it did not
-  bool fatal = false;    // the failure is a violated invariant: retrying with a smaller step is no cure
+  std::string failure;  // empty when the step succeeded; otherwise why it did not
+  bool fatal = false;   // the failure is a violated invariant: retrying with a smaller step is no cure
   // Step recovery (scene steps): sub-steps taken, failed attempts retried with a halved step,
   // and one line per failed attempt (time, step length, reason).
   int substeps = 1;
@@ -55,7 +55,7 @@ struct PhysicalQuantities {
 };
 
 struct StepControl {
-  double velocity_tol = 0;   // Newton's ‖p‖∞/h tolerance (length/s); for static solves a length
+  double velocity_tol = 0;    // Newton's ‖p‖∞/h tolerance (length/s); for static solves a length
   double alpha_floor = 1e-6;  // line-search stall floor (newton_solver.hpp)
   // After every step verify det J > 0 everywhere and, with contact, no intersection and a
   // positive minimum distance (a violated invariant fails the run).
@@ -93,10 +93,10 @@ class TimeIntegrator {
   // start of the last sub-step), so resume() freezes them again from those two fields.
   struct ResumeState {
     double time = 0;
-    double step_length = 0;             // h of the last step (forms and Newton's velocity test)
-    double kappa = 0;                   // barrier stiffness (contact; never lowered in a run)
-    double previous_min_distance2 = -1; // κ's growth test (initialize_barrier_stiffness)
-    bool friction_lagged = false;       // friction pairs were frozen (a step was attempted)
+    double step_length = 0;              // h of the last step (forms and Newton's velocity test)
+    double kappa = 0;                    // barrier stiffness (contact; never lowered in a run)
+    double previous_min_distance2 = -1;  // κ's growth test (initialize_barrier_stiffness)
+    bool friction_lagged = false;        // friction pairs were frozen (a step was attempted)
   };
   ResumeState resume_state() const;
   PetscErrorCode resume(const ResumeState& state);
@@ -122,7 +122,8 @@ class TimeIntegrator {
   // both terms in units of h²·energy (the barrier's κ and friction's λ_k are scaled like the
   // h²Ψ of the elastic form), so the force is −∇B/h² and −∇D/h² with h the last (sub-)step's
   // length, −∇B in a static solve. Also the active pairs by kind, summed over the ranks.
-  PetscErrorCode contact_forces(Vec contact_force, Vec friction_force, std::array<long, ContactForm::num_pair_kinds>* pairs_by_kind);
+  PetscErrorCode contact_forces(Vec contact_force, Vec friction_force,
+                                std::array<long, ContactForm::num_pair_kinds>* pairs_by_kind);
   // Evaluation times since setup began (setup's matrix and contact checks included)...
   const EvaluationTimes& evaluation_times() const { return potential_.times(); }
   // ... and those inside the Newton solves of advance(), which solve_seconds() encloses: the
@@ -176,17 +177,17 @@ class TimeIntegrator {
   NewtonSolver newton_;
   ContactForm* contact_ = nullptr;    // owned by potential_, null without contact
   FrictionForm* friction_ = nullptr;  // owned by potential_, null without friction
-  std::vector<int> dirichlet_set_;  // per owned node: index into problem_.dirichlet, or −1
+  std::vector<int> dirichlet_set_;    // per owned node: index into problem_.dirichlet, or −1
   std::vector<std::string> form_names_;
   Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
   Vec x_local_ = nullptr;
-  Vec x_lag_ = nullptr;      // where friction's pairs were last frozen (friction runs)
+  Vec x_lag_ = nullptr;  // where friction's pairs were last frozen (friction runs)
   bool friction_lagged_ = false;
   bool check_invariants_ = false;
   double previous_min_distance2_ = -1;  // at the start of the previous step (κ update)
   double time_ = 0;
-  double h_ = 0;                         // the current step length (dynamic runs)
-  std::vector<double> node_mass_;        // lumped, owned nodes (measure()); empty when no term needs masses
+  double h_ = 0;                   // the current step length (dynamic runs)
+  std::vector<double> node_mass_;  // lumped, owned nodes (measure()); empty when no term needs masses
   double solve_seconds_ = 0;
   EvaluationTimes solve_times_;
 };

@@ -18,33 +18,28 @@ void check_sizes(const DistributedMesh& mesh) {
   const OwnedSurface& s = mesh.owned_surface;
   const std::size_t ne = mesh.elements.size();
   if (mesh.boundary_face_mask.size() != ne || mesh.element_body.size() != ne) {
-    throw PartitionError(where() + std::to_string(mesh.boundary_face_mask.size()) +
-                         " boundary face masks and " + std::to_string(mesh.element_body.size()) +
-                         " body ids for " + std::to_string(ne) +
+    throw PartitionError(where() + std::to_string(mesh.boundary_face_mask.size()) + " boundary face masks and " +
+                         std::to_string(mesh.element_body.size()) + " body ids for " + std::to_string(ne) +
                          " elements (was the mesh made by distribute_mesh?)");
   }
   if (mesh.node_input_id.size() != mesh.local_to_global.size()) {
-    throw PartitionError(where() + std::to_string(mesh.node_input_id.size()) +
-                         " input ids for " + std::to_string(mesh.local_to_global.size()) +
-                         " local nodes");
+    throw PartitionError(where() + std::to_string(mesh.node_input_id.size()) + " input ids for " +
+                         std::to_string(mesh.local_to_global.size()) + " local nodes");
   }
   if (s.edge_gid.size() != s.edges.size() || s.edge_body.size() != s.edges.size() ||
       s.vertex_gid.size() != s.vertices.size() || s.vertex_body.size() != s.vertices.size()) {
-    throw PartitionError(where() + "owned_surface has " + std::to_string(s.edges.size()) +
-                         " edges with " + std::to_string(s.edge_gid.size()) + " ids and " +
-                         std::to_string(s.edge_body.size()) + " bodies, " +
-                         std::to_string(s.vertices.size()) + " vertices with " +
-                         std::to_string(s.vertex_gid.size()) + " ids and " +
-                         std::to_string(s.vertex_body.size()) + " bodies");
+    throw PartitionError(where() + "owned_surface has " + std::to_string(s.edges.size()) + " edges with " +
+                         std::to_string(s.edge_gid.size()) + " ids and " + std::to_string(s.edge_body.size()) +
+                         " bodies, " + std::to_string(s.vertices.size()) + " vertices with " +
+                         std::to_string(s.vertex_gid.size()) + " ids and " + std::to_string(s.vertex_body.size()) +
+                         " bodies");
   }
 }
 
-void check_node(const DistributedMesh& mesh, std::int32_t node, const char* what,
-                std::size_t index) {
+void check_node(const DistributedMesh& mesh, std::int32_t node, const char* what, std::size_t index) {
   if (node < 0 || node >= mesh.num_local_nodes()) {
-    throw PartitionError(where() + what + " " + std::to_string(index) +
-                         " has local node id " + std::to_string(node) + ", outside [0, " +
-                         std::to_string(mesh.num_local_nodes()) + ")");
+    throw PartitionError(where() + what + " " + std::to_string(index) + " has local node id " + std::to_string(node) +
+                         ", outside [0, " + std::to_string(mesh.num_local_nodes()) + ")");
   }
 }
 
@@ -77,9 +72,8 @@ void build_faces(const DistributedMesh& mesh, ContactSurface& surface) {
     }
   }
   if (surface.faces.size() != gids.size()) {
-    throw PartitionError(where() + "the boundary face masks give " +
-                         std::to_string(surface.faces.size()) + " triangles but " +
-                         std::to_string(gids.size()) + " triangle ids were received");
+    throw PartitionError(where() + "the boundary face masks give " + std::to_string(surface.faces.size()) +
+                         " triangles but " + std::to_string(gids.size()) + " triangle ids were received");
   }
 }
 

@@ -18,9 +18,9 @@
 namespace dipc {
 
 struct ContactSurface {
-  std::vector<std::int32_t> vertices;               // local node ids of owned surface vertices
-  std::vector<std::array<std::int32_t, 2>> edges;   // owned edges (local node ids)
-  std::vector<std::array<std::int32_t, 3>> faces;   // owned triangles (local node ids, outward)
+  std::vector<std::int32_t> vertices;              // local node ids of owned surface vertices
+  std::vector<std::array<std::int32_t, 2>> edges;  // owned edges (local node ids)
+  std::vector<std::array<std::int32_t, 3>> faces;  // owned triangles (local node ids, outward)
   std::vector<int> vertex_body, edge_body, face_body;
   std::vector<std::int64_t> vertex_gid, edge_gid, face_gid;  // global primitive ids
   // Sizes of the whole surface: global ids lie in [0, num_global_*).

@@ -11,9 +11,9 @@
 // owned edges and vertices with their global ids.
 // DistributedMesh::comm is `comm` itself (not duplicated); the caller keeps it alive.
 #include <algorithm>
-#include <optional>
 #include <climits>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,21 +47,28 @@ enum MetaField {
 template <class T>
 MPI_Datatype mpi_type();
 template <>
-MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
+MPI_Datatype mpi_type<std::int64_t>() {
+  return MPI_INT64_T;
+}
 template <>
-MPI_Datatype mpi_type<std::int32_t>() { return MPI_INT32_T; }
+MPI_Datatype mpi_type<std::int32_t>() {
+  return MPI_INT32_T;
+}
 template <>
-MPI_Datatype mpi_type<std::uint8_t>() { return MPI_UINT8_T; }
+MPI_Datatype mpi_type<std::uint8_t>() {
+  return MPI_UINT8_T;
+}
 template <>
-MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+MPI_Datatype mpi_type<double>() {
+  return MPI_DOUBLE;
+}
 
 void check_mpi(int status, const char* call) {
   if (status != MPI_SUCCESS) {
     char text[MPI_MAX_ERROR_STRING];
     int length = 0;
     MPI_Error_string(status, text, &length);
-    throw PartitionError(std::string("distribute_mesh: ") + call + " failed: " +
-                         std::string(text, length));
+    throw PartitionError(std::string("distribute_mesh: ") + call + " failed: " + std::string(text, length));
   }
 }
 
@@ -77,9 +84,9 @@ struct ScatterBlock {
     const std::size_t count = data.size() - begin_of_rank;
     const auto int_max = static_cast<std::size_t>(INT_MAX);
     if (count > int_max || begin_of_rank > int_max) {
-      throw PartitionError(std::string("distribute_mesh: the ") + what + " array of rank " +
-                           std::to_string(rank) + " does not fit MPI's int counts (" +
-                           std::to_string(data.size()) + " entries); use more ranks or a "
+      throw PartitionError(std::string("distribute_mesh: the ") + what + " array of rank " + std::to_string(rank) +
+                           " does not fit MPI's int counts (" + std::to_string(data.size()) +
+                           " entries); use more ranks or a "
                            "smaller mesh");
     }
     counts.push_back(static_cast<int>(count));
@@ -103,7 +110,7 @@ struct Payload {
   ScatterBlock<std::int64_t> node_global_id;
   ScatterBlock<double> node_coordinates;  // 3 per node
   ScatterBlock<std::int64_t> node_input_id;
-  ScatterBlock<std::int32_t> set_membership;  // (set index, local node id) pairs
+  ScatterBlock<std::int32_t> set_membership;      // (set index, local node id) pairs
   ScatterBlock<std::uint8_t> boundary_face_mask;  // one per element
   ScatterBlock<std::int64_t> triangle_gid;
   ScatterBlock<std::int32_t> edge_nodes;  // 2 local node ids per owned edge
@@ -161,12 +168,10 @@ struct SurfaceForPacking {
 // Appends rank `rank`'s boundary-face masks, triangle ids and owned edges and vertices.
 // `local_of_input` maps input node ids to the rank's local ids (-1 elsewhere).
 void pack_surface(const SurfaceForPacking& s, const PartitionNumbering& numbering,
-                  const std::vector<std::int32_t>& local_of_input, int rank, Payload& payload,
-                  std::int64_t* meta) {
+                  const std::vector<std::int32_t>& local_of_input, int rank, Payload& payload, std::int64_t* meta) {
   const std::size_t mask_begin = payload.boundary_face_mask.data.size();
   const std::size_t triangle_begin = payload.triangle_gid.data.size();
-  for (std::int64_t i = numbering.element_offset[rank]; i < numbering.element_offset[rank + 1];
-       ++i) {
+  for (std::int64_t i = numbering.element_offset[rank]; i < numbering.element_offset[rank + 1]; ++i) {
     const auto e = static_cast<std::size_t>(numbering.elements_by_part[i]);
     payload.boundary_face_mask.data.push_back(s.face_mask[e]);
     // Quads of an element are sorted by face, which is the order build_contact_surface
@@ -184,9 +189,9 @@ void pack_surface(const SurfaceForPacking& s, const PartitionNumbering& numberin
   auto local_id = [&](std::int64_t input, const char* what, std::int64_t gid) {
     const std::int32_t local = local_of_input[static_cast<std::size_t>(input)];
     if (local < 0) {
-      throw PartitionError(std::string("distribute_mesh: surface ") + what + " " +
-                           std::to_string(gid) + " is owned by rank " + std::to_string(rank) +
-                           " but its node " + std::to_string(input) + " is not local there");
+      throw PartitionError(std::string("distribute_mesh: surface ") + what + " " + std::to_string(gid) +
+                           " is owned by rank " + std::to_string(rank) + " but its node " + std::to_string(input) +
+                           " is not local there");
     }
     return local;
   };
@@ -221,8 +226,7 @@ void pack_surface(const SurfaceForPacking& s, const PartitionNumbering& numberin
   payload.vertex_gid.close_rank(vertex_gid_begin, "vertex id", rank);
   payload.vertex_body.close_rank(vertex_body_begin, "vertex body", rank);
 
-  meta[kNumOwnedTriangles] =
-      static_cast<std::int64_t>(payload.triangle_gid.data.size() - triangle_begin);
+  meta[kNumOwnedTriangles] = static_cast<std::int64_t>(payload.triangle_gid.data.size() - triangle_begin);
   meta[kNumOwnedEdges] = edges.begin[rank + 1] - edges.begin[rank];
   meta[kNumOwnedVertices] = vertices.begin[rank + 1] - vertices.begin[rank];
 }
@@ -241,15 +245,14 @@ void pack_no_surface(int rank, Payload& payload) {
 
 void check_mesh_tags(const HexMesh& mesh) {
   if (mesh.body.size() != mesh.num_elements()) {
-    throw PartitionError("distribute_mesh: the mesh has " + std::to_string(mesh.body.size()) +
-                         " body ids for " + std::to_string(mesh.num_elements()) + " elements");
+    throw PartitionError("distribute_mesh: the mesh has " + std::to_string(mesh.body.size()) + " body ids for " +
+                         std::to_string(mesh.num_elements()) + " elements");
   }
   for (const auto& [name, nodes] : mesh.node_sets) {
     for (std::int64_t node : nodes) {
       if (node < 0 || static_cast<std::size_t>(node) >= mesh.num_nodes()) {
-        throw PartitionError("distribute_mesh: node set '" + name + "' contains node id " +
-                             std::to_string(node) + ", outside [0, " +
-                             std::to_string(mesh.num_nodes()) + ")");
+        throw PartitionError("distribute_mesh: node set '" + name + "' contains node id " + std::to_string(node) +
+                             ", outside [0, " + std::to_string(mesh.num_nodes()) + ")");
       }
     }
   }
@@ -299,8 +302,7 @@ Payload build_payload(const HexMesh& mesh, int num_ranks, bool with_surface) {
     const std::vector<std::int64_t> local_nodes = local_nodes_of_part(mesh, numbering, rank);
     if (local_nodes.size() > static_cast<std::size_t>(INT32_MAX)) {
       throw PartitionError("distribute_mesh: rank " + std::to_string(rank) + " would hold " +
-                           std::to_string(local_nodes.size()) +
-                           " nodes, more than 32-bit local ids allow");
+                           std::to_string(local_nodes.size()) + " nodes, more than 32-bit local ids allow");
     }
     const std::int64_t element_begin = numbering.element_offset[rank];
     const std::int64_t element_end = numbering.element_offset[rank + 1];
@@ -341,8 +343,7 @@ Payload build_payload(const HexMesh& mesh, int num_ranks, bool with_surface) {
 
     std::int64_t* meta = &payload.meta[static_cast<std::size_t>(kMetaSize) * rank];
     for (std::size_t local = 0; local < local_nodes.size(); ++local) {
-      local_of_input[static_cast<std::size_t>(local_nodes[local])] =
-          static_cast<std::int32_t>(local);
+      local_of_input[static_cast<std::size_t>(local_nodes[local])] = static_cast<std::int32_t>(local);
     }
     if (whole_surface)
       pack_surface(*whole_surface, numbering, local_of_input, rank, payload, meta);
@@ -355,8 +356,7 @@ Payload build_payload(const HexMesh& mesh, int num_ranks, bool with_surface) {
     meta[kNumElements] = element_end - element_begin;
     meta[kNodeOffset] = numbering.node_offset[rank];
     meta[kElementOffset] = element_begin;
-    meta[kNumSetMemberships] = static_cast<std::int64_t>(
-        (payload.set_membership.data.size() - membership_begin) / 2);
+    meta[kNumSetMemberships] = static_cast<std::int64_t>((payload.set_membership.data.size() - membership_begin) / 2);
   }
   return payload;
 }
@@ -367,14 +367,12 @@ void broadcast_root_error(std::string message, int rank, MPI_Comm comm) {
   check_mpi(MPI_Bcast(&length, 1, MPI_INT64_T, kRoot, comm), "MPI_Bcast");
   if (length == 0) return;
   message.resize(static_cast<std::size_t>(length));
-  check_mpi(MPI_Bcast(message.data(), static_cast<int>(length), MPI_CHAR, kRoot, comm),
-            "MPI_Bcast");
+  check_mpi(MPI_Bcast(message.data(), static_cast<int>(length), MPI_CHAR, kRoot, comm), "MPI_Bcast");
   if (rank == kRoot) throw PartitionError(message);
   throw PartitionError(message + " (reported by rank 0)");
 }
 
-std::vector<std::string> broadcast_names(const std::vector<std::string>& names, int rank,
-                                         MPI_Comm comm) {
+std::vector<std::string> broadcast_names(const std::vector<std::string>& names, int rank, MPI_Comm comm) {
   // Names are sent as one buffer of NUL-terminated strings.
   std::vector<char> buffer;
   if (rank == kRoot) {
@@ -400,8 +398,7 @@ std::vector<std::string> broadcast_names(const std::vector<std::string>& names, 
 }
 
 template <class T>
-std::vector<T> scatter(const ScatterBlock<T>& block, std::int64_t my_count, int rank,
-                       MPI_Comm comm) {
+std::vector<T> scatter(const ScatterBlock<T>& block, std::int64_t my_count, int rank, MPI_Comm comm) {
   std::vector<T> received(static_cast<std::size_t>(my_count));
   const bool root = rank == kRoot;
   check_mpi(MPI_Scatterv(root ? block.data.data() : nullptr, root ? block.counts.data() : nullptr,
@@ -412,9 +409,10 @@ std::vector<T> scatter(const ScatterBlock<T>& block, std::int64_t my_count, int 
 }
 
 // Local node id of every element corner, from the input ids both arrays carry.
-std::vector<std::array<std::int32_t, 8>> localize_elements(
-    const std::vector<std::int64_t>& element_nodes, const std::vector<std::int64_t>& node_input_id,
-    const std::vector<std::int64_t>& element_input_id, int rank) {
+std::vector<std::array<std::int32_t, 8>> localize_elements(const std::vector<std::int64_t>& element_nodes,
+                                                           const std::vector<std::int64_t>& node_input_id,
+                                                           const std::vector<std::int64_t>& element_input_id,
+                                                           int rank) {
   std::vector<std::pair<std::int64_t, std::int32_t>> by_input(node_input_id.size());
   for (std::size_t i = 0; i < node_input_id.size(); ++i) {
     by_input[i] = {node_input_id[i], static_cast<std::int32_t>(i)};
@@ -424,12 +422,11 @@ std::vector<std::array<std::int32_t, 8>> localize_elements(
   for (std::size_t e = 0; e < elements.size(); ++e) {
     for (int k = 0; k < 8; ++k) {
       const std::int64_t input = element_nodes[8 * e + k];
-      auto it = std::lower_bound(by_input.begin(), by_input.end(),
-                                 std::make_pair(input, std::int32_t{INT32_MIN}));
+      auto it = std::lower_bound(by_input.begin(), by_input.end(), std::make_pair(input, std::int32_t{INT32_MIN}));
       if (it == by_input.end() || it->first != input) {
         throw PartitionError("distribute_mesh: rank " + std::to_string(rank) + " element " +
-                             std::to_string(element_input_id[e]) + " references node " +
-                             std::to_string(input) + " that was not sent to this rank");
+                             std::to_string(element_input_id[e]) + " references node " + std::to_string(input) +
+                             " that was not sent to this rank");
       }
       elements[e][k] = it->second;
     }
@@ -460,9 +457,8 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_su
 
   DistributedMesh part;
   part.comm = comm;
-  std::int64_t totals[5] = {payload.num_global_nodes, payload.num_global_elements,
-                            payload.num_global_triangles, payload.num_global_edges,
-                            payload.num_global_vertices};
+  std::int64_t totals[5] = {payload.num_global_nodes, payload.num_global_elements, payload.num_global_triangles,
+                            payload.num_global_edges, payload.num_global_vertices};
   check_mpi(MPI_Bcast(totals, 5, MPI_INT64_T, kRoot, comm), "MPI_Bcast");
   part.num_global_nodes = totals[0];
   part.num_global_elements = totals[1];
@@ -473,8 +469,8 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_su
   const std::vector<std::string> set_names = broadcast_names(payload.set_names, rank, comm);
 
   std::int64_t meta[kMetaSize];
-  check_mpi(MPI_Scatter(rank == kRoot ? payload.meta.data() : nullptr, kMetaSize, MPI_INT64_T,
-                        meta, kMetaSize, MPI_INT64_T, kRoot, comm),
+  check_mpi(MPI_Scatter(rank == kRoot ? payload.meta.data() : nullptr, kMetaSize, MPI_INT64_T, meta, kMetaSize,
+                        MPI_INT64_T, kRoot, comm),
             "MPI_Scatter");
   const std::int64_t num_local = meta[kNumLocalNodes];
   const std::int64_t num_elements = meta[kNumElements];
@@ -482,28 +478,22 @@ DistributedMesh distribute_mesh(const HexMesh& mesh, MPI_Comm comm, bool with_su
   part.node_offset = meta[kNodeOffset];
   part.element_offset = meta[kElementOffset];
 
-  const std::vector<std::int64_t> element_nodes =
-      scatter(payload.element_nodes, 8 * num_elements, rank, comm);
-  const std::vector<std::int32_t> element_body =
-      scatter(payload.element_body, num_elements, rank, comm);
+  const std::vector<std::int64_t> element_nodes = scatter(payload.element_nodes, 8 * num_elements, rank, comm);
+  const std::vector<std::int32_t> element_body = scatter(payload.element_body, num_elements, rank, comm);
   part.element_input_id = scatter(payload.element_input_id, num_elements, rank, comm);
   part.local_to_global = scatter(payload.node_global_id, num_local, rank, comm);
-  const std::vector<double> coordinates =
-      scatter(payload.node_coordinates, 3 * num_local, rank, comm);
+  const std::vector<double> coordinates = scatter(payload.node_coordinates, 3 * num_local, rank, comm);
   part.node_input_id = scatter(payload.node_input_id, num_local, rank, comm);
-  const std::vector<std::int32_t> membership =
-      scatter(payload.set_membership, 2 * meta[kNumSetMemberships], rank, comm);
+  const std::vector<std::int32_t> membership = scatter(payload.set_membership, 2 * meta[kNumSetMemberships], rank,
+                                                       comm);
   part.boundary_face_mask = scatter(payload.boundary_face_mask, with_surface ? num_elements : 0, rank, comm);
   surface.triangle_gid = scatter(payload.triangle_gid, meta[kNumOwnedTriangles], rank, comm);
-  const std::vector<std::int32_t> edge_nodes =
-      scatter(payload.edge_nodes, 2 * meta[kNumOwnedEdges], rank, comm);
+  const std::vector<std::int32_t> edge_nodes = scatter(payload.edge_nodes, 2 * meta[kNumOwnedEdges], rank, comm);
   surface.edge_gid = scatter(payload.edge_gid, meta[kNumOwnedEdges], rank, comm);
-  const std::vector<std::int32_t> edge_body =
-      scatter(payload.edge_body, meta[kNumOwnedEdges], rank, comm);
+  const std::vector<std::int32_t> edge_body = scatter(payload.edge_body, meta[kNumOwnedEdges], rank, comm);
   surface.vertices = scatter(payload.vertex_node, meta[kNumOwnedVertices], rank, comm);
   surface.vertex_gid = scatter(payload.vertex_gid, meta[kNumOwnedVertices], rank, comm);
-  const std::vector<std::int32_t> vertex_body =
-      scatter(payload.vertex_body, meta[kNumOwnedVertices], rank, comm);
+  const std::vector<std::int32_t> vertex_body = scatter(payload.vertex_body, meta[kNumOwnedVertices], rank, comm);
   payload = Payload();  // rank 0: release the whole-mesh send buffers before rebuilding
 
   part.element_body.assign(element_body.begin(), element_body.end());

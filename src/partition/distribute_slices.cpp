@@ -132,7 +132,8 @@ void build_owned_surface(DistributedMesh& part, const std::vector<std::int64_t>&
   // Unique edges at this home, numbered after those of the lower homes (whose node ids are smaller).
   std::int64_t unique_edges = 0, unique_vertices = 0;
   for (std::size_t i = 0; i < edge_records.size(); ++i)
-    if (i == 0 || edge_records[i].a != edge_records[i - 1].a || edge_records[i].b != edge_records[i - 1].b) ++unique_edges;
+    if (i == 0 || edge_records[i].a != edge_records[i - 1].a || edge_records[i].b != edge_records[i - 1].b)
+      ++unique_edges;
   for (std::size_t i = 0; i < vertex_records.size(); ++i)
     if (i == 0 || vertex_records[i].node != vertex_records[i - 1].node) ++unique_vertices;
   std::int64_t edge_gid = exclusive_prefix(unique_edges, part.comm, &s.num_global_edges);
@@ -414,8 +415,8 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
 
   // Elements to their parts.
   std::int64_t num_quads = 0;
-  std::vector<std::vector<ElementRecord>> outgoing =
-      element_records_by_part(slice, faces, element_part, with_surface, &num_quads);
+  std::vector<std::vector<ElementRecord>> outgoing = element_records_by_part(slice, faces, element_part, with_surface,
+                                                                             &num_quads);
   faces = FaceMatching();
   std::vector<ElementRecord> mine = exchange_records(std::move(outgoing), comm);
   // `mine` is sorted by input id without a sort: records arrive by sending rank, ranks hold
@@ -443,7 +444,8 @@ DistributedMesh distribute_slices(const MeshSlice& slice, Partitioner partitione
   const std::vector<std::int64_t> first_quad = fill_elements(part, mine, touched_nodes, local_of_touched, with_surface);
   mine = std::vector<ElementRecord>();
   lap(times.nodes);
-  if (with_surface) build_owned_surface(part, first_quad, touched_nodes, local_of_touched, num_quads, nn_input, rank, size);
+  if (with_surface)
+    build_owned_surface(part, first_quad, touched_nodes, local_of_touched, num_quads, nn_input, rank, size);
   lap(times.surface);
   if (report) *report = times;
   return part;

@@ -114,11 +114,13 @@ std::vector<std::vector<FaceRecord>> faces_to_homes(const MeshSlice& slice, cons
 // small (a node of a structured hex grid is the corner of 12 faces, each met twice). The order
 // is that of a sort of all faces, which took 2.2-3.3 s with std::sort for the 6M faces of a
 // 1M-hex cube on one rank.
-std::vector<HomeFace> group_faces(const MeshSlice& slice, const FaceHomes& homes, const std::vector<FaceRecord>& received,
-                                  std::vector<std::size_t>& first) {
+std::vector<HomeFace> group_faces(const MeshSlice& slice, const FaceHomes& homes,
+                                  const std::vector<FaceRecord>& received, std::vector<std::size_t>& first) {
   const std::int64_t begin = block_begin(homes.num_nodes, homes.size, homes.rank);
   const std::int64_t end = block_begin(homes.num_nodes, homes.size, homes.rank + 1);
-  auto group_of = [begin](const std::array<std::int64_t, 4>& nodes) { return static_cast<std::size_t>(nodes[0] - begin); };
+  auto group_of = [begin](const std::array<std::int64_t, 4>& nodes) {
+    return static_cast<std::size_t>(nodes[0] - begin);
+  };
   // Counted and placed by atomic additions from the threads: a group's faces land in an order
   // that depends on the threads, which the group's sort then replaces by a total order
   // (element_face is unique).
@@ -170,37 +172,40 @@ std::vector<std::vector<FaceAnswer>> answer_faces(const MeshSlice& slice, const 
   const std::size_t max_chunks = static_cast<std::size_t>(host_threads());
   std::vector<std::vector<std::vector<FaceAnswer>>> chunk_answers(max_chunks);
   std::vector<std::string> chunk_error(max_chunks);
-  const int chunks = parallel_chunks(groups, [&](int c, std::size_t g0, std::size_t g1) {
-    std::vector<std::vector<FaceAnswer>>& answers = chunk_answers[static_cast<std::size_t>(c)];
-    answers.resize(static_cast<std::size_t>(homes.size));
-    std::string& chunk_first_error = chunk_error[static_cast<std::size_t>(c)];
-    auto answer = [&](const HomeFace& f, std::int64_t other) {
-      const int home = block_of(element_of(f), ne, homes.size);
-      if (home == homes.rank)
-        across[static_cast<std::size_t>(f.element_face - own_begin)] = other;
-      else
-        answers[static_cast<std::size_t>(home)].push_back({f.element_face, other});
-    };
-    for (std::size_t n = g0; n < g1; ++n)
-      for (std::size_t i = first[n]; i < first[n + 1];) {
-        const HomeFace& a = grouped[i];
-        std::size_t j = i + 1;
-        while (j < first[n + 1] && grouped[j].same_face(a)) ++j;
-        if (j - i == 1) {
-          answer(a, -1);
-        } else if (j - i == 2) {
-          const HomeFace& b = grouped[i + 1];
-          answer(a, element_of(b));
-          answer(b, element_of(a));
-        } else if (chunk_first_error.empty()) {
-          chunk_first_error = std::to_string(j - i) + " elements share one face (elements " +
-                              std::to_string(element_of(a)) + ", " + std::to_string(element_of(grouped[i + 1])) + ", " +
-                              std::to_string(element_of(grouped[i + 2])) +
-                              "): the mesh is non-manifold or has overlapping elements";
-        }
-        i = j;
-      }
-  }, 1024);
+  const int chunks = parallel_chunks(
+      groups,
+      [&](int c, std::size_t g0, std::size_t g1) {
+        std::vector<std::vector<FaceAnswer>>& answers = chunk_answers[static_cast<std::size_t>(c)];
+        answers.resize(static_cast<std::size_t>(homes.size));
+        std::string& chunk_first_error = chunk_error[static_cast<std::size_t>(c)];
+        auto answer = [&](const HomeFace& f, std::int64_t other) {
+          const int home = block_of(element_of(f), ne, homes.size);
+          if (home == homes.rank)
+            across[static_cast<std::size_t>(f.element_face - own_begin)] = other;
+          else
+            answers[static_cast<std::size_t>(home)].push_back({f.element_face, other});
+        };
+        for (std::size_t n = g0; n < g1; ++n)
+          for (std::size_t i = first[n]; i < first[n + 1];) {
+            const HomeFace& a = grouped[i];
+            std::size_t j = i + 1;
+            while (j < first[n + 1] && grouped[j].same_face(a)) ++j;
+            if (j - i == 1) {
+              answer(a, -1);
+            } else if (j - i == 2) {
+              const HomeFace& b = grouped[i + 1];
+              answer(a, element_of(b));
+              answer(b, element_of(a));
+            } else if (chunk_first_error.empty()) {
+              chunk_first_error = std::to_string(j - i) + " elements share one face (elements " +
+                                  std::to_string(element_of(a)) + ", " + std::to_string(element_of(grouped[i + 1])) +
+                                  ", " + std::to_string(element_of(grouped[i + 2])) +
+                                  "): the mesh is non-manifold or has overlapping elements";
+            }
+            i = j;
+          }
+      },
+      1024);
   std::vector<std::vector<FaceAnswer>> answers(static_cast<std::size_t>(homes.size));
   for (int c = 0; c < chunks; ++c) {
     if (error.empty()) error = chunk_error[static_cast<std::size_t>(c)];

@@ -29,8 +29,7 @@ struct NodeListCheck {
 };
 
 NodeListCheck check_node_list(int num_owned_nodes, const std::vector<std::int64_t>& local_to_global,
-                              std::int64_t num_global_nodes, std::int64_t owned_offset,
-                              PetscInt bs) {
+                              std::int64_t num_global_nodes, std::int64_t owned_offset, PetscInt bs) {
   NodeListCheck check;
   const auto num_local = static_cast<std::int64_t>(local_to_global.size());
   if (num_owned_nodes < 0 || num_owned_nodes > num_local) {
@@ -61,21 +60,19 @@ PetscErrorCode GhostExchange::setup(const DistributedMesh& mesh, PetscInt bs) {
   PetscFunctionBeginUser;
   PetscCheck(mesh.comm != MPI_COMM_NULL, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
              "GhostExchange::setup: mesh.comm is MPI_COMM_NULL (the mesh was not distributed)");
-  PetscCall(setup(mesh.comm, mesh.num_owned_nodes, mesh.local_to_global, mesh.num_global_nodes,
-                  bs));
+  PetscCall(setup(mesh.comm, mesh.num_owned_nodes, mesh.local_to_global, mesh.num_global_nodes, bs));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
-                                    const std::vector<std::int64_t>& local_to_global,
-                                    std::int64_t num_global_nodes, PetscInt bs) {
+                                    const std::vector<std::int64_t>& local_to_global, std::int64_t num_global_nodes,
+                                    PetscInt bs) {
   PetscFunctionBeginUser;
   PetscCheck(comm != MPI_COMM_NULL, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
              "GhostExchange::setup: comm is MPI_COMM_NULL");
   PetscCheck(bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: block size %" PetscInt_FMT " must be at least 1", bs);
-  PetscCheck(num_global_nodes >= 0 && num_global_nodes <= PETSC_MAX_INT / bs, comm,
-             PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(num_global_nodes >= 0 && num_global_nodes <= PETSC_MAX_INT / bs, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: %" PetscInt64_FMT " nodes x %" PetscInt_FMT
              " values do not fit PetscInt; configure PETSc with --with-64-bit-indices",
              static_cast<PetscInt64>(num_global_nodes), bs);
@@ -86,28 +83,22 @@ PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
   std::int64_t owned_offset = 0;
   PetscCallMPI(MPI_Exscan(&owned, &owned_offset, 1, MPI_INT64_T, MPI_SUM, comm));
   if (rank == 0) owned_offset = 0;  // MPI_Exscan leaves rank 0's result undefined
-  const NodeListCheck check =
-      check_node_list(num_owned_nodes, local_to_global, num_global_nodes, owned_offset, bs);
+  const NodeListCheck check = check_node_list(num_owned_nodes, local_to_global, num_global_nodes, owned_offset, bs);
   std::int64_t totals[2] = {check.problem == NodeListProblem::kNone ? 0 : 1, owned};
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_INT64_T, MPI_SUM, comm));
-  PetscCheck(check.problem != NodeListProblem::kOwnedCount, PETSC_COMM_SELF,
-             PETSC_ERR_ARG_OUTOFRANGE,
-             "GhostExchange::setup: %d owned nodes but %zu local nodes", num_owned_nodes,
-             local_to_global.size());
-  PetscCheck(check.problem != NodeListProblem::kTooLong, PETSC_COMM_SELF,
-             PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(check.problem != NodeListProblem::kOwnedCount, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "GhostExchange::setup: %d owned nodes but %zu local nodes", num_owned_nodes, local_to_global.size());
+  PetscCheck(check.problem != NodeListProblem::kTooLong, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: %zu local nodes x %" PetscInt_FMT " values do not fit PetscInt",
              local_to_global.size(), bs);
-  PetscCheck(check.problem != NodeListProblem::kOutOfRange, PETSC_COMM_SELF,
-             PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(check.problem != NodeListProblem::kOutOfRange, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "GhostExchange::setup: local node %" PetscInt64_FMT " has global id %" PetscInt64_FMT
              ", outside [0, %" PetscInt64_FMT ")",
              static_cast<PetscInt64>(check.index), static_cast<PetscInt64>(check.global),
              static_cast<PetscInt64>(num_global_nodes));
-  PetscCheck(check.problem != NodeListProblem::kNotContiguous, PETSC_COMM_SELF,
-             PETSC_ERR_ARG_WRONG,
-             "GhostExchange::setup: owned local node %" PetscInt64_FMT
-             " has global id %" PetscInt64_FMT ", expected %" PetscInt64_FMT
+  PetscCheck(check.problem != NodeListProblem::kNotContiguous, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "GhostExchange::setup: owned local node %" PetscInt64_FMT " has global id %" PetscInt64_FMT
+             ", expected %" PetscInt64_FMT
              " (owned nodes must be the rank's contiguous range, after the lower ranks' ones)",
              static_cast<PetscInt64>(check.index), static_cast<PetscInt64>(check.global),
              static_cast<PetscInt64>(check.expected));
@@ -115,8 +106,7 @@ PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
              "GhostExchange::setup: the node lists of %" PetscInt64_FMT " rank(s) are invalid",
              static_cast<PetscInt64>(totals[0]));
   PetscCheck(totals[1] == num_global_nodes, comm, PETSC_ERR_ARG_SIZ,
-             "GhostExchange::setup: the ranks own %" PetscInt64_FMT
-             " nodes in all, not %" PetscInt64_FMT,
+             "GhostExchange::setup: the ranks own %" PetscInt64_FMT " nodes in all, not %" PetscInt64_FMT,
              static_cast<PetscInt64>(totals[1]), static_cast<PetscInt64>(num_global_nodes));
 
   PetscCall(VecScatterDestroy(&scatter_));
@@ -146,8 +136,7 @@ PetscErrorCode GhostExchange::setup(MPI_Comm comm, int num_owned_nodes,
 
   std::vector<PetscInt> global_blocks(local_to_global.begin(), local_to_global.end());
   IS from = nullptr;
-  PetscCall(ISCreateBlock(PETSC_COMM_SELF, bs, num_local_nodes_, global_blocks.data(),
-                          PETSC_COPY_VALUES, &from));
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, bs, num_local_nodes_, global_blocks.data(), PETSC_COPY_VALUES, &from));
   PetscCall(VecScatterCreate(global, from, local, nullptr, &scatter_));
   PetscCall(ISDestroy(&from));
   PetscCall(VecDestroy(&local));
@@ -174,8 +163,7 @@ PetscErrorCode GhostExchange::share(const GhostExchange& other) {
 
 PetscErrorCode GhostExchange::create_global_vec(Vec* v) const {
   PetscFunctionBeginUser;
-  PetscCheck(bs_ >= 1, PETSC_COMM_SELF, PETSC_ERR_ORDER,
-             "GhostExchange::create_global_vec: call setup() first");
+  PetscCheck(bs_ >= 1, PETSC_COMM_SELF, PETSC_ERR_ORDER, "GhostExchange::create_global_vec: call setup() first");
   PetscCall(VecCreate(comm_, v));
   PetscCall(VecSetSizes(*v, bs_ * num_owned_nodes_, bs_ * num_global_nodes_));
   PetscCall(VecSetBlockSize(*v, bs_));
@@ -203,12 +191,12 @@ PetscErrorCode GhostExchange::check_sizes(Vec global, Vec local) const {
   PetscCall(VecGetLocalSize(global, &global_rows));
   PetscCall(VecGetSize(local, &local_size));
   PetscCheck(global_rows == bs_ * num_owned_nodes_, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
-             "GhostExchange: global Vec has %" PetscInt_FMT " local rows, expected %" PetscInt_FMT
-             " (%" PetscInt_FMT " owned nodes x %" PetscInt_FMT ")",
+             "GhostExchange: global Vec has %" PetscInt_FMT " local rows, expected %" PetscInt_FMT " (%" PetscInt_FMT
+             " owned nodes x %" PetscInt_FMT ")",
              global_rows, bs_ * num_owned_nodes_, num_owned_nodes_, bs_);
   PetscCheck(local_size == bs_ * num_local_nodes_, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
-             "GhostExchange: local Vec has %" PetscInt_FMT " entries, expected %" PetscInt_FMT
-             " (%" PetscInt_FMT " local nodes x %" PetscInt_FMT ")",
+             "GhostExchange: local Vec has %" PetscInt_FMT " entries, expected %" PetscInt_FMT " (%" PetscInt_FMT
+             " local nodes x %" PetscInt_FMT ")",
              local_size, bs_ * num_local_nodes_, num_local_nodes_, bs_);
   PetscFunctionReturn(0);
 }

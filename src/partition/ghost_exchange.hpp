@@ -34,8 +34,7 @@ class GhostExchange {
   // its value twice from to_local and adds both entries in add_to_global. Every rank
   // returns an error when any rank's list is invalid or the owned counts do not sum to
   // num_global_nodes.
-  PetscErrorCode setup(MPI_Comm comm, int num_owned_nodes,
-                       const std::vector<std::int64_t>& local_to_global,
+  PetscErrorCode setup(MPI_Comm comm, int num_owned_nodes, const std::vector<std::int64_t>& local_to_global,
                        std::int64_t num_global_nodes, PetscInt bs);
 
   // Uses `other`'s scatter (a reference: no second setup, whose index sorting and star forest

@@ -63,7 +63,8 @@ std::uint64_t sum_of_row_hashes_in(std::size_t begin, std::size_t end, std::uint
     std::uint64_t h[kLanes];
     for (std::size_t l = 0; l < kLanes; ++l) rows[l] = row(i + l), h[l] = kFnvBasis ^ seed;
     for (std::size_t b = 0; b < sizeof(Row); ++b)
-      for (std::size_t l = 0; l < kLanes; ++l) h[l] = (h[l] ^ reinterpret_cast<const unsigned char*>(&rows[l])[b]) * kFnvPrime;
+      for (std::size_t l = 0; l < kLanes; ++l)
+        h[l] = (h[l] ^ reinterpret_cast<const unsigned char*>(&rows[l])[b]) * kFnvPrime;
     for (std::size_t l = 0; l < kLanes; ++l) sum += mix(h[l]);
   }
   for (; i < end; ++i) {
@@ -91,7 +92,8 @@ MeshSlice slice_whole_mesh(const HexMesh& whole, MPI_Comm comm) {
   const int rank = rank_of(comm), size = size_of(comm);
   MeshSlice slice;
   slice.comm = comm;
-  std::int64_t totals[2] = {static_cast<std::int64_t>(whole.num_nodes()), static_cast<std::int64_t>(whole.num_elements())};
+  std::int64_t totals[2] = {static_cast<std::int64_t>(whole.num_nodes()),
+                            static_cast<std::int64_t>(whole.num_elements())};
   std::string error;
   if (rank == 0 && whole.body.size() != whole.hexes.size())
     error = "slice_whole_mesh: " + std::to_string(whole.body.size()) + " body ids for " +
@@ -195,8 +197,8 @@ void check_slice_layout(const MeshSlice& slice) {
     error = "mesh slice of rank " + std::to_string(rank) + ": elements are not the block [" + std::to_string(eb) +
             ", " + std::to_string(block_begin(ne, size, rank + 1)) + ")";
   else if (slice.body.size() != slice.hexes.size())
-    error = "mesh slice: " + std::to_string(slice.body.size()) + " body ids for " +
-            std::to_string(slice.hexes.size()) + " elements";
+    error = "mesh slice: " + std::to_string(slice.body.size()) + " body ids for " + std::to_string(slice.hexes.size()) +
+            " elements";
   for (std::size_t e = 0; e < slice.hexes.size() && error.empty(); ++e)
     for (int k = 0; k < 8; ++k)
       if (slice.hexes[e][k] < 0 || slice.hexes[e][k] >= nn) {
@@ -221,12 +223,14 @@ double slice_bounding_box_diagonal(const MeshSlice& slice) {
     std::array<double, 6>& b = box[static_cast<std::size_t>(c)];
     b = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (std::size_t i = begin; i < end; ++i)
-      for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], slice.nodes[i][k]), b[3 + k] = std::max(b[3 + k], slice.nodes[i][k]);
+      for (int k = 0; k < 3; ++k)
+        b[k] = std::min(b[k], slice.nodes[i][k]), b[3 + k] = std::max(b[3 + k], slice.nodes[i][k]);
   });
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (int c = 0; c < chunks; ++c)
     for (int k = 0; k < 3; ++k)
-      lo[k] = std::min(lo[k], box[static_cast<std::size_t>(c)][k]), hi[k] = std::max(hi[k], box[static_cast<std::size_t>(c)][3 + k]);
+      lo[k] = std::min(lo[k], box[static_cast<std::size_t>(c)][k]),
+      hi[k] = std::max(hi[k], box[static_cast<std::size_t>(c)][3 + k]);
   MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, slice.comm);
   MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, slice.comm);
   if (slice.num_global_nodes == 0) return 0;

@@ -37,20 +37,17 @@ std::vector<int> partition_elements(const std::vector<Hex>& hexes, std::size_t n
   const std::size_t ne = hexes.size();
   const std::size_t nn = num_nodes;
   if (nparts < 1) {
-    throw PartitionError("partition_elements: nparts = " + std::to_string(nparts) +
-                         " (must be at least 1)");
+    throw PartitionError("partition_elements: nparts = " + std::to_string(nparts) + " (must be at least 1)");
   }
   if (ne == 0) throw PartitionError("partition_elements: the mesh has no elements");
   if (static_cast<std::size_t>(nparts) > ne) {
-    throw PartitionError("partition_elements: cannot split " + std::to_string(ne) +
-                         " elements into " + std::to_string(nparts) +
-                         " parts (more parts than elements)");
+    throw PartitionError("partition_elements: cannot split " + std::to_string(ne) + " elements into " +
+                         std::to_string(nparts) + " parts (more parts than elements)");
   }
   const auto idx_max = static_cast<std::size_t>(std::numeric_limits<idx_t>::max());
   if (ne > idx_max / kNodesPerHex || nn > idx_max) {
-    throw PartitionError("partition_elements: " + std::to_string(ne) + " elements / " +
-                         std::to_string(nn) + " nodes exceed METIS's " +
-                         std::to_string(IDXTYPEWIDTH) + "-bit idx_t");
+    throw PartitionError("partition_elements: " + std::to_string(ne) + " elements / " + std::to_string(nn) +
+                         " nodes exceed METIS's " + std::to_string(IDXTYPEWIDTH) + "-bit idx_t");
   }
 
   std::vector<idx_t> eptr(ne + 1);
@@ -60,9 +57,8 @@ std::vector<int> partition_elements(const std::vector<Hex>& hexes, std::size_t n
     for (int k = 0; k < kNodesPerHex; ++k) {
       const std::int64_t node = hexes[e][k];
       if (node < 0 || static_cast<std::size_t>(node) >= nn) {
-        throw PartitionError("partition_elements: element " + std::to_string(e) + " node " +
-                             std::to_string(k) + " has id " + std::to_string(node) +
-                             ", outside [0, " + std::to_string(nn) + ")");
+        throw PartitionError("partition_elements: element " + std::to_string(e) + " node " + std::to_string(k) +
+                             " has id " + std::to_string(node) + ", outside [0, " + std::to_string(nn) + ")");
       }
       eind[kNodesPerHex * e + k] = static_cast<idx_t>(node);
     }
@@ -85,23 +81,20 @@ std::vector<int> partition_elements(const std::vector<Hex>& hexes, std::size_t n
   idx_t edge_cut = 0;
   std::vector<idx_t> element_part(ne);
   std::vector<idx_t> node_part(nn > 0 ? nn : 1);
-  const int status = METIS_PartMeshDual(&metis_ne, &metis_nn, eptr.data(), eind.data(),
-                                        nullptr, nullptr, &ncommon, &metis_nparts, nullptr,
-                                        options, &edge_cut, element_part.data(),
+  const int status = METIS_PartMeshDual(&metis_ne, &metis_nn, eptr.data(), eind.data(), nullptr, nullptr, &ncommon,
+                                        &metis_nparts, nullptr, options, &edge_cut, element_part.data(),
                                         node_part.data());
   if (status != METIS_OK) {
     throw PartitionError("partition_elements: METIS_PartMeshDual failed with " +
-                         std::string(metis_status_name(status)) + " (" +
-                         std::to_string(status) + ") for " + std::to_string(ne) +
-                         " elements into " + std::to_string(nparts) + " parts");
+                         std::string(metis_status_name(status)) + " (" + std::to_string(status) + ") for " +
+                         std::to_string(ne) + " elements into " + std::to_string(nparts) + " parts");
   }
 
   std::vector<int> part(ne);
   for (std::size_t e = 0; e < ne; ++e) {
     if (element_part[e] < 0 || element_part[e] >= metis_nparts) {
-      throw PartitionError("partition_elements: METIS returned part " +
-                           std::to_string(element_part[e]) + " for element " +
-                           std::to_string(e) + ", outside [0, " + std::to_string(nparts) + ")");
+      throw PartitionError("partition_elements: METIS returned part " + std::to_string(element_part[e]) +
+                           " for element " + std::to_string(e) + ", outside [0, " + std::to_string(nparts) + ")");
     }
     part[e] = static_cast<int>(element_part[e]);
   }

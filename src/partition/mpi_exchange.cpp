@@ -70,7 +70,8 @@ void exchange_bytes(const std::vector<const char*>& send, const ExchangePlan& pl
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const auto bytes = [record_bytes](int records) { return static_cast<std::size_t>(records) * record_bytes; };
-  if (copy_own && plan.send_counts[rank]) std::memcpy(out + bytes(plan.recv_displs[rank]), send[rank], bytes(plan.send_counts[rank]));
+  if (copy_own && plan.send_counts[rank])
+    std::memcpy(out + bytes(plan.recv_displs[rank]), send[rank], bytes(plan.send_counts[rank]));
   if (size == 1) return;
   // The other ranks' send lists live in separate vectors: pack them into one buffer for
   // MPI_Alltoallv, which moves nothing to or from this rank itself.

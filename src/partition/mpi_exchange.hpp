@@ -83,8 +83,7 @@ ExchangePlan plan_records(const std::vector<std::vector<T>>& send, MPI_Comm comm
 }  // namespace detail
 
 template <class T>
-std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm,
-                                std::vector<int>* from_rank) {
+std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Comm comm, std::vector<int>* from_rank) {
   std::vector<const char*> data;
   const detail::ExchangePlan plan = detail::plan_records(send, comm, data);
   std::vector<T> out(plan.total_recv);
@@ -94,8 +93,7 @@ std::vector<T> exchange_records(const std::vector<std::vector<T>>& send, MPI_Com
 }
 
 template <class T>
-std::vector<T> exchange_records(std::vector<std::vector<T>>&& send, MPI_Comm comm,
-                                std::vector<int>* from_rank) {
+std::vector<T> exchange_records(std::vector<std::vector<T>>&& send, MPI_Comm comm, std::vector<int>* from_rank) {
   std::vector<const char*> data;
   const detail::ExchangePlan plan = detail::plan_records(send, comm, data);
   std::vector<T> out;

@@ -31,12 +31,10 @@ struct PartitionNumbering {
 // Numbers `mesh` for the partition `element_part` (one part in [0, num_parts) per element).
 // Throws PartitionError when the sizes disagree, a part is out of range or a hex references
 // a node outside the mesh (the message names the element).
-PartitionNumbering number_partition(const HexMesh& mesh, const std::vector<int>& element_part,
-                                    int num_parts);
+PartitionNumbering number_partition(const HexMesh& mesh, const std::vector<int>& element_part, int num_parts);
 
 // Input ids of the nodes touched by `part`'s elements, in the local order of DistributedMesh:
 // owned nodes by increasing global id, then ghosts by increasing global id.
-std::vector<std::int64_t> local_nodes_of_part(const HexMesh& mesh,
-                                              const PartitionNumbering& numbering, int part);
+std::vector<std::int64_t> local_nodes_of_part(const HexMesh& mesh, const PartitionNumbering& numbering, int part);
 
 }  // namespace dipc

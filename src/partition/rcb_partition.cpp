@@ -62,7 +62,8 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
     });
     std::fill(histogram.begin(), histogram.end(), 0);
     for (int c = 0; c < chunks; ++c)
-      for (std::size_t i = 0; i < histogram.size(); ++i) histogram[i] += chunk_histogram[static_cast<std::size_t>(c)][i];
+      for (std::size_t i = 0; i < histogram.size(); ++i)
+        histogram[i] += chunk_histogram[static_cast<std::size_t>(c)][i];
     MPI_Allreduce(MPI_IN_PLACE, histogram.data(), static_cast<int>(histogram.size()), MPI_INT64_T, MPI_SUM, comm);
     for (std::size_t g = 0; g < groups; ++g) {
       if (target[g] <= 0) continue;
@@ -72,7 +73,7 @@ Selection select_kth(std::vector<std::size_t>& candidates, const std::vector<int
       s.value[g] |= d << shift;
     }
     candidates = parallel_collect<std::size_t>(candidates.size(), [&](std::size_t begin, std::size_t end,
-                                                                       std::vector<std::size_t>& kept) {
+                                                                      std::vector<std::size_t>& kept) {
       for (std::size_t k = begin; k < end; ++k) {
         const std::size_t e = candidates[k];
         if ((value_of(e) >> shift & 255) == digit[static_cast<std::size_t>(group[e])]) kept.push_back(e);
@@ -144,7 +145,8 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
     for (int c = 0; c < chunks; ++c)
       for (std::size_t g = 0; g < count; ++g) {
         members[g] += chunk_members[static_cast<std::size_t>(c)][g];
-        for (int k = 0; k < 6; ++k) box[6 * g + k] = std::min(box[6 * g + k], chunk_box[static_cast<std::size_t>(c)][6 * g + k]);
+        for (int k = 0; k < 6; ++k)
+          box[6 * g + k] = std::min(box[6 * g + k], chunk_box[static_cast<std::size_t>(c)][6 * g + k]);
       }
     MPI_Allreduce(MPI_IN_PLACE, members.data(), static_cast<int>(count), MPI_INT64_T, MPI_SUM, comm);
     MPI_Allreduce(MPI_IN_PLACE, box.data(), static_cast<int>(box.size()), MPI_DOUBLE, MPI_MIN, comm);
@@ -163,24 +165,25 @@ std::vector<int> rcb_partition(const MeshSlice& slice, int parts) {
       split[g] = q > 1 && low_count[g] > 0 && low_count[g] < members[g];
       if (split[g]) target[g] = low_count[g];
     }
-    std::vector<std::size_t> candidates =
-        parallel_collect<std::size_t>(n, [&](std::size_t begin, std::size_t end, std::vector<std::size_t>& out) {
-          for (std::size_t e = begin; e < end; ++e) {
-            const std::size_t g = static_cast<std::size_t>(group[e]);
-            key[e] = ordered_bits(centroid[e][axis[g]]);
-            if (split[g]) out.push_back(e);
-          }
-        });
+    std::vector<std::size_t> candidates = parallel_collect<std::size_t>(n, [&](std::size_t begin, std::size_t end,
+                                                                               std::vector<std::size_t>& out) {
+      for (std::size_t e = begin; e < end; ++e) {
+        const std::size_t g = static_cast<std::size_t>(group[e]);
+        key[e] = ordered_bits(centroid[e][axis[g]]);
+        if (split[g]) out.push_back(e);
+      }
+    });
     // The cut key K: the low_count-th smallest key. Of the elements on it (key == K, the
     // candidates left), the low side takes those with the smallest input ids, as many as the
     // elements below K leave to low_count.
-    const Selection cut = select_kth(candidates, group, [&key](std::size_t e) { return key[e]; }, target, comm);
+    const Selection cut = select_kth(
+        candidates, group, [&key](std::size_t e) { return key[e]; }, target, comm);
     std::vector<std::int64_t> take(count, 0);
     for (std::size_t g = 0; g < count; ++g)
       if (split[g]) take[g] = low_count[g] - cut.below[g];
     const std::uint64_t first_id = static_cast<std::uint64_t>(slice.element_begin);
-    const Selection last_id =
-        select_kth(candidates, group, [first_id](std::size_t e) { return first_id + e; }, take, comm);
+    const Selection last_id = select_kth(
+        candidates, group, [first_id](std::size_t e) { return first_id + e; }, take, comm);
     // The next level's groups: a split group becomes (low, high), a settled one stays.
     std::vector<Group> next;
     std::vector<int> low_group(count), high_group(count);

@@ -50,16 +50,18 @@ std::vector<int> metis_on_rank0(const MeshSlice& slice, int size) {
   return std::vector<int>(mine.begin(), mine.end());
 }
 
-#define DIPC_PETSC_THROW(call)                                                                        \
-  do {                                                                                                \
-    const PetscErrorCode ierr_ = (call);                                                              \
-    if (ierr_) throw PartitionError(std::string("PT-Scotch partitioning: ") + #call + " failed (PETSc error " + \
-                                    std::to_string(ierr_) + ")");                                     \
+#define DIPC_PETSC_THROW(call)                                                                         \
+  do {                                                                                                 \
+    const PetscErrorCode ierr_ = (call);                                                               \
+    if (ierr_)                                                                                         \
+      throw PartitionError(std::string("PT-Scotch partitioning: ") + #call + " failed (PETSc error " + \
+                           std::to_string(ierr_) + ")");                                               \
   } while (0)
 
 std::vector<int> ptscotch(const MeshSlice& slice, const FaceMatching& graph, int size) {
   if (!ptscotch_available())
-    throw PartitionError("this PETSc was built without PT-Scotch (no PETSC_HAVE_PTSCOTCH): use -dipc_partitioner metis");
+    throw PartitionError(
+        "this PETSc was built without PT-Scotch (no PETSC_HAVE_PTSCOTCH): use -dipc_partitioner metis");
   const std::size_t n = slice.hexes.size();
   if (slice.num_global_elements > PETSC_MAX_INT || graph.offsets.back() > PETSC_MAX_INT)
     throw PartitionError("PT-Scotch partitioning: the dual graph exceeds PETSc's " +
@@ -74,8 +76,8 @@ std::vector<int> ptscotch(const MeshSlice& slice, const FaceMatching& graph, int
   SCOTCH_randomReset();
 #endif
   Mat adjacency;
-  DIPC_PETSC_THROW(MatCreateMPIAdj(slice.comm, static_cast<PetscInt>(n), static_cast<PetscInt>(slice.num_global_elements),
-                                   ia, ja, nullptr, &adjacency));
+  DIPC_PETSC_THROW(MatCreateMPIAdj(slice.comm, static_cast<PetscInt>(n),
+                                   static_cast<PetscInt>(slice.num_global_elements), ia, ja, nullptr, &adjacency));
   MatPartitioning partitioning;
   DIPC_PETSC_THROW(MatPartitioningCreate(slice.comm, &partitioning));
   DIPC_PETSC_THROW(MatPartitioningSetAdjacency(partitioning, adjacency));

@@ -10,8 +10,7 @@
 
 namespace dipc {
 
-SurfaceOwners assign_surface_owners(const SurfaceMesh& surface,
-                                    const std::vector<int>& element_part) {
+SurfaceOwners assign_surface_owners(const SurfaceMesh& surface, const std::vector<int>& element_part) {
   SurfaceOwners owners;
   owners.triangle.resize(surface.triangles.size());
   owners.edge.assign(surface.edges.size(), INT_MAX);
@@ -19,9 +18,9 @@ SurfaceOwners assign_surface_owners(const SurfaceMesh& surface,
   for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
     const std::int64_t element = surface.quads[t / 2].element;
     if (element < 0 || static_cast<std::size_t>(element) >= element_part.size()) {
-      throw PartitionError("assign_surface_owners: surface triangle " + std::to_string(t) +
-                           " belongs to element " + std::to_string(element) + " but only " +
-                           std::to_string(element_part.size()) + " elements have a part");
+      throw PartitionError("assign_surface_owners: surface triangle " + std::to_string(t) + " belongs to element " +
+                           std::to_string(element) + " but only " + std::to_string(element_part.size()) +
+                           " elements have a part");
     }
     const int part = element_part[static_cast<std::size_t>(element)];
     owners.triangle[t] = part;

@@ -25,7 +25,6 @@ struct SurfaceOwners {
 
 // `element_part` holds the part of every element of the mesh `surface` was built from.
 // Throws PartitionError when an element of a quad has no part in element_part.
-SurfaceOwners assign_surface_owners(const SurfaceMesh& surface,
-                                    const std::vector<int>& element_part);
+SurfaceOwners assign_surface_owners(const SurfaceMesh& surface, const std::vector<int>& element_part);
 
 }  // namespace dipc

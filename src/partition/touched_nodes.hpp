@@ -62,11 +62,13 @@ class TouchedNodes {
     index_.assign(static_cast<std::size_t>(span), -1);
     parallel_for(count, [&](std::size_t begin, std::size_t end) {
       for (std::size_t e = begin; e < end; ++e)
-        for (std::int64_t n : hex_of(e)) __atomic_store_n(&index_[static_cast<std::size_t>(n - lowest)], 0, __ATOMIC_RELAXED);
+        for (std::int64_t n : hex_of(e))
+          __atomic_store_n(&index_[static_cast<std::size_t>(n - lowest)], 0, __ATOMIC_RELAXED);
     });
     std::vector<std::size_t> first(static_cast<std::size_t>(host_threads()), 0);
     const int chunks = parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {
-      first[static_cast<std::size_t>(c)] = static_cast<std::size_t>(std::count(index_.begin() + begin, index_.begin() + end, 0));
+      first[static_cast<std::size_t>(c)] = static_cast<std::size_t>(
+          std::count(index_.begin() + begin, index_.begin() + end, 0));
     });
     ids_.resize(chunk_starts(first, chunks)[0]);
     parallel_chunks(index_.size(), [&](int c, std::size_t begin, std::size_t end) {

@@ -4,10 +4,10 @@
 // (Gmsh/VTK node order, see mesh/hex_mesh.hpp); gradients have 24 entries (element dof
 // 3a + i), Hessians are 24x24 row-major.
 #pragma once
-#include "physics/materials.hpp"
-#include "math/small_matrix.hpp"
 #include "math/host_device.hpp"
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
+#include "physics/materials.hpp"
 
 namespace dipc {
 
@@ -73,8 +73,8 @@ DIPC_HD void finish_hessian(const double Hc[576], double hessian[576]) {
     for (int k = 0; k < 3; ++k)
       for (int b = 0; b < 8; ++b)
         for (int l = 0; l < 3; ++l)
-          hessian[24 * (3 * a + k) + 3 * b + l] =
-              0.5 * (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
+          hessian[24 * (3 * a + k) + 3 * b + l] = 0.5 *
+                                                  (Hc[24 * (8 * k + a) + 8 * l + b] + Hc[24 * (8 * l + b) + 8 * k + a]);
 }
 
 // Psi_e = sum_q w_q |det J0_q| psi(F_q) with psi the Material's energy at each of the 2x2x2
@@ -135,8 +135,8 @@ DIPC_HD bool hex8_element_exact_hessian(const double X[24], const double x[24], 
 }
 
 // The neo-Hookean element (the default material).
-DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu,
-                              double* energy, double* gradient, double* hessian) {
+DIPC_HD bool hex8_neo_hookean(const double X[24], const double x[24], double lambda, double mu, double* energy,
+                              double* gradient, double* hessian) {
   return hex8_element<NeoHookean>(X, x, lambda, mu, energy, gradient, hessian);
 }
 

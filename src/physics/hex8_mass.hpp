@@ -4,8 +4,8 @@
 // (constant det J0) and the usual reduced-order approximation otherwise. Host/device point
 // functions; node reference coordinates X[3a + i].
 #pragma once
-#include "math/small_matrix.hpp"
 #include "math/host_device.hpp"
+#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 
 namespace dipc {

@@ -21,11 +21,11 @@
 // isotropic energy psi_dev + p J, p frozen) through its analytic eigensystem, and drops the
 // rank-one term when f'' < 0 (Jbar > e): a sum of PSD parts, as the standard element does.
 #pragma once
+#include "math/host_device.hpp"
+#include "math/small_matrix.hpp"
 #include "physics/hex8_elasticity.hpp"
 #include "physics/materials.hpp"
 #include "physics/neo_hookean.hpp"
-#include "math/small_matrix.hpp"
-#include "math/host_device.hpp"
 
 namespace dipc {
 
@@ -39,8 +39,7 @@ DIPC_HD void mean_dilatation_eigensystem(const double F[9], double mu, double p,
   rotation_variant_svd(F, es->U, es->sigma, es->V);
   const double* s = es->sigma;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      es->scaling_hessian[3 * i + j] = i == j ? mu + mu / (s[i] * s[i]) : p * s[3 - i - j];
+    for (int j = 0; j < 3; ++j) es->scaling_hessian[3 * i + j] = i == j ? mu + mu / (s[i] * s[i]) : p * s[3 - i - j];
   int m = 0;
   for (int i = 0; i < 2; ++i)
     for (int j = i + 1; j < 3; ++j, m += 2) {
@@ -60,7 +59,8 @@ DIPC_HD void mean_dilatation_point_tangent(const double F[9], double mu, double 
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k)
         for (int l = 0; l < 3; ++l)
-          dPdF[9 * (3 * i + j) + 3 * k + l] += pJ * (Finv[3 * j + i] * Finv[3 * l + k] - Finv[3 * j + k] * Finv[3 * l + i]);
+          dPdF[9 * (3 * i + j) + 3 * k + l] += pJ *
+                                               (Finv[3 * j + i] * Finv[3 * l + k] - Finv[3 * j + k] * Finv[3 * l + i]);
 }
 
 namespace detail {

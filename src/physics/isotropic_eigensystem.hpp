@@ -12,9 +12,9 @@
 #pragma once
 #include <cmath>
 
+#include "math/host_device.hpp"
 #include "math/small_matrix.hpp"
 #include "math/symmetric_eigen.hpp"
-#include "math/host_device.hpp"
 
 namespace dipc {
 
@@ -42,8 +42,7 @@ DIPC_HD void rotation_variant_svd(const double F[9], double U[9], double sigma[3
   for (int i = 0; i < 3; ++i) u1[i] = B[3 * i + 1] - d01 * u0[i];
   const double n1 = sqrt(u1[0] * u1[0] + u1[1] * u1[1] + u1[2] * u1[2]);
   for (int i = 0; i < 3; ++i) u1[i] /= n1;
-  const double u2[3] = {u0[1] * u1[2] - u0[2] * u1[1], u0[2] * u1[0] - u0[0] * u1[2],
-                        u0[0] * u1[1] - u0[1] * u1[0]};
+  const double u2[3] = {u0[1] * u1[2] - u0[2] * u1[1], u0[2] * u1[0] - u0[0] * u1[2], u0[0] * u1[1] - u0[1] * u1[0]};
   for (int i = 0; i < 3; ++i) {
     U[3 * i + 0] = u0[i];
     U[3 * i + 1] = u1[i];

@@ -14,10 +14,10 @@
 // runtime id into that parameter. Adding a material: its header with the struct, an
 // enumerator, a case in visit_material and a name in material_model_name.
 #pragma once
+#include "math/host_device.hpp"
 #include "physics/isotropic_eigensystem.hpp"
 #include "physics/neo_hookean.hpp"
 #include "physics/stable_neo_hookean.hpp"
-#include "math/host_device.hpp"
 
 namespace dipc {
 
@@ -40,22 +40,18 @@ enum class MaterialModel : unsigned char { neo_hookean = 0, stable_neo_hookean =
 template <class Visitor>
 DIPC_HD auto visit_material(MaterialModel model, Visitor&& visitor) {
   switch (model) {
-    case MaterialModel::stable_neo_hookean:
-      return visitor(StableNeoHookean{});
+    case MaterialModel::stable_neo_hookean: return visitor(StableNeoHookean{});
     case MaterialModel::neo_hookean:
-    default:
-      return visitor(NeoHookean{});
+    default: return visitor(NeoHookean{});
   }
 }
 
 // The scene file's name of each model ("neo_hookean", "stable_neo_hookean").
 inline const char* material_model_name(MaterialModel model) {
   switch (model) {
-    case MaterialModel::stable_neo_hookean:
-      return "stable_neo_hookean";
+    case MaterialModel::stable_neo_hookean: return "stable_neo_hookean";
     case MaterialModel::neo_hookean:
-    default:
-      return "neo_hookean";
+    default: return "neo_hookean";
   }
 }
 

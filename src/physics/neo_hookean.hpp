@@ -8,10 +8,10 @@
 #pragma once
 #include <cmath>
 
-#include "physics/isotropic_eigensystem.hpp"
+#include "math/host_device.hpp"
 #include "math/small_matrix.hpp"
 #include "math/symmetric_eigen.hpp"
-#include "math/host_device.hpp"
+#include "physics/isotropic_eigensystem.hpp"
 
 namespace dipc {
 
@@ -69,8 +69,8 @@ DIPC_HD void neo_hookean_eigensystem(const double F[9], double lambda, double mu
   const double c = lambda * log_J - mu;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      es->scaling_hessian[3 * i + j] =
-          i == j ? mu + (lambda * (1.0 - log_J) + mu) / (s[i] * s[i]) : lambda / (s[i] * s[j]);
+      es->scaling_hessian[3 * i + j] = i == j ? mu + (lambda * (1.0 - log_J) + mu) / (s[i] * s[i])
+                                              : lambda / (s[i] * s[j]);
   int m = 0;
   for (int i = 0; i < 2; ++i)
     for (int j = i + 1; j < 3; ++j, m += 2) {

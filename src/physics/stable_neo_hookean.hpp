@@ -15,9 +15,9 @@
 #pragma once
 #include <cmath>
 
-#include "physics/isotropic_eigensystem.hpp"
-#include "math/small_matrix.hpp"
 #include "math/host_device.hpp"
+#include "math/small_matrix.hpp"
+#include "physics/isotropic_eigensystem.hpp"
 
 namespace dipc {
 

@@ -105,7 +105,8 @@ PetscErrorCode IncrementalPotential::rebuild_exchange() {
   PetscFunctionBeginUser;
   local_to_global_ = mesh_->local_to_global;
   for (auto& form : forms_)
-    if (const auto* extra = form->extra_nodes()) local_to_global_.insert(local_to_global_.end(), extra->begin(), extra->end());
+    if (const auto* extra = form->extra_nodes())
+      local_to_global_.insert(local_to_global_.end(), extra->begin(), extra->end());
   PetscCall(exchange_.setup(comm_, mesh_->num_owned_nodes, local_to_global_, mesh_->num_global_nodes, 3));
   PetscCall(VecDestroy(&x_local_));
   PetscCall(VecDestroy(&g_local_));
@@ -183,7 +184,7 @@ PetscErrorCode IncrementalPotential::all_ranks(bool ok, PetscBool* all) {
 }
 
 PetscErrorCode IncrementalPotential::partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
-                                                     bool keep_prescribed) {
+                                                      bool keep_prescribed) {
   PetscFunctionBeginUser;
   ScopedEvent timer(log_events().gradient, &times_.gradient);
   PetscCall(gather(x));
@@ -428,8 +429,7 @@ void IncrementalPotential::segment_point(PetscReal alpha) {
   // Rounded as VecWAXPY rounds w = αp + x: one product, one sum, no fused multiply-add.
   for (std::size_t k = 0; k < seg_w_host_.size(); ++k) seg_w_host_[k] = alpha * seg_p_host_[k] + seg_x_host_[k];
   if (uses(MemorySpace::device))
-    device::axpy_into(seg_w_device_.data(), seg_x_device_.data(), alpha, seg_p_device_.data(),
-                      seg_w_device_.size());
+    device::axpy_into(seg_w_device_.data(), seg_x_device_.data(), alpha, seg_p_device_.data(), seg_w_device_.size());
 }
 
 PetscErrorCode IncrementalPotential::segment_objective(PetscReal alpha, PetscReal* energy) {

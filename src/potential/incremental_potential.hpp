@@ -41,12 +41,12 @@ namespace dipc {
 // subtract them all from a wall time that encloses them (the timing table's remainder).
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
-  double coo_insert = 0;      // summing duplicates and MatSetValuesCOO (part of hessian)
-  double preallocation = 0;   // making the matrix: CooReduction::build, MatSetPreallocationCOO
-  long preallocations = 0;    // how many times the pattern was set (1 at setup, then pattern changes)
-  double segment = 0;         // gathering a line-search segment's x and p where the forms evaluate
-  double neighbourhood = 0;   // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
-  double max_step = 0;        // forms' max_step (CCD); zero without a form that limits the step
+  double coo_insert = 0;     // summing duplicates and MatSetValuesCOO (part of hessian)
+  double preallocation = 0;  // making the matrix: CooReduction::build, MatSetPreallocationCOO
+  long preallocations = 0;   // how many times the pattern was set (1 at setup, then pattern changes)
+  double segment = 0;        // gathering a line-search segment's x and p where the forms evaluate
+  double neighbourhood = 0;  // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
+  double max_step = 0;       // forms' max_step (CCD); zero without a form that limits the step
 };
 // after − before, field by field (the counts too).
 EvaluationTimes operator-(const EvaluationTimes& after, const EvaluationTimes& before);
@@ -67,8 +67,7 @@ class IncrementalPotential {
   // nodal (optional): a set-up exchange of the mesh's nodes with 3 values per node, shared
   // instead of building the same scatter again.
   PetscErrorCode setup(const DistributedMesh& mesh, std::vector<std::unique_ptr<Form>> forms,
-                       std::vector<char> dirichlet_dof,
-                       const GhostExchange* nodal = nullptr);
+                       std::vector<char> dirichlet_dof, const GhostExchange* nodal = nullptr);
   // A matrix with the combined COO pattern preallocated (type from -mat_type, default aij).
   // The potential keeps a reference to re-preallocate it when a pattern changes.
   PetscErrorCode create_matrix(Mat* J);
@@ -124,8 +123,8 @@ class IncrementalPotential {
   const EvaluationTimes& times() const { return times_; }
 
  private:
-  PetscErrorCode gather(Vec x);                    // x -> x_local_
-  PetscErrorCode assemble_hessian(Vec x, Mat J);   // hessian() without its timer
+  PetscErrorCode gather(Vec x);                   // x -> x_local_
+  PetscErrorCode assemble_hessian(Vec x, Mat J);  // hessian() without its timer
   bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
   // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
   bool local_values(const double* x_host, const double* x_device, double* values);
@@ -139,25 +138,25 @@ class IncrementalPotential {
   void segment_point(PetscReal alpha);
   // Hessian values of every form at x, written where the assembler takes them.
   bool assemble_values(LocalViews& x);
-  PetscErrorCode rebuild_exchange();               // after the forms' extra nodes changed
-  PetscErrorCode prepare_segment(Vec x, Vec p);    // update_extra_nodes / prepare_segment loop
+  PetscErrorCode rebuild_exchange();             // after the forms' extra nodes changed
+  PetscErrorCode prepare_segment(Vec x, Vec p);  // update_extra_nodes / prepare_segment loop
 
   MPI_Comm comm_ = MPI_COMM_NULL;
   const DistributedMesh* mesh_ = nullptr;
   GhostExchange exchange_;
   std::vector<std::int64_t> local_to_global_;  // mesh local nodes, then the forms' extra nodes
   std::vector<std::unique_ptr<Form>> forms_;
-  std::vector<char> dirichlet_dof_;            // over local_to_global_ (3 per node)
-  Vec dirichlet_global_ = nullptr;             // 1 at prescribed dofs, to flag extra nodes
+  std::vector<char> dirichlet_dof_;  // over local_to_global_ (3 per node)
+  Vec dirichlet_global_ = nullptr;   // 1 at prescribed dofs, to flag extra nodes
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
   HessianAssembler assembler_;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
   LocalViews x_views_;
-  Vec dirichlet_keep_ = nullptr;               // 0 at prescribed owned dofs, 1 elsewhere
-  std::vector<double> g_host_;                 // gradient scratch of host forms (device Vec)
-  device::Array<double> g_device_{"gradient"}; // gradient scratch of device forms (host Vec)
+  Vec dirichlet_keep_ = nullptr;                // 0 at prescribed owned dofs, 1 elsewhere
+  std::vector<double> g_host_;                  // gradient scratch of host forms (device Vec)
+  device::Array<double> g_device_{"gradient"};  // gradient scratch of device forms (host Vec)
   // The segment x + αp of the last max_step, in the spaces the forms use, and its trial point.
   std::vector<double> seg_x_host_, seg_p_host_, seg_w_host_;
   device::Array<double> seg_x_device_{"segment start"}, seg_p_device_{"segment direction"},

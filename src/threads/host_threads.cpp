@@ -14,7 +14,7 @@ namespace dipc {
 namespace {
 int threads_for_loops = 1;
 std::size_t grain_cap = 0;
-}
+}  // namespace
 
 int host_threads() { return threads_for_loops; }
 

@@ -38,7 +38,8 @@ std::vector<std::size_t> chunk_starts(std::vector<std::size_t>& count, int chunk
 // parallel_chunks for a body that does not need its chunk's index.
 inline void parallel_for(std::size_t n, const std::function<void(std::size_t begin, std::size_t end)>& body,
                          std::size_t grain = 4096) {
-  parallel_chunks(n, [&body](int, std::size_t begin, std::size_t end) { body(begin, end); }, grain);
+  parallel_chunks(
+      n, [&body](int, std::size_t begin, std::size_t end) { body(begin, end); }, grain);
 }
 
 // The items that body(begin, end, out) appends to `out` for the chunks of [0, n), joined in
@@ -47,7 +48,8 @@ template <class T, class Body>
 std::vector<T> parallel_collect(std::size_t n, Body body, std::size_t grain = 4096) {
   std::vector<std::vector<T>> parts(static_cast<std::size_t>(host_threads()));
   const int chunks = parallel_chunks(
-      n, [&](int c, std::size_t begin, std::size_t end) { body(begin, end, parts[static_cast<std::size_t>(c)]); }, grain);
+      n, [&](int c, std::size_t begin, std::size_t end) { body(begin, end, parts[static_cast<std::size_t>(c)]); },
+      grain);
   if (chunks == 1) return std::move(parts[0]);
   std::size_t total = 0;
   for (int c = 0; c < chunks; ++c) total += parts[static_cast<std::size_t>(c)].size();

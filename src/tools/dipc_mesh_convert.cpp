@@ -21,10 +21,12 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int status = 0;
   try {
-    if (argc != 3) throw std::runtime_error("expected 2 arguments, got " + std::to_string(argc - 1) +
-                                            "\nusage: dipc-mesh-convert INPUT.msh OUTPUT.h5");
+    if (argc != 3)
+      throw std::runtime_error("expected 2 arguments, got " + std::to_string(argc - 1) +
+                               "\nusage: dipc-mesh-convert INPUT.msh OUTPUT.h5");
     if (!dipc::is_hdf5_mesh_path(argv[2]))
-      throw std::runtime_error(std::string("the output '") + argv[2] + "' must end in .h5 or .hdf5 (scenes read "
+      throw std::runtime_error(std::string("the output '") + argv[2] +
+                               "' must end in .h5 or .hdf5 (scenes read "
                                "other names as Gmsh files)");
     dipc::convert_gmsh_to_mesh_file(MPI_COMM_WORLD, argv[1], argv[2]);
   } catch (const std::exception& e) {

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "math/small_matrix.hpp"
 #include "mesh/boundary_faces.hpp"
 #include "mesh/closed_surface.hpp"
 #include "mesh/gmsh_writer.hpp"
-#include "math/small_matrix.hpp"
 #include "mesh/hex8_reference.hpp"
 #include "mesh/mesh_checks.hpp"
 #include "mesh/mesh_error.hpp"
@@ -31,14 +31,13 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: dipc-voxelize INPUT.obj|stl OUTPUT.msh (--resolution N | --cell-size H)\n"
-    "                     [--group NAME XMIN YMIN ZMIN XMAX YMAX ZMAX]... [--snap]\n"
-    "  --resolution N  N cells along the longest side of the surface's bounding box\n"
-    "  --cell-size H   cells of edge H\n"
-    "  --group ...     physical surface NAME: the boundary quads inside the box\n"
-    "  --snap          move boundary nodes onto the surface as far as every element keeps\n"
-    "                  det J >= 0.1 h^3/8 at its corners and Gauss points\n";
+constexpr const char* kUsage = "usage: dipc-voxelize INPUT.obj|stl OUTPUT.msh (--resolution N | --cell-size H)\n"
+                               "                     [--group NAME XMIN YMIN ZMIN XMAX YMAX ZMAX]... [--snap]\n"
+                               "  --resolution N  N cells along the longest side of the surface's bounding box\n"
+                               "  --cell-size H   cells of edge H\n"
+                               "  --group ...     physical surface NAME: the boundary quads inside the box\n"
+                               "  --snap          move boundary nodes onto the surface as far as every element keeps\n"
+                               "                  det J >= 0.1 h^3/8 at its corners and Gauss points\n";
 
 struct BoxGroup {
   std::string name;
@@ -53,9 +52,7 @@ struct Arguments {
   bool snap = false;
 };
 
-[[noreturn]] void usage_error(const std::string& what) {
-  throw std::invalid_argument(what + "\n" + kUsage);
-}
+[[noreturn]] void usage_error(const std::string& what) { throw std::invalid_argument(what + "\n" + kUsage); }
 
 double number(const std::string& text, const std::string& option) {
   char* end = nullptr;
@@ -108,8 +105,7 @@ Arguments parse(int argc, char** argv) {
   if (positional.size() != 2) usage_error("expected an input surface and an output .msh file");
   a.input = positional[0];
   a.output = positional[1];
-  if ((a.resolution > 0) == (a.cell_size > 0))
-    usage_error("give exactly one of --resolution and --cell-size");
+  if ((a.resolution > 0) == (a.cell_size > 0)) usage_error("give exactly one of --resolution and --cell-size");
   return a;
 }
 
@@ -141,8 +137,7 @@ int run(const Arguments& a) {
   }
   for (std::size_t g = 1; g < groups.size(); ++g)
     if (groups[g].quads.empty())
-      throw MeshError("--group " + groups[g].name +
-                      ": no boundary face of the mesh lies in its box");
+      throw MeshError("--group " + groups[g].name + ": no boundary face of the mesh lies in its box");
   std::string snapped;
   if (a.snap) {
     const SnapStatistics st = snap_to_surface(mesh, surface, grid.h);
@@ -151,15 +146,13 @@ int run(const Arguments& a) {
                   "; snapped %lld of %lld boundary nodes, %lld part of the way, %lld not moved, "
                   "min det J %.3f h^3/8",
                   static_cast<long long>(st.moved), static_cast<long long>(st.boundary_nodes),
-                  static_cast<long long>(st.backed_off), static_cast<long long>(st.not_moved),
-                  st.min_det_ratio);
+                  static_cast<long long>(st.backed_off), static_cast<long long>(st.not_moved), st.min_det_ratio);
     snapped = line;
   }
   check_mesh(mesh, a.output);
   write_gmsh(a.output, mesh, "solid", groups);
 
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double cell_volume = grid.h * grid.h * grid.h;
   double meshed = 0;
   if (a.snap) {
@@ -180,16 +173,13 @@ int run(const Arguments& a) {
     meshed = static_cast<double>(mesh.hexes.size()) * cell_volume;
   }
   const double enclosed = std::abs(signed_enclosed_volume(surface));
-  std::printf(
-      "dipc-voxelize: %s: %zu triangles; grid %lld x %lld x %lld, cell size %.6g; %zu hexahedra, "
-      "%zu nodes, %zu boundary quads; volume %.6g (surface encloses %.6g, %+.3f%%); %lld cells "
-      "decided by the solid-angle sum%s; %.2f s -> %s\n",
-      a.input.c_str(), surface.triangles.size(), static_cast<long long>(grid.cells[0]),
-      static_cast<long long>(grid.cells[1]), static_cast<long long>(grid.cells[2]), grid.h,
-      mesh.hexes.size(), mesh.nodes.size(), groups[0].quads.size(), meshed, enclosed,
-      100 * (meshed - enclosed) / enclosed,
-      static_cast<long long>(classification.solid_angle_cells), snapped.c_str(), seconds,
-      a.output.c_str());
+  std::printf("dipc-voxelize: %s: %zu triangles; grid %lld x %lld x %lld, cell size %.6g; %zu hexahedra, "
+              "%zu nodes, %zu boundary quads; volume %.6g (surface encloses %.6g, %+.3f%%); %lld cells "
+              "decided by the solid-angle sum%s; %.2f s -> %s\n",
+              a.input.c_str(), surface.triangles.size(), static_cast<long long>(grid.cells[0]),
+              static_cast<long long>(grid.cells[1]), static_cast<long long>(grid.cells[2]), grid.h, mesh.hexes.size(),
+              mesh.nodes.size(), groups[0].quads.size(), meshed, enclosed, 100 * (meshed - enclosed) / enclosed,
+              static_cast<long long>(classification.solid_angle_cells), snapped.c_str(), seconds, a.output.c_str());
   return 0;
 }
 

@@ -6,10 +6,9 @@
 // uses METIS, then PT-Scotch.
 #include <gtest/gtest.h>
 
-
 #include "app/simulation.hpp"
-#include "partition/slice_partition.hpp"
 #include "displacement_difference.hpp"
+#include "partition/slice_partition.hpp"
 
 namespace dipc {
 namespace {
@@ -47,8 +46,8 @@ void default_scene_matches_one_rank(const char* partitioner) {
     zero.setup_only = true;
     ASSERT_EQ(run_scene(scene, self, zero, &reference), 0);
     const DisplacementDifference d = displacement_difference(serial, parallel, reference);
-    std::printf("contact, %s, ranks %d vs 1: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", partitioner, size,
-                d.max_difference, d.max_displacement, d.relative());
+    std::printf("contact, %s, ranks %d vs 1: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", partitioner,
+                size, d.max_difference, d.max_displacement, d.relative());
     EXPECT_GT(d.max_displacement, 1e-2);
     EXPECT_LE(d.relative(), 1e-6);
     MPI_Comm_free(&self);

@@ -17,8 +17,8 @@
 #include <string>
 
 #include "app/simulation.hpp"
-#include "displacement_difference.hpp"
 #include "device/device_runtime.hpp"
+#include "displacement_difference.hpp"
 #include "support/source_tree.hpp"
 
 namespace dipc {
@@ -35,7 +35,8 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
   // obstacle_valley_slide (test data) has a moving triangle-mesh obstacle.
   const bool test_data = name == "rubber_drop_md" || name == "rubber_drop_snh" || name == "obstacle_valley_slide";
   const std::string dir = test_data ? "/tests/app/data/" : "/scenes/";
-  const Scene scene = name == "default" ? default_scene() : parse_scene_file(dipc::test::source_dir() + dir + name + ".json");
+  const Scene scene = name == "default" ? default_scene()
+                                        : parse_scene_file(dipc::test::source_dir() + dir + name + ".json");
   PetscOptionsSetValue(nullptr, "-ksp_rtol", "1e-12");
   PetscOptionsSetValue(nullptr, "-ksp_max_it", "5000");
   RunOptions options;
@@ -76,8 +77,9 @@ TEST_P(GpuTrajectory, TwentyStepsMatchTheCpu) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ContactScenes, GpuTrajectory,
-                         ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze", "rubber_drop_md",
-                                           "rubber_drop_snh", "box_on_obj_ramp", "obstacle_valley_slide"),
+                         ::testing::Values("default", "boxes_drop", "friction_stack", "roller_squeeze",
+                                           "rubber_drop_md", "rubber_drop_snh", "box_on_obj_ramp",
+                                           "obstacle_valley_slide"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

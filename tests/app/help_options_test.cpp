@@ -81,7 +81,8 @@ TEST_F(HelpOptions, PrintsAndExits) {
   EXPECT_EQ(help_->status, 0) << help_->output;
   // No run: no step line, no run header, no timing table, no output written.
   for (const char* run_text : {"step     1", "dipc 0.1.0 |", "phase (max over ranks)", "steps written to"})
-    EXPECT_EQ(help_->output.find(run_text), std::string::npos) << "-help printed '" << run_text << "':\n" << help_->output;
+    EXPECT_EQ(help_->output.find(run_text), std::string::npos) << "-help printed '" << run_text << "':\n"
+                                                               << help_->output;
   // PETSc's own options are listed too: the solvers were set up.
   for (const char* petsc : {"-snes_type", "-ksp_type", "-pc_type"})
     EXPECT_NE(help_->output.find(petsc), std::string::npos) << petsc;
@@ -94,7 +95,8 @@ TEST_F(HelpOptions, ListsEveryOptionTheSourcesAndTheTableName) {
   for (const dipc::OptionSpec& spec : dipc::kDipcOptions) in_table.insert(spec.name);
   // The scan is not vacuous: it finds the table's rows (dipc_options.hpp is under src/) and the
   // messages that name options.
-  EXPECT_TRUE(in_sources.count("-dipc_steps") && in_sources.count("-dipc_pc_reuse") && in_sources.size() >= in_table.size());
+  EXPECT_TRUE(in_sources.count("-dipc_steps") && in_sources.count("-dipc_pc_reuse") &&
+              in_sources.size() >= in_table.size());
   for (const std::string& name : in_sources) {
     EXPECT_TRUE(listed.count(name)) << name << " appears in src/ but not in -help";
     EXPECT_TRUE(in_table.count(name)) << name << " appears in src/ but has no row in options/dipc_options.hpp";

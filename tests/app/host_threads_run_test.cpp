@@ -85,7 +85,8 @@ TEST(HostThreadsRun, SameIntersectionReportOnOneAndFourThreads) {
 // A byte mask of CPUs [first, first + count).
 std::vector<unsigned char> cpus(int first, int count) {
   std::vector<unsigned char> mask(16, 0);
-  for (int c = first; c < first + count; ++c) mask[static_cast<std::size_t>(c / 8)] |= static_cast<unsigned char>(1u << (c % 8));
+  for (int c = first; c < first + count; ++c)
+    mask[static_cast<std::size_t>(c / 8)] |= static_cast<unsigned char>(1u << (c % 8));
   return mask;
 }
 

@@ -8,11 +8,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <iterator>
-#include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -49,9 +49,9 @@ Outcome run_dipc(const std::string& scene, const std::string& extra = "", int ra
 }
 
 struct BadInput {
-  const char* name;   // the test's name
-  std::string scene;  // under tests/app/data/, or generated_dir
-  std::string extra;  // more arguments
+  const char* name;                   // the test's name
+  std::string scene;                  // under tests/app/data/, or generated_dir
+  std::string extra;                  // more arguments
   std::vector<std::string> expected;  // substrings of the message
 };
 
@@ -77,8 +77,10 @@ class BadCheckpoints : public ::testing::Environment {
  public:
   void SetUp() override {
     std::filesystem::remove_all(bad_dir);
-    const std::string cmd = std::string(DIPC_BINARY) + " " + data_dir + "small_box.json -dipc_quiet -dipc_steps 1 "
-                            "-dipc_checkpoint_every 1 -dipc_output " + bad_dir + "/run > /dev/null 2>&1";
+    const std::string cmd = std::string(DIPC_BINARY) + " " + data_dir +
+                            "small_box.json -dipc_quiet -dipc_steps 1 "
+                            "-dipc_checkpoint_every 1 -dipc_output " +
+                            bad_dir + "/run > /dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const std::string good = read_bytes(good_checkpoint);
     ASSERT_GT(good.size(), 1000u);
@@ -106,14 +108,17 @@ class BadCheckpoints : public ::testing::Environment {
   }
 };
 
-[[maybe_unused]] ::testing::Environment* const bad_checkpoints = ::testing::AddGlobalTestEnvironment(new BadCheckpoints);
+[[maybe_unused]] ::testing::Environment* const bad_checkpoints = ::testing::AddGlobalTestEnvironment(
+    new BadCheckpoints);
 
 // A one-body scene: `body` is the body's source ("box": {...} or "mesh": "..."), `dt` the step,
 // `more` further top-level keys (with their leading comma).
 std::string one_body_scene(const std::string& body, const std::string& dt = "0.01", const std::string& more = "") {
   return R"({"materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
-  "geometry": [{"name": "block", )" + body + R"(, "material": "rubber"}],
-  "boundary_conditions": {"gravity": [0, 0, -9.81]}, "time": {"dt": )" + dt + R"(, "steps": 2})" + more + "}\n";
+  "geometry": [{"name": "block", )" +
+         body + R"(, "material": "rubber"}],
+  "boundary_conditions": {"gravity": [0, 0, -9.81]}, "time": {"dt": )" +
+         dt + R"(, "steps": 2})" + more + "}\n";
 }
 
 void write_text(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::trunc) << text; }
@@ -149,8 +154,10 @@ class GeneratedInputs : public ::testing::Environment {
     const std::string box = R"("box": {"size": [0.2, 0.1, 0.1], "resolution": [2, 1, 1]})";
     write_text(generated_dir + "directory_msh.json", one_body_scene(R"("mesh": "dir.msh")"));
     write_text(generated_dir + "directory_h5.json", one_body_scene(R"("mesh": "dir.h5")"));
-    write_text(generated_dir + "directory_obj.json",
-               one_body_scene(box, "0.01", R"(, "contact": {"enabled": true, "obstacles": [{"name": "floor", "mesh": "dir.obj"}]})"));
+    write_text(
+        generated_dir + "directory_obj.json",
+        one_body_scene(box, "0.01",
+                       R"(, "contact": {"enabled": true, "obstacles": [{"name": "floor", "mesh": "dir.obj"}]})"));
     write_nan_y_mesh(generated_dir + "nan_y.h5");
     write_text(generated_dir + "nan_y_hdf5.json", one_body_scene(R"("mesh": "nan_y.h5")"));
     write_text(generated_dir + "tiny_dt.json", one_body_scene(box, "1e-300"));
@@ -164,7 +171,8 @@ class GeneratedInputs : public ::testing::Environment {
   }
 };
 
-[[maybe_unused]] ::testing::Environment* const generated_inputs = ::testing::AddGlobalTestEnvironment(new GeneratedInputs);
+[[maybe_unused]] ::testing::Environment* const generated_inputs = ::testing::AddGlobalTestEnvironment(
+    new GeneratedInputs);
 
 class InputErrors : public ::testing::TestWithParam<std::tuple<BadInput, int>> {};
 
@@ -173,7 +181,8 @@ TEST_P(InputErrors, ExitOneWithAClearMessage) {
   const Outcome o = run_dipc(c.scene, c.extra, ranks);
   EXPECT_EQ(o.status, 1) << o.output;
   EXPECT_NE(o.output.find("dipc: error: "), std::string::npos) << o.output;
-  for (const auto& s : c.expected) EXPECT_NE(o.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << o.output;
+  for (const auto& s : c.expected)
+    EXPECT_NE(o.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << o.output;
   EXPECT_EQ(o.output.find("PETSC ERROR"), std::string::npos) << o.output;
 }
 
@@ -189,101 +198,176 @@ INSTANTIATE_TEST_SUITE_P(
             BadInput{"nan_mesh", "nan_mesh.json", "", {"nan_coordinate.msh", "node 1"}},
             BadInput{"missing_mesh", "missing_mesh.json", "", {"missing.msh"}},
             BadInput{"inverted_hdf5_mesh", "inverted_hdf5_mesh.json", "", {"inverted_hex.h5", "element 1", "inverted"}},
-            BadInput{"bad_topology_hdf5_mesh", "bad_topology_mesh.json", "",
+            BadInput{"bad_topology_hdf5_mesh",
+                     "bad_topology_mesh.json",
+                     "",
                      {"bad_topology.h5", "/mesh/topology", "4 columns, expected 8"}},
-            BadInput{"missing_hdf5_mesh", "missing_hdf5_mesh.json", "", {"missing_mesh.h5", "cannot open the mesh file"}},
+            BadInput{
+                "missing_hdf5_mesh", "missing_hdf5_mesh.json", "", {"missing_mesh.h5", "cannot open the mesh file"}},
             BadInput{"unknown_selection", "unknown_selection.json", "", {"unknown_selection.json", "cube.left"}},
             BadInput{"does_not_exist", "does_not_exist.json", "", {"does_not_exist.json"}},
             BadInput{"scene_is_a_directory", "", "", {"is a directory"}},
-            BadInput{"msh_mesh_is_a_directory", generated_dir + "directory_msh.json", "",
+            BadInput{"msh_mesh_is_a_directory",
+                     generated_dir + "directory_msh.json",
+                     "",
                      {"directory_msh.json: geometry[0].mesh: ", "dir.msh: is a directory"}},
-            BadInput{"hdf5_mesh_is_a_directory", generated_dir + "directory_h5.json", "",
+            BadInput{"hdf5_mesh_is_a_directory",
+                     generated_dir + "directory_h5.json",
+                     "",
                      {"directory_h5.json: geometry[0].mesh: ", "dir.h5: is a directory"}},
-            BadInput{"obstacle_is_a_directory", generated_dir + "directory_obj.json", "",
+            BadInput{"obstacle_is_a_directory",
+                     generated_dir + "directory_obj.json",
+                     "",
                      {"directory_obj.json: contact.obstacles[0].mesh: ", "dir.obj: is a directory"}},
-            BadInput{"nan_y_hdf5_mesh", generated_dir + "nan_y_hdf5.json", "",
+            BadInput{"nan_y_hdf5_mesh",
+                     generated_dir + "nan_y_hdf5.json",
+                     "",
                      {"nan_y.h5: node 2 has a non-finite y coordinate"}},
-            BadInput{"huge_box", generated_dir + "huge_box.json", "",
+            BadInput{"huge_box",
+                     generated_dir + "huge_box.json",
+                     "",
                      {"huge_box.json: geometry[0].box.resolution [100000, 100000, 100000] gives 1000000000000000 "
-                      "elements, needing about", "GB available"}},
-            BadInput{"big_box", generated_dir + "big_box.json", "",
+                      "elements, needing about",
+                      "GB available"}},
+            BadInput{"big_box",
+                     generated_dir + "big_box.json",
+                     "",
                      {"big_box.json: geometry[0].box.resolution [1300, 1300, 1300] gives 2197000000 elements"}},
-            BadInput{"huge_refine", "small_box.json", "-dipc_refine 100000",
+            BadInput{"huge_refine",
+                     "small_box.json",
+                     "-dipc_refine 100000",
                      {"box.resolution [2, 1, 1] x -dipc_refine 100000 gives 2000000000000000 elements"}},
-            BadInput{"refine_overflows_int", "small_box.json", "-dipc_refine 2000000000",
+            BadInput{"refine_overflows_int",
+                     "small_box.json",
+                     "-dipc_refine 2000000000",
                      {"x -dipc_refine 2000000000 gives more than 2147483647 elements along an axis"}},
             BadInput{"tiny_dt", generated_dir + "tiny_dt.json", "", {"tiny_dt.json: time.dt = 1e-300: below 1e-10 s"}},
-            BadInput{"flat_box", generated_dir + "flat_box.json", "",
+            BadInput{"flat_box",
+                     generated_dir + "flat_box.json",
+                     "",
                      {"flat_box.json: geometry[0].box.size = [0.2,0.1,1e-30]: ", "are degenerate"}},
-            BadInput{"intersecting_bodies", "intersecting_bodies.json", "",
+            BadInput{"intersecting_bodies",
+                     "intersecting_bodies.json",
+                     "",
                      {"not intersection-free", "crosses triangle", "\"upper\"", "\"lower\""}},
-            BadInput{"touching_bodies", "touching_bodies.json", "",
+            BadInput{"touching_bodies",
+                     "touching_bodies.json",
+                     "",
                      {"not intersection-free", "touch", "\"upper\"", "\"lower\""}},
             BadInput{"nested_bodies", "nested_bodies.json", "", {"body \"inner\" lies inside body \"outer\""}},
-            BadInput{"obstacle_missing", "obstacle_missing.json", "",
+            BadInput{"obstacle_missing",
+                     "obstacle_missing.json",
+                     "",
                      {"obstacle_missing.json", "contact.obstacles[0].mesh", "missing_floor.obj", "cannot open"}},
-            BadInput{"obstacle_degenerate_face", "obstacle_degenerate.json", "",
+            BadInput{"obstacle_degenerate_face",
+                     "obstacle_degenerate.json",
+                     "",
                      {"contact.obstacles[0].mesh", "obstacle_degenerate.obj:10:", "degenerate triangle"}},
-            BadInput{"obstacle_degenerate_stl_facet", "obstacle_degenerate_stl.json", "",
+            BadInput{"obstacle_degenerate_stl_facet",
+                     "obstacle_degenerate_stl.json",
+                     "",
                      {"contact.obstacles[0].mesh", "obstacle_degenerate.stl: facet 1", "degenerate triangle"}},
-            BadInput{"obstacle_nan", "obstacle_nan.json", "",
+            BadInput{"obstacle_nan",
+                     "obstacle_nan.json",
+                     "",
                      {"contact.obstacles[0].mesh", "obstacle_nan.obj:4:", "non-finite"}},
-            BadInput{"obstacle_crossing", "obstacle_crossing.json", "",
-                     {"not intersection-free", "crosses triangle", "of obstacle \"floor\" (", "obstacle_floor.obj:", "\"cube\""}},
+            BadInput{"obstacle_crossing",
+                     "obstacle_crossing.json",
+                     "",
+                     {"not intersection-free", "crosses triangle", "of obstacle \"floor\" (",
+                      "obstacle_floor.obj:", "\"cube\""}},
             BadInput{"negative_steps", "small_box.json", "-dipc_steps -1", {"-dipc_steps -1"}},
             BadInput{"zero_steps", "small_box.json", "-dipc_steps 0", {"-dipc_steps 0"}},
             BadInput{"non_numeric_steps", "small_box.json", "-dipc_steps abc", {"-dipc_steps abc", "not an integer"}},
             BadInput{"half_steps", "small_box.json", "-dipc_steps 2.5", {"-dipc_steps 2.5", "not an integer"}},
-            BadInput{"steps_out_of_range", "small_box.json", "-dipc_steps 99999999999",
+            BadInput{"steps_out_of_range",
+                     "small_box.json",
+                     "-dipc_steps 99999999999",
                      {"-dipc_steps 99999999999: out of range (at most 2147483647)"}},
             BadInput{"zero_refine", "small_box.json", "-dipc_refine 0", {"-dipc_refine 0"}},
             BadInput{"negative_velocity_tol", "small_box.json", "-dipc_velocity_tol -1", {"-dipc_velocity_tol -1"}},
-            BadInput{"zero_velocity_tol_rel", "small_box.json", "-dipc_velocity_tol_rel 0", {"-dipc_velocity_tol_rel 0"}},
+            BadInput{
+                "zero_velocity_tol_rel", "small_box.json", "-dipc_velocity_tol_rel 0", {"-dipc_velocity_tol_rel 0"}},
             BadInput{"nan_velocity_tol", "small_box.json", "-dipc_velocity_tol nan", {"-dipc_velocity_tol nan"}},
-            BadInput{"negative_gpu_elements", "small_box.json", "-dipc_auto_gpu_elements -5",
+            BadInput{"negative_gpu_elements",
+                     "small_box.json",
+                     "-dipc_auto_gpu_elements -5",
                      {"-dipc_auto_gpu_elements -5"}},
-            BadInput{"unknown_backend", "small_box.json", "-dipc_backend foo", {"-dipc_backend foo", "cpu, cuda, auto"}},
-            BadInput{"unknown_preset", "small_box.json", "-dipc_preset quick",
+            BadInput{
+                "unknown_backend", "small_box.json", "-dipc_backend foo", {"-dipc_backend foo", "cpu, cuda, auto"}},
+            BadInput{"unknown_preset",
+                     "small_box.json",
+                     "-dipc_preset quick",
                      {"-dipc_preset quick", "fast, balanced, accurate"}},
             BadInput{"non_boolean_flag", "small_box.json", "-dipc_pc_reuse abc", {"-dipc_pc_reuse abc"}},
             // Raised inside the solver setup as PETSC_ERR_USER_INPUT (app/petsc_input_errors.hpp).
-            BadInput{"mixed_solve_without_mean_dilatation", "small_box.json", "-dipc_mixed_solve",
+            BadInput{"mixed_solve_without_mean_dilatation",
+                     "small_box.json",
+                     "-dipc_mixed_solve",
                      {"-dipc_mixed_solve needs mean-dilatation elements"}},
             // PETSc's own solver options, checked before the solvers read them (check_petsc_option_values).
-            BadInput{"unknown_ksp_type", "small_box.json", "-ksp_type nonsense",
+            BadInput{"unknown_ksp_type",
+                     "small_box.json",
+                     "-ksp_type nonsense",
                      {"-ksp_type nonsense: not a KSP type of this PETSc"}},
             BadInput{"unknown_pc_type", "small_box.json", "-pc_type nonsense", {"-pc_type nonsense: not a PC type"}},
             BadInput{"non_numeric_ksp_rtol", "small_box.json", "-ksp_rtol abc", {"-ksp_rtol abc: not a number"}},
             BadInput{"ksp_rtol_above_one", "small_box.json", "-ksp_rtol 2", {"-ksp_rtol 2: must be in [0, 1)"}},
-            BadInput{"negative_ksp_max_it", "small_box.json", "-ksp_max_it -3",
-                     {"-ksp_max_it -3: must be an integer >= 0"}},
+            BadInput{
+                "negative_ksp_max_it", "small_box.json", "-ksp_max_it -3", {"-ksp_max_it -3: must be an integer >= 0"}},
             BadInput{"empty_output", "small_box.json", "-dipc_output", {"-dipc_output needs a value"}},
-            BadInput{"unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
-            BadInput{"misspelt_flag", "small_box.json", "-dipc_check_invariant",
+            BadInput{
+                "unknown_option", "small_box.json", "-dipc_stepz 3", {"unknown option -dipc_stepz", "-dipc_steps?"}},
+            BadInput{"misspelt_flag",
+                     "small_box.json",
+                     "-dipc_check_invariant",
                      {"unknown option -dipc_check_invariant ", "-dipc_check_invariants?"}},
-            BadInput{"missing_options_file", "small_box.json", "-options_file " + data_dir + "none.opts",
+            BadInput{"missing_options_file",
+                     "small_box.json",
+                     "-options_file " + data_dir + "none.opts",
                      {"-options_file", "none.opts: no such file"}},
-            BadInput{"missing_nested_options_file", "small_box.json", "-options_file " + data_dir + "missing_nested.opts",
+            BadInput{"missing_nested_options_file",
+                     "small_box.json",
+                     "-options_file " + data_dir + "missing_nested.opts",
                      {"does_not_exist.opts (named in", "missing_nested.opts): no such file"}},
-            BadInput{"zero_checkpoint_every", "small_box.json", "-dipc_checkpoint_every 0", {"-dipc_checkpoint_every 0"}},
-            BadInput{"negative_checkpoint_minutes", "small_box.json", "-dipc_checkpoint_minutes -1",
+            BadInput{
+                "zero_checkpoint_every", "small_box.json", "-dipc_checkpoint_every 0", {"-dipc_checkpoint_every 0"}},
+            BadInput{"negative_checkpoint_minutes",
+                     "small_box.json",
+                     "-dipc_checkpoint_minutes -1",
                      {"-dipc_checkpoint_minutes -1", "must be > 0"}},
-            BadInput{"missing_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/none.h5",
+            BadInput{"missing_checkpoint",
+                     "small_box.json",
+                     "-dipc_restart " + bad_dir + "/none.h5",
                      {"none.h5", "does not exist"}},
-            BadInput{"truncated_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/truncated.h5",
+            BadInput{"truncated_checkpoint",
+                     "small_box.json",
+                     "-dipc_restart " + bad_dir + "/truncated.h5",
                      {"truncated.h5", "is truncated"}},
-            BadInput{"corrupt_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/corrupt.h5",
+            BadInput{"corrupt_checkpoint",
+                     "small_box.json",
+                     "-dipc_restart " + bad_dir + "/corrupt.h5",
                      {"corrupt.h5", "is corrupt", "/nodes/position", "checksum"}},
-            BadInput{"foreign_hdf5_checkpoint", "small_box.json", "-dipc_restart " + bad_dir + "/foreign.h5",
+            BadInput{"foreign_hdf5_checkpoint",
+                     "small_box.json",
+                     "-dipc_restart " + bad_dir + "/foreign.h5",
                      {"foreign.h5", "not a dipc checkpoint"}},
-            BadInput{"not_hdf5_checkpoint", "small_box.json", "-dipc_restart " + data_dir + "small_box.json",
+            BadInput{"not_hdf5_checkpoint",
+                     "small_box.json",
+                     "-dipc_restart " + data_dir + "small_box.json",
                      {"small_box.json", "not an HDF5 file", "not a dipc checkpoint"}},
-            BadInput{"mismatched_checkpoint", "small_box.json", "-dipc_refine 2 -dipc_restart " + good_checkpoint,
+            BadInput{"mismatched_checkpoint",
+                     "small_box.json",
+                     "-dipc_refine 2 -dipc_restart " + good_checkpoint,
                      {"dipc.checkpoint.000001.h5", "another scene or mesh"}},
             // PolyFEM-format scenes with what dipc cannot model (issue 16 part 3).
-            BadInput{"polyfem_bdf2", "polyfem/refused_bdf2.json", "",
+            BadInput{"polyfem_bdf2",
+                     "polyfem/refused_bdf2.json",
+                     "",
                      {"refused_bdf2.json: time.integrator", "dipc cannot model this", "ImplicitEuler"}},
-            BadInput{"polyfem_rotating_dirichlet", "polyfem/refused_rotating_dirichlet.json", "",
+            BadInput{"polyfem_rotating_dirichlet",
+                     "polyfem/refused_rotating_dirichlet.json",
+                     "",
                      {"refused_rotating_dirichlet.json: boundary_conditions.dirichlet_boundary[0].value[0]",
                       "dipc cannot model this", "x, y or z"}}),
         ::testing::Values(1, 2)),
@@ -310,7 +394,8 @@ TEST(InputErrors, GoodMeshRuns) {
   std::filesystem::remove_all(dir);
   const Outcome o = run_dipc("cube_good.json", "-dipc_quiet 0 -dipc_no_output 0 -dipc_output " + dir);
   ASSERT_EQ(o.status, 0) << o.output;
-  for (const char* s : {"step     1  t 0.01 ", "step     2  t 0.02 ", "dipc: 2 steps written to good_mesh_run/dipc.xmf"})
+  for (const char* s :
+       {"step     1  t 0.01 ", "step     2  t 0.02 ", "dipc: 2 steps written to good_mesh_run/dipc.xmf"})
     EXPECT_NE(o.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << o.output;
   EXPECT_EQ(o.output.find("step     3"), std::string::npos) << o.output;
   EXPECT_EQ(o.output.find("error"), std::string::npos) << o.output;
@@ -325,8 +410,8 @@ TEST(InputErrors, GoodMeshRuns) {
 
 // -options_file reaches PETSc: the shipped GAMG options replace the BoomerAMG default.
 TEST(Options, OptionsFileIsRead) {
-  const Outcome o = run_dipc("cube_good.json", "-options_file " + dipc::test::source_dir() +
-                                                   "/scenes/solver/gamg.opts -snes_view");
+  const Outcome o = run_dipc("cube_good.json",
+                             "-options_file " + dipc::test::source_dir() + "/scenes/solver/gamg.opts -snes_view");
   EXPECT_EQ(o.status, 0) << o.output;
   EXPECT_NE(o.output.find("type: gamg"), std::string::npos) << o.output;
   const Outcome d = run_dipc("cube_good.json", "-snes_view");
@@ -364,8 +449,10 @@ TEST(StepFailure, RecoveryThatRunsOutExitsWithStatusTwo) {
   for (int ranks : {1, 2}) {
     const std::string dir = "recovery_runs_out_np" + std::to_string(ranks);
     const std::string launcher = ranks > 1 ? std::string(DIPC_MPIEXEC) + " -n 2 " : "";
-    const std::string cmd = launcher + DIPC_BINARY + " " + data_dir + "impact_100ms.json -dipc_quiet -dipc_dt_min 0.005 "
-                            "-dipc_output " + dir + " 2>&1";
+    const std::string cmd = launcher + DIPC_BINARY + " " + data_dir +
+                            "impact_100ms.json -dipc_quiet -dipc_dt_min 0.005 "
+                            "-dipc_output " +
+                            dir + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string output;

@@ -25,14 +25,16 @@ namespace {
 
 // The body "box" from `mesh_file`, clamped by its node set `clamped`.
 Scene box_scene(const std::string& mesh_file, const std::string& clamped = "bottom") {
-  const std::string text =
-      R"({"materials": [{"name": "rubber", "E": 1e5, "nu": 0.3, "rho": 1000}],)"
-      R"( "geometry": [{"name": "box", "mesh": ")" + mesh_file + R"(", "material": "rubber"}],)"
-      R"( "boundary_conditions": {"gravity": [0, -9.81, -9.81],)"
-      R"( "dirichlet": [{"selection": "box.)" + clamped + R"(", "type": "fixed"}]},)"
-      R"( "time": {"dt": 0.02, "steps": 5}, "contact": {"enabled": false}})";
-  return parse_scene_text(text, "mesh_formats_test",
-                          dipc::test::source_dir() + "/tests/mesh/data");
+  const std::string text = R"({"materials": [{"name": "rubber", "E": 1e5, "nu": 0.3, "rho": 1000}],)"
+                           R"( "geometry": [{"name": "box", "mesh": ")" +
+                           mesh_file +
+                           R"(", "material": "rubber"}],)"
+                           R"( "boundary_conditions": {"gravity": [0, -9.81, -9.81],)"
+                           R"( "dirichlet": [{"selection": "box.)" +
+                           clamped +
+                           R"(", "type": "fixed"}]},)"
+                           R"( "time": {"dt": 0.02, "steps": 5}, "contact": {"enabled": false}})";
+  return parse_scene_text(text, "mesh_formats_test", dipc::test::source_dir() + "/tests/mesh/data");
 }
 
 RunResult run(const Scene& scene, MPI_Comm comm, bool setup_only = false, const std::string& output = "") {
@@ -83,10 +85,8 @@ TEST_P(MeshFormats, SameTrajectoryAsAscii41AndAsOneRank) {
     const RunResult serial = run(scene, self);
     // ASCII and binary coordinates differ in the last bit (Gmsh's %.16g), so the flavours
     // agree to round-off, not bit for bit.
-    const double vs_ascii =
-        relative_difference(parallel.positions, reference_run.positions, rest.positions);
-    const double vs_serial =
-        relative_difference(parallel.positions, serial.positions, rest.positions);
+    const double vs_ascii = relative_difference(parallel.positions, reference_run.positions, rest.positions);
+    const double vs_serial = relative_difference(parallel.positions, serial.positions, rest.positions);
     std::printf("%s: vs ASCII 4.1 %.3e, vs one rank %.3e\n", GetParam(), vs_ascii, vs_serial);
     EXPECT_LE(vs_ascii, 1e-9);
     EXPECT_LE(vs_serial, 1e-8);
@@ -96,8 +96,7 @@ TEST_P(MeshFormats, SameTrajectoryAsAscii41AndAsOneRank) {
 }
 
 INSTANTIATE_TEST_SUITE_P(GmshWritten, MeshFormats,
-                         ::testing::Values("gmsh_box_msh22.msh", "gmsh_box_msh22_bin.msh",
-                                           "gmsh_box_msh41_bin.msh"),
+                         ::testing::Values("gmsh_box_msh22.msh", "gmsh_box_msh22_bin.msh", "gmsh_box_msh41_bin.msh"),
                          [](const auto& info) {
                            std::string n = info.param;
                            return n.substr(0, n.size() - 4);
@@ -153,10 +152,9 @@ TEST(VoxelisedMesh, RunsAndMatchesOneRank) {
   MPI_Comm_rank(world, &rank);
   const std::string path = ::testing::TempDir() + "voxelised_tetrahedron.msh";
   if (rank == 0) {
-    const HexMesh mesh =
-        voxelize(read_triangle_surface(dipc::test::source_dir() +
-                                       "/tests/mesh/data/surfaces/tetrahedron_binary.stl"),
-                 0, 0.2);
+    const HexMesh mesh = voxelize(read_triangle_surface(dipc::test::source_dir() +
+                                                        "/tests/mesh/data/surfaces/tetrahedron_binary.stl"),
+                                  0, 0.2);
     QuadGroup bottom{"base", {}};
     for (const BoundaryFace& f : extract_boundary_faces(mesh)) {
       if (f.face != 4) continue;  // zeta = -1: the faces looking down
@@ -179,10 +177,8 @@ TEST(VoxelisedMesh, RunsAndMatchesOneRank) {
     const RunResult rest = run(scene, self, true);
     const RunResult serial = run(scene, self);
     EXPECT_GT(rest.positions.size(), 3u * 50u);  // a mesh of some size, not a single cell
-    const double vs_serial =
-        relative_difference(parallel.positions, serial.positions, rest.positions);
-    std::printf("voxelised tetrahedron (%zu nodes): vs one rank %.3e\n", rest.positions.size() / 3,
-                vs_serial);
+    const double vs_serial = relative_difference(parallel.positions, serial.positions, rest.positions);
+    std::printf("voxelised tetrahedron (%zu nodes): vs one rank %.3e\n", rest.positions.size() / 3, vs_serial);
     EXPECT_LE(vs_serial, 1e-8);
     MPI_Comm_free(&self);
   }

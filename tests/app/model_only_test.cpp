@@ -178,8 +178,8 @@ TEST(ModelOnly, ContactWithoutFriction) {
   // The contrast: contact scenes do get the contact row (a short run, before the impact).
   const RunResult r = run(scene, 2);
   EXPECT_TRUE(has_row(r, "contact"));
-  for (double v : {r.times.assembly, r.times.line_search, r.times.contact, r.times.preallocation,
-                   r.times.linear_solve, r.times.other})
+  for (double v : {r.times.assembly, r.times.line_search, r.times.contact, r.times.preallocation, r.times.linear_solve,
+                   r.times.other})
     EXPECT_GE(v, 0.0);
   EXPECT_EQ(has_row(r, "new matrix patterns"), r.new_matrix_patterns > 0);
 }

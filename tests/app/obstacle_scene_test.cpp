@@ -41,10 +41,13 @@ std::string scene_text(const std::string& obstacle, const std::string& box_origi
     "materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
     "geometry": [{"name": "box", "box": {"size": [0.16, 0.16, 0.16], "resolution": [3, 3, 3], "origin": )" +
          box_origin + R"(}}],
-    "boundary_conditions": {"gravity": )" + gravity + R"(},
+    "boundary_conditions": {"gravity": )" +
+         gravity + R"(},
     "time": {"integrator": "implicit_euler", "dt": 0.005, "steps": 24},
-    "contact": {"enabled": true, "dhat": 1e-3, "friction": )" + std::to_string(friction) + R"(,
-                "obstacles": [)" + obstacle + R"(]}
+    "contact": {"enabled": true, "dhat": 1e-3, "friction": )" +
+         std::to_string(friction) + R"(,
+                "obstacles": [)" +
+         obstacle + R"(]}
   })";
 }
 
@@ -88,10 +91,9 @@ TEST(ObstacleScenes, BoxDroppedIntoAnObjValleyMatchesOneRank) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) write_floor("obstacle_test_valley.obj", [](double x) { return 0.2 * std::abs(x); });
   MPI_Barrier(PETSC_COMM_WORLD);
-  const Scene scene = parse_scene_text(
-      scene_text(R"({"name": "valley", "mesh": "obstacle_test_valley.obj"})", "[-0.05, -0.08, 0.04]",
-                 "[0, 0, -9.81]", 0.3),
-      "valley.json", ".");
+  const Scene scene = parse_scene_text(scene_text(R"({"name": "valley", "mesh": "obstacle_test_valley.obj"})",
+                                                  "[-0.05, -0.08, 0.04]", "[0, 0, -9.81]", 0.3),
+                                       "valley.json", ".");
   long pairs = 0;
   const DisplacementDifference d = run_on_all_and_one(scene, &pairs);
   EXPECT_GT(pairs, 10) << "the box never reached the valley: the comparison would be vacuous";
@@ -118,8 +120,8 @@ TEST(ObstacleScenes, FloorRisingAlongAPathLiftsTheBox) {
   const DisplacementDifference d = run_on_all_and_one(scene, &pairs);
   EXPECT_GT(pairs, 10) << "the floor never reached the box";
   if (rank == 0) {
-    std::printf("lift: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", d.max_difference,
-                d.max_displacement, d.relative());
+    std::printf("lift: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", d.max_difference, d.max_displacement,
+                d.relative());
     EXPECT_GT(d.max_displacement, 0.03) << "the floor did not lift the box";
     EXPECT_LE(d.relative(), 1e-6);
   }

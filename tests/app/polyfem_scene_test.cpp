@@ -94,7 +94,8 @@ TEST(PolyfemScenes, IgnoredKeysAreNamed) {
   const Scene scene = parse_scene_file(data + "drop_on_ground.json");
   std::string all;
   for (const std::string& n : scene.notes) all += n + "\n";
-  for (const char* key : {"solver.linear: ignored", "solver.nonlinear: ignored", "solver.contact.CCD: ignored", "output: ignored"})
+  for (const char* key :
+       {"solver.linear: ignored", "solver.nonlinear: ignored", "solver.contact.CCD: ignored", "output: ignored"})
     EXPECT_NE(all.find(key), std::string::npos) << key << " not in:\n" << all;
   EXPECT_EQ(scene.notes.size(), 4u) << all;
 }

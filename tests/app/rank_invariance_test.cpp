@@ -36,7 +36,7 @@ void beam_matches_one_rank(const Scene& scene, int steps, double tolerance, cons
   options.write_output = false;
   options.quiet = true;
   options.report = false;
-  options.velocity_tol = 1e-9;  // m/s; displacements per step are ~1e-3 m
+  options.velocity_tol = 1e-9;        // m/s; displacements per step are ~1e-3 m
   options.partitioner = partitioner;  // the parallel run's; one rank needs no partitioner
 
   RunResult parallel;
@@ -67,8 +67,8 @@ void beam_matches_one_rank(const Scene& scene, int steps, double tolerance, cons
     }
     int size;
     MPI_Comm_size(world, &size);
-    std::printf("%s, ranks %d vs 1: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", partitioner, size, diff, norm,
-                diff / norm);
+    std::printf("%s, ranks %d vs 1: max |u_N - u_1| = %.3e, max |u_1| = %.3e, relative %.3e\n", partitioner, size, diff,
+                norm, diff / norm);
     EXPECT_GT(norm, 1e-3) << "the beam did not move: the comparison would be vacuous";
     EXPECT_LE(diff / norm, tolerance);
     MPI_Comm_free(&self);
@@ -146,7 +146,8 @@ TEST(RankInvariance, MixedSolveAtLooseToleranceEndsWhereATightSolveDoes) {
 Scene two_beams_scene(const std::string& model) {
   return parse_scene_text(R"({
     "materials": [{"name": "nh", "E": 1e6, "nu": 0.45, "rho": 1000},
-                  {"name": "other", "E": 1e6, "nu": 0.45, "rho": 1000, "model": ")" + model + R"("}],
+                  {"name": "other", "E": 1e6, "nu": 0.45, "rho": 1000, "model": ")" +
+                              model + R"("}],
     "geometry": [
       {"name": "a", "box": {"size": [1.0, 0.1, 0.1], "resolution": [12, 3, 3], "origin": [0, 0, 0]}, "material": "nh"},
       {"name": "b", "box": {"size": [1.0, 0.1, 0.1], "resolution": [12, 3, 3], "origin": [0, 0.3, 0]},

@@ -40,7 +40,8 @@ void generated_boxes_are_generate_box_rows(int threads) {
   expected.append(generate_box({0.3, 0.3, 0.3}, {4, 3, 5}, {0.2, -0.1, 0.5}, 1, "upper"));
   ASSERT_EQ(whole.nodes.size(), expected.nodes.size());
   for (std::size_t n = 0; n < expected.nodes.size(); ++n)
-    for (int c = 0; c < 3; ++c) ASSERT_EQ(whole.nodes[n][c], expected.nodes[n][c]) << "node " << n << " coordinate " << c;
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(whole.nodes[n][c], expected.nodes[n][c]) << "node " << n << " coordinate " << c;
   EXPECT_EQ(whole.hexes, expected.hexes);
   EXPECT_EQ(whole.body, expected.body);
   EXPECT_EQ(whole.node_sets, expected.node_sets);

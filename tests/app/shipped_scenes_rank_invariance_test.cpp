@@ -30,23 +30,22 @@ struct ShippedScene {
 // Chosen so that each scene's characteristic event happens within the steps run and the whole
 // test stays within about a minute on 2 cores.
 const ShippedScene kShippedScenes[] = {
-    {"default", 12},                 // 40: the cube lands at step 10
-    {"default_beam", 10},            // 50: the beam swings down
-    {"stretched_block_static", 2},   // 5 load steps
-    {"twisted_bar", 10},             // 100: 0.1 s of twisting, 18° at the top face
-    {"block_on_plane", 2},           // 10: 8000 hexes, in contact from step 1
-    {"boxes_drop", 40},              // 300: the lower box lands at step 20, the cube at step 35
-    {"roller_squeeze", 12},          // 45: friction pulls the block into the nip
-    {"fast_impact", 10},             // 40: impact at step 2, rebound by step 9
-    {"friction_stack", 20},          // 150: the stack lands and settles on the slope
-    {"box_on_obj_ramp", 20},         // 60: lands on the OBJ ramp at step 13
-    {"funnel_drop", 20},             // 40: the voxelised ball meets the OBJ funnel at step 17
-    {"obj_rollers", 16},             // 30: the OBJ rollers grip the block from step 12
+    {"default", 12},                // 40: the cube lands at step 10
+    {"default_beam", 10},           // 50: the beam swings down
+    {"stretched_block_static", 2},  // 5 load steps
+    {"twisted_bar", 10},            // 100: 0.1 s of twisting, 18° at the top face
+    {"block_on_plane", 2},          // 10: 8000 hexes, in contact from step 1
+    {"boxes_drop", 40},             // 300: the lower box lands at step 20, the cube at step 35
+    {"roller_squeeze", 12},         // 45: friction pulls the block into the nip
+    {"fast_impact", 10},            // 40: impact at step 2, rebound by step 9
+    {"friction_stack", 20},         // 150: the stack lands and settles on the slope
+    {"box_on_obj_ramp", 20},        // 60: lands on the OBJ ramp at step 13
+    {"funnel_drop", 20},            // 40: the voxelised ball meets the OBJ funnel at step 17
+    {"obj_rollers", 16},            // 30: the OBJ rollers grip the block from step 12
 };
 
 Scene load(const std::string& name) {
-  return name == "default" ? default_scene()
-                           : parse_scene_file(dipc::test::source_dir() + "/scenes/" + name + ".json");
+  return name == "default" ? default_scene() : parse_scene_file(dipc::test::source_dir() + "/scenes/" + name + ".json");
 }
 
 // A barrier that sleeps instead of spinning: ranks left out of a smaller run wait here, and a
@@ -69,8 +68,9 @@ TEST_P(ShippedSceneRankInvariance, MatchesOneRank) {
   int rank, size;
   MPI_Comm_rank(world, &rank);
   MPI_Comm_size(world, &size);
-  const std::pair<const char*, const char*> settings[] = {
-      {"-ksp_rtol", "1e-12"}, {"-ksp_max_it", "5000"}, {"-snes_max_it", "1000"}};
+  const std::pair<const char*, const char*> settings[] = {{"-ksp_rtol", "1e-12"},
+                                                          {"-ksp_max_it", "5000"},
+                                                          {"-snes_max_it", "1000"}};
   for (const auto& [name, value] : settings) PetscOptionsSetValue(nullptr, name, value);
 
   const ShippedScene& shipped = GetParam();

@@ -46,9 +46,13 @@ Outcome run_and_signal(const std::string& dir, int ranks, const std::string& kil
                        const std::string& extra = "") {
   std::filesystem::remove_all(dir);
   return shell(launcher(ranks) + DIPC_BINARY + " " + scene + " -dipc_quiet -dipc_steps 100000 -dipc_output " + dir +
-               " " + extra + " & pid=$!; "
-               "while [ \"$(cat " + dir + "/stats.csv 2>/dev/null | wc -l)\" -lt 4 ]; do sleep 0.05; done; "
-               "rank=$(pgrep -P $pid | head -n 1); " + kill_command + "; wait $pid; exit $?");
+               " " + extra +
+               " & pid=$!; "
+               "while [ \"$(cat " +
+               dir +
+               "/stats.csv 2>/dev/null | wc -l)\" -lt 4 ]; do sleep 0.05; done; "
+               "rank=$(pgrep -P $pid | head -n 1); " +
+               kill_command + "; wait $pid; exit $?");
 }
 
 std::vector<std::string> steps_in(const std::string& stats) {
@@ -71,7 +75,7 @@ void expect_stopped_and_resumable(const Outcome& o, const std::string& dir, int 
   const Outcome resumed = shell(launcher(ranks) + DIPC_BINARY + " " + scene + " -dipc_quiet -dipc_restart auto " +
                                 "-dipc_steps " + std::to_string(total) + " -dipc_output " + dir);
   EXPECT_EQ(resumed.status, 0) << resumed.output;
-  EXPECT_NE(resumed.output.find("restarting from " + dir + "/dipc.checkpoint." ), std::string::npos) << resumed.output;
+  EXPECT_NE(resumed.output.find("restarting from " + dir + "/dipc.checkpoint."), std::string::npos) << resumed.output;
   const std::vector<std::string> after = steps_in(dir + "/stats.csv");
   ASSERT_EQ(after.size(), static_cast<std::size_t>(total));
   for (int k = 1; k <= total; ++k) EXPECT_EQ(after[k - 1], std::to_string(k));
@@ -117,7 +121,8 @@ TEST(Checkpoints, WallClockRuleAndTheNewestTwoKept) {
 
 TEST(StopSignal, AutoRestartWithoutCheckpointStartsFresh) {
   std::filesystem::remove_all("signal_fresh");
-  const Outcome o = shell(std::string(DIPC_BINARY) + " " + scene + " -dipc_quiet -dipc_restart auto -dipc_output signal_fresh");
+  const Outcome o = shell(std::string(DIPC_BINARY) + " " + scene +
+                          " -dipc_quiet -dipc_restart auto -dipc_output signal_fresh");
   EXPECT_EQ(o.status, 0) << o.output;
   EXPECT_NE(o.output.find("no checkpoint"), std::string::npos) << o.output;
   EXPECT_EQ(steps_in("signal_fresh/stats.csv").size(), 2u);

@@ -6,17 +6,17 @@
 // is present.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <random>
 #include <vector>
 
-#include "assembly/cuda/element_kernels.hpp"
-#include "device/device_runtime.hpp"
 #include "assembly/coo_reduction.hpp"
+#include "assembly/cuda/element_kernels.hpp"
 #include "assembly/node_block_reduction.hpp"
+#include "device/device_runtime.hpp"
 
 namespace dipc {
 namespace {
@@ -34,8 +34,7 @@ TEST(CooReductionGpu, DeviceSumsEqualHostSumsBitForBit) {
     for (PetscInt r : dofs)
       for (PetscInt c : dofs) rows.push_back(r), cols.push_back(pick(rng) == 0 && pick(rng) == 0 ? -1 : c);
   }
-  const CooReduction reduction =
-      CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_end);
+  const CooReduction reduction = CooReduction::build(rows.data(), cols.data(), rows.size(), owned_begin, owned_end);
   // Values over many magnitudes, so that a different summation order would change the bits.
   std::uniform_real_distribution<double> mantissa(-1, 1), exponent(-12, 12);
   std::vector<double> raw(rows.size());
@@ -114,9 +113,10 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
   d_src0.upload(blocks.forms[0].sources);
   d_off1.upload(blocks.forms[1].offsets);
   d_src1.upload(blocks.forms[1].sources);
-  const device::ElementBlockMap maps[2] = {
-      {ElementLayout::elastic, blocks.forms[0].raw_begin, d_off0.data(), d_src0.data()},
-      {ElementLayout::consistent_mass, blocks.forms[1].raw_begin, d_off1.data(), d_src1.data()}};
+  const device::ElementBlockMap maps[2] = {{ElementLayout::elastic, blocks.forms[0].raw_begin, d_off0.data(),
+                                            d_src0.data()},
+                                           {ElementLayout::consistent_mass, blocks.forms[1].raw_begin, d_off1.data(),
+                                            d_src1.data()}};
   d_unique.resize(blocks.num_entries());
   device::reduce_element_blocks(d_raw.data(), blocks.num_blocks(), d_mask.data(), d_start.data(), maps, 2,
                                 d_unique.data());

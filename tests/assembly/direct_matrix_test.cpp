@@ -6,8 +6,8 @@
 // checked the same way where a GPU and a device hypre are present (the GPU build's
 // direct_matrix_gpu_tests), else skipped.
 #include <gtest/gtest.h>
-#include <petscksp.h>
 #include <petsc/private/petscimpl.h>  // PetscObjectStateGet: the state preconditioners compare
+#include <petscksp.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "device/device_runtime.hpp"
 #include "assembly/direct_matrix.hpp"
+#include "device/device_runtime.hpp"
 #include "threads/host_threads.hpp"
 
 namespace dipc {
@@ -132,7 +132,8 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
   PetscCallAbort(PETSC_COMM_WORLD, VecDuplicate(y, &z));
   PetscInt lo, hi;
   PetscCallAbort(PETSC_COMM_WORLD, VecGetOwnershipRange(x, &lo, &hi));
-  for (PetscInt i = lo; i < hi; ++i) PetscCallAbort(PETSC_COMM_WORLD, VecSetValue(x, i, 1.0 + (i % 13) * 0.125, INSERT_VALUES));
+  for (PetscInt i = lo; i < hi; ++i)
+    PetscCallAbort(PETSC_COMM_WORLD, VecSetValue(x, i, 1.0 + (i % 13) * 0.125, INSERT_VALUES));
   PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyBegin(x));
   PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyEnd(x));
   Vec xd, zd;
@@ -173,14 +174,14 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
   Mat coo = template_matrix(MATAIJ);
   Entries copy = e;  // PETSc may reorder the lists it is given
   PetscCallAbort(PETSC_COMM_WORLD, MatSetPreallocationCOO(coo, static_cast<PetscCount>(copy.rows.size()),
-                                                         copy.rows.data(), copy.cols.data()));
+                                                          copy.rows.data(), copy.cols.data()));
   Mat like = template_matrix(type);
   ASSERT_EQ(DirectMatrix::kind_of(like), kind);
   DirectMatrix direct;
   Mat J;
   if (node_blocks)
     PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, &blocks.blocks, blocks.extra.rows.data(),
-                                                  blocks.extra.cols.data(), blocks.extra.rows.size(), &J));
+                                                   blocks.extra.cols.data(), blocks.extra.rows.size(), &J));
   else
     PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, e.rows.data(), e.cols.data(), e.rows.size(), &J));
   PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&like));
@@ -240,11 +241,11 @@ TEST(DirectMatrix, OlderMatrixOutlivesTheNextCreate) {
   DirectMatrix direct;
   Mat like = template_matrix(MATAIJ), first, second;
   PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, DirectMatrix::Kind::host_aij, e.rows.data(), e.cols.data(),
-                                                e.rows.size(), &first));
+                                                 e.rows.size(), &first));
   const std::vector<double> v = make_values(e, rank, 0);
   PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(first, v.data()));
   PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, DirectMatrix::Kind::host_aij, e.rows.data(), e.cols.data(),
-                                                e.rows.size(), &second));
+                                                 e.rows.size(), &second));
   PetscCallAbort(PETSC_COMM_WORLD, direct.set_values(second, v.data()));
   double difference;
   PetscInt a, b;

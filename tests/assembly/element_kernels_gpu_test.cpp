@@ -12,8 +12,8 @@
 
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/element_loops.hpp"
-#include "physics/hex8_mass.hpp"
 #include "device/device_runtime.hpp"
+#include "physics/hex8_mass.hpp"
 
 namespace dipc {
 namespace {
@@ -57,8 +57,8 @@ RandomBlock random_block(int n, unsigned seed, double strain) {
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const int c[8] = {id(i, j, k),         id(i + 1, j, k),         id(i + 1, j + 1, k),     id(i, j + 1, k),
-                          id(i, j, k + 1),     id(i + 1, j, k + 1),     id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        const int c[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
+                          id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
         b.nodes.insert(b.nodes.end(), c, c + 8);
         const double e = E(rng), v = nu(rng);
         b.lambda.push_back(e * v / ((1 + v) * (1 - 2 * v)));
@@ -124,53 +124,55 @@ void assign_kinds(Mix mix, RandomBlock* b) {
 
 TEST_F(ElementKernelsGpu, ElasticValueGradientHessianMatchTheCpu) {
   for (Mix mix : {Mix::neo_hookean, Mix::mean_dilatation, Mix::stable_neo_hookean, Mix::all})
-  for (unsigned seed : {1u, 2u, 3u}) {
-    for (double strain : {0.0, 0.05, 0.3}) {
-      RandomBlock b = random_block(9, seed, strain);
-      const int mixed = static_cast<int>(mix);
-      if (mix != Mix::neo_hookean) assign_kinds(mix, &b);
-      const ElementBlock hb = b.block();
-      ASSERT_GT(min_volume_ratio(hb, b.x.data(), nullptr), 0.0) << "test state must be valid";
-      double e_cpu = 0;
-      std::vector<double> g_cpu(b.x.size(), 0.0), H_cpu(kElasticCooPerElement * hb.num_elements);
-      ASSERT_TRUE(elastic_energy_gradient_hessian(hb, b.x.data(), &e_cpu, g_cpu.data(), H_cpu.data()));
+    for (unsigned seed : {1u, 2u, 3u}) {
+      for (double strain : {0.0, 0.05, 0.3}) {
+        RandomBlock b = random_block(9, seed, strain);
+        const int mixed = static_cast<int>(mix);
+        if (mix != Mix::neo_hookean) assign_kinds(mix, &b);
+        const ElementBlock hb = b.block();
+        ASSERT_GT(min_volume_ratio(hb, b.x.data(), nullptr), 0.0) << "test state must be valid";
+        double e_cpu = 0;
+        std::vector<double> g_cpu(b.x.size(), 0.0), H_cpu(kElasticCooPerElement * hb.num_elements);
+        ASSERT_TRUE(elastic_energy_gradient_hessian(hb, b.x.data(), &e_cpu, g_cpu.data(), H_cpu.data()));
 
-      DeviceBlock d(b);
-      device::Array<double> x, g, H;
-      x.upload(b.x);
-      g.resize(b.x.size());
-      g.set_zero();
-      H.resize(H_cpu.size());
-      device::Reducer reducer;
-      double e_gpu = 0;
-      const double scale = 0.25;  // as h² scales the elastic form
-      ASSERT_TRUE(device::elastic_evaluate(d.block(hb.num_elements), x.data(), scale, &e_gpu, g.data(), H.data(), reducer));
-      std::vector<double> g_gpu = g.to_host(), H_gpu = H.to_host();
-      for (double& v : g_gpu) v /= scale;
-      for (double& v : H_gpu) v /= scale;
-      // At rest (strain 0) energy and gradient vanish up to rounding, so they are compared on the
-      // scales that rounding acts on: Σ μ_e for the energy (unit volumes), max |H| for g.
-      double mu_sum = 0, H_max = 0;
-      for (double m : b.mu) mu_sum += m;
-      for (double h : H_cpu) H_max = std::max(H_max, std::abs(h));
-      const double e_scale = std::max(std::abs(e_cpu), mu_sum);
-      double g_diff = 0, g_max = 0;
-      for (std::size_t i = 0; i < g_cpu.size(); ++i) {
-        g_diff = std::max(g_diff, std::abs(g_cpu[i] - g_gpu[i]));
-        g_max = std::max(g_max, std::abs(g_cpu[i]));
+        DeviceBlock d(b);
+        device::Array<double> x, g, H;
+        x.upload(b.x);
+        g.resize(b.x.size());
+        g.set_zero();
+        H.resize(H_cpu.size());
+        device::Reducer reducer;
+        double e_gpu = 0;
+        const double scale = 0.25;  // as h² scales the elastic form
+        ASSERT_TRUE(
+            device::elastic_evaluate(d.block(hb.num_elements), x.data(), scale, &e_gpu, g.data(), H.data(), reducer));
+        std::vector<double> g_gpu = g.to_host(), H_gpu = H.to_host();
+        for (double& v : g_gpu) v /= scale;
+        for (double& v : H_gpu) v /= scale;
+        // At rest (strain 0) energy and gradient vanish up to rounding, so they are compared on the
+        // scales that rounding acts on: Σ μ_e for the energy (unit volumes), max |H| for g.
+        double mu_sum = 0, H_max = 0;
+        for (double m : b.mu) mu_sum += m;
+        for (double h : H_cpu) H_max = std::max(H_max, std::abs(h));
+        const double e_scale = std::max(std::abs(e_cpu), mu_sum);
+        double g_diff = 0, g_max = 0;
+        for (std::size_t i = 0; i < g_cpu.size(); ++i) {
+          g_diff = std::max(g_diff, std::abs(g_cpu[i] - g_gpu[i]));
+          g_max = std::max(g_max, std::abs(g_cpu[i]));
+        }
+        EXPECT_LE(std::abs(e_gpu / scale - e_cpu), 1e-12 * e_scale) << mixed << " " << seed << " " << strain;
+        EXPECT_LE(g_diff, 1e-12 * std::max(g_max, H_max)) << mixed << " " << seed << " " << strain;
+        EXPECT_LE(max_relative_difference(H_cpu, H_gpu), 1e-12) << mixed << " " << seed << " " << strain;
+
+        // Each output alone (the line search asks for the energy only).
+        double e_only = 0;
+        ASSERT_TRUE(
+            device::elastic_evaluate(d.block(hb.num_elements), x.data(), 1.0, &e_only, nullptr, nullptr, reducer));
+        EXPECT_LE(std::abs(e_only - e_cpu), 1e-12 * e_scale);
+        const double r_cpu = min_volume_ratio(hb, b.x.data(), nullptr);
+        EXPECT_DOUBLE_EQ(device::min_volume_ratio(d.block(hb.num_elements), x.data(), reducer), r_cpu);
       }
-      EXPECT_LE(std::abs(e_gpu / scale - e_cpu), 1e-12 * e_scale) << mixed << " " << seed << " " << strain;
-      EXPECT_LE(g_diff, 1e-12 * std::max(g_max, H_max)) << mixed << " " << seed << " " << strain;
-      EXPECT_LE(max_relative_difference(H_cpu, H_gpu), 1e-12) << mixed << " " << seed << " " << strain;
-
-      // Each output alone (the line search asks for the energy only).
-      double e_only = 0;
-      ASSERT_TRUE(device::elastic_evaluate(d.block(hb.num_elements), x.data(), 1.0, &e_only, nullptr, nullptr, reducer));
-      EXPECT_LE(std::abs(e_only - e_cpu), 1e-12 * e_scale);
-      const double r_cpu = min_volume_ratio(hb, b.x.data(), nullptr);
-      EXPECT_DOUBLE_EQ(device::min_volume_ratio(d.block(hb.num_elements), x.data(), reducer), r_cpu);
     }
-  }
 }
 
 // Also for stable neo-Hookean, whose energy is finite there: dipc refuses inverted elements.
@@ -188,7 +190,8 @@ TEST_F(ElementKernelsGpu, InvertedElementIsReported) {
     x.upload(b.x);
     device::Reducer reducer;
     double e;
-    EXPECT_FALSE(device::elastic_evaluate(d.block(b.block().num_elements), x.data(), 1.0, &e, nullptr, nullptr, reducer));
+    EXPECT_FALSE(
+        device::elastic_evaluate(d.block(b.block().num_elements), x.data(), 1.0, &e, nullptr, nullptr, reducer));
     EXPECT_LT(device::min_volume_ratio(d.block(b.block().num_elements), x.data(), reducer), 0.0);
   }
 }
@@ -246,7 +249,9 @@ TEST_F(ElementKernelsGpu, InertiaAndBodyForceMatchTheCpu) {
         }
   device::Array<double> dM;
   dM.upload(M);
-  EXPECT_LE(std::abs(device::consistent_inertia_energy(d.block(hb.num_elements), dM.data(), xh.data(), x.data(), reducer) - ec),
+  EXPECT_LE(std::abs(
+                device::consistent_inertia_energy(d.block(hb.num_elements), dM.data(), xh.data(), x.data(), reducer) -
+                ec),
             1e-12 * ec);
   g.set_zero();
   device::consistent_inertia_gradient(d.block(hb.num_elements), dM.data(), xh.data(), x.data(), g.data());

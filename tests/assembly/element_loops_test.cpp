@@ -152,7 +152,8 @@ TEST(ElementLoops, HessianCooAssemblesToSumOfElementHessians) {
           }
   }
   const int n2 = kGlobalDofs * kGlobalDofs;
-  EXPECT_LT(test::max_abs_difference(assembled.data(), expected.data(), n2), 1e-12 * test::max_abs(expected.data(), n2));
+  EXPECT_LT(test::max_abs_difference(assembled.data(), expected.data(), n2),
+            1e-12 * test::max_abs(expected.data(), n2));
   // Rows of the 40 leading global nodes (owned by "other ranks") receive nothing.
   EXPECT_EQ(test::max_abs(assembled.data(), 3 * 40 * kGlobalDofs), 0.0);
 }

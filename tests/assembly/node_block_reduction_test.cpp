@@ -15,8 +15,8 @@
 #include <utility>
 #include <vector>
 
-#include "assembly/element_loops.hpp"
 #include "assembly/coo_reduction.hpp"
+#include "assembly/element_loops.hpp"
 #include "assembly/node_block_reduction.hpp"
 
 namespace dipc {
@@ -72,9 +72,9 @@ void expect_matches_expanded(const Case& c, std::int64_t owned_begin, std::int64
   std::vector<PetscInt> rows = to_petsc(r32), cols = to_petsc(c32);
   rows.insert(rows.end(), mr32.begin(), mr32.end());
   cols.insert(cols.end(), mc32.begin(), mc32.end());
-  const CooReduction ref =
-      CooReduction::build(rows.data(), cols.data(), rows.size(), static_cast<PetscInt>(3 * owned_begin),
-                          static_cast<PetscInt>(3 * owned_end));
+  const CooReduction ref = CooReduction::build(rows.data(), cols.data(), rows.size(),
+                                               static_cast<PetscInt>(3 * owned_begin),
+                                               static_cast<PetscInt>(3 * owned_end));
 
   const NodeBlockReduction blocks = NodeBlockReduction::build(
       {{{elastic.num_elements, c.elastic_nodes.data(), c.local_to_global.data(), ElementLayout::elastic}, 0},
@@ -127,7 +127,8 @@ void expect_matches_expanded(const Case& c, std::int64_t owned_begin, std::int64
   EXPECT_EQ(blocks.find(3 * 5000, 3 * 1000), -1);
   EXPECT_EQ(blocks.find(3 * c.local_to_global[0], 3 * 99999), -1);
   EXPECT_EQ(blocks.find(-1, 0), -1);
-  const auto mass_node = std::find_if(c.mass_nodes.begin(), c.mass_nodes.end(), [](std::int32_t n) { return n >= 250; });
+  const auto mass_node = std::find_if(c.mass_nodes.begin(), c.mass_nodes.end(),
+                                      [](std::int32_t n) { return n >= 250; });
   ASSERT_NE(mass_node, c.mass_nodes.end());
   const std::int64_t mass_only = c.local_to_global[*mass_node];
   EXPECT_EQ(blocks.find(3 * mass_only, 3 * mass_only + 1), -1);
@@ -147,8 +148,8 @@ TEST(NodeBlockReduction, MatchesTheExpandedPatternNoneOwned) {
 
 TEST(NodeBlockReduction, EmptyForms) {
   const std::vector<std::int64_t> l2g = {0};
-  const NodeBlockReduction r =
-      NodeBlockReduction::build({{{0, nullptr, l2g.data(), ElementLayout::elastic}, 0}}, 0, 10);
+  const NodeBlockReduction r = NodeBlockReduction::build({{{0, nullptr, l2g.data(), ElementLayout::elastic}, 0}}, 0,
+                                                         10);
   EXPECT_EQ(r.num_blocks(), 0u);
   EXPECT_EQ(r.num_entries(), 0u);
   EXPECT_EQ(r.find(0, 0), -1);
@@ -160,11 +161,10 @@ TEST(NodeBlockReduction, EmptyForms) {
 TEST(NodeBlockReduction, RepeatedBuildsGiveTheSameMap) {
   const Case c = random_case(9);
   const auto build = [&] {
-    return NodeBlockReduction::build(
-        {{{static_cast<int>(c.elastic_nodes.size() / 8), c.elastic_nodes.data(), c.local_to_global.data(),
-           ElementLayout::elastic},
-          0}},
-        1100, 1300);
+    return NodeBlockReduction::build({{{static_cast<int>(c.elastic_nodes.size() / 8), c.elastic_nodes.data(),
+                                        c.local_to_global.data(), ElementLayout::elastic},
+                                       0}},
+                                     1100, 1300);
   };
   const NodeBlockReduction a = build(), b = build();
   EXPECT_EQ(a.block_col, b.block_col);

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "device/device_runtime.hpp"
 #include "assembly/remote_entry_sums.hpp"
+#include "device/device_runtime.hpp"
 
 namespace dipc {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "contact_test_scene.hpp"
 #include "device/device_runtime.hpp"
-#include "mesh/box_generator.hpp"
 #include "forms/contact_form.hpp"
+#include "mesh/box_generator.hpp"
 
 namespace dipc {
 namespace {
@@ -173,7 +173,8 @@ ContactParameters obstacle_parameters(const std::array<double, 3>& roof_velocity
   roof.name = "roof";
   roof.source = "test";
   const double eave = top - 0.03;
-  roof.rest = {{0.6, 0.0, top}, {0.6, 0.8, top}, {0.3, 0.0, eave}, {0.3, 0.8, eave}, {0.9, 0.0, eave}, {0.9, 0.8, eave}};
+  roof.rest = {{0.6, 0.0, top},  {0.6, 0.8, top},  {0.3, 0.0, eave},
+               {0.3, 0.8, eave}, {0.9, 0.0, eave}, {0.9, 0.8, eave}};
   roof.triangles = {{2, 0, 1}, {2, 1, 3}, {0, 4, 5}, {0, 5, 1}};
   roof.motion.kind = PrescribedMotion::Kind::Velocity;
   roof.motion.velocity = roof_velocity;
@@ -216,9 +217,12 @@ TEST(ContactFormGpu, ObstaclesMatchHostForm) {
     EXPECT_EQ(a.nodes, b.nodes);
     EXPECT_EQ(a.weight, b.weight);
     EXPECT_EQ(a.eps_x, b.eps_x);
-    if (is_obstacle_node(a.nodes[0])) ++kinds[2];
-    else if (a.kind == PairKind::vertex_triangle && is_obstacle_node(a.nodes[1])) ++kinds[0];
-    else if (a.kind == PairKind::edge_edge && is_obstacle_node(a.nodes[2])) ++kinds[1];
+    if (is_obstacle_node(a.nodes[0]))
+      ++kinds[2];
+    else if (a.kind == PairKind::vertex_triangle && is_obstacle_node(a.nodes[1]))
+      ++kinds[0];
+    else if (a.kind == PairKind::edge_edge && is_obstacle_node(a.nodes[2]))
+      ++kinds[1];
   }
   for (int k = 0; k < 3; ++k) EXPECT_GT(kinds[k], 0) << "no active body–obstacle pair of kind " << k;
   f.expect_same_terms(x);

@@ -10,8 +10,8 @@
 #include <random>
 
 #include "contact_test_scene.hpp"
-#include "mesh/box_generator.hpp"
 #include "forms/contact_form.hpp"
+#include "mesh/box_generator.hpp"
 #include "potential/incremental_potential.hpp"
 #include "support/directional_difference.hpp"
 

@@ -18,9 +18,9 @@
 #include <memory>
 #include <random>
 
-#include "mesh/box_generator.hpp"
 #include "forms/contact_form.hpp"
 #include "forms/friction_form.hpp"
+#include "mesh/box_generator.hpp"
 #include "potential/incremental_potential.hpp"
 #include "support/directional_difference.hpp"
 
@@ -50,7 +50,8 @@ ContactParameters obstacle_parameters(PrescribedMotion roof_motion = {}) {
   roof.name = "roof";
   roof.source = "test";
   const double eave = top - 0.03;
-  roof.rest = {{0.6, 0.0, top}, {0.6, 0.8, top}, {0.3, 0.0, eave}, {0.3, 0.8, eave}, {0.9, 0.0, eave}, {0.9, 0.8, eave}};
+  roof.rest = {{0.6, 0.0, top},  {0.6, 0.8, top},  {0.3, 0.0, eave},
+               {0.3, 0.8, eave}, {0.9, 0.0, eave}, {0.9, 0.8, eave}};
   roof.triangles = {{2, 0, 1}, {2, 1, 3}, {0, 4, 5}, {0, 5, 1}};
   roof.motion = roof_motion;
   params.obstacles = {pyramid, roof};
@@ -87,7 +88,8 @@ struct ObstacleFixture {
     VecGetArray(v, &a);
     for (int n = 0; n < mesh.num_owned_nodes; ++n)
       for (int c = 0; c < 3; ++c)
-        a[3 * n + c] = (add_rest ? mesh.coordinates[n][c] : 0.0) + amplitude * hash_value(mesh.node_input_id[n], c, salt);
+        a[3 * n + c] = (add_rest ? mesh.coordinates[n][c] : 0.0) +
+                       amplitude * hash_value(mesh.node_input_id[n], c, salt);
     VecRestoreArray(v, &a);
   }
 
@@ -97,9 +99,12 @@ struct ObstacleFixture {
     std::array<long, 3> local{0, 0, 0}, total{};
     potential.with_local(x, [&](const double* xl, std::size_t) {
       for (const auto& p : contact->active_pairs(xl)) {
-        if (is_obstacle_node(p.info.nodes[0])) ++local[2];
-        else if (p.info.kind == PairKind::vertex_triangle && is_obstacle_node(p.info.nodes[1])) ++local[0];
-        else if (p.info.kind == PairKind::edge_edge && is_obstacle_node(p.info.nodes[2])) ++local[1];
+        if (is_obstacle_node(p.info.nodes[0]))
+          ++local[2];
+        else if (p.info.kind == PairKind::vertex_triangle && is_obstacle_node(p.info.nodes[1]))
+          ++local[0];
+        else if (p.info.kind == PairKind::edge_edge && is_obstacle_node(p.info.nodes[2]))
+          ++local[1];
       }
     });
     MPI_Allreduce(local.data(), total.data(), 3, MPI_LONG, MPI_SUM, mesh.comm);

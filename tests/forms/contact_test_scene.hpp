@@ -3,8 +3,8 @@
 // 2×2×2 box above the slab, offset so vertices, edges and faces all face each other
 // (point–triangle and edge–edge pairs, not only aligned vertices).
 #pragma once
-#include "mesh/box_generator.hpp"
 #include "contact/distributed/contact_parameters.hpp"
+#include "mesh/box_generator.hpp"
 
 namespace dipc {
 

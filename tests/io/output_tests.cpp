@@ -369,8 +369,8 @@ TEST_F(OutputTest, WritesContactFieldsAndObstacleGrids) {
         EXPECT_EQ(fc.values[3 * n + c], force(step, n, c, 1));
         EXPECT_EQ(ff.values[3 * n + c], force(step, n, c, -1));
       }
-    for (const auto& [name, expected] : {std::pair<const char*, long long>{"contact_pairs_point_plane", 7 + step},
-                                         {"contact_pairs_edge_edge", 3}}) {
+    for (const auto& [name, expected] :
+         {std::pair<const char*, long long>{"contact_pairs_point_plane", 7 + step}, {"contact_pairs_edge_edge", 3}}) {
       long long count = -1;
       const hid_t attribute = H5Aopen_by_name(file, group.c_str(), name, H5P_DEFAULT, H5P_DEFAULT);
       ASSERT_GE(attribute, 0) << group << " " << name;
@@ -417,7 +417,8 @@ TEST_F(OutputTest, KinematicBodiesAreTheirOwnGrids) {
   if (comm_rank() != 0) return;
   const std::string text = read_text(xmf);
   const bool two = part.global_elements == 5;
-  const std::vector<std::string> names = two ? std::vector<std::string>{"A", "K", "B..C"} : std::vector<std::string>{"A", "K"};
+  const std::vector<std::string> names = two ? std::vector<std::string>{"A", "K", "B..C"}
+                                             : std::vector<std::string>{"A", "K"};
   // Per grid: topology (a HyperSlab of one dataset), geometry, 2 node and 4 cell attributes.
   check_xdmf_against_h5(xmf, "kinematic.h5", h5, {0.5}, 8 * static_cast<int>(names.size()),
                         static_cast<int>(names.size()));
@@ -429,8 +430,10 @@ TEST_F(OutputTest, KinematicBodiesAreTheirOwnGrids) {
   EXPECT_NE(text.find("<Grid Name=\"step_0\" GridType=\"Collection\" CollectionType=\"Spatial\">"), std::string::npos);
   // K is row 1 of the cells: its topology selects that row, its cell fields are its own rows.
   EXPECT_NE(text.find("<DataItem Dimensions=\"3 2\" Format=\"XML\">1 0 1 1 1 8</DataItem>"), std::string::npos) << text;
-  EXPECT_NE(text.find("Dimensions=\"1\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">kinematic.h5:/mesh/grids/1/body<"),
-            std::string::npos) << text;
+  EXPECT_NE(text.find(
+                "Dimensions=\"1\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">kinematic.h5:/mesh/grids/1/body<"),
+            std::string::npos)
+      << text;
   if (two) {
     EXPECT_NE(text.find(">2 0 1 1 3 8</DataItem>"), std::string::npos) << text;
   }
@@ -500,8 +503,7 @@ TEST_F(OutputTest, InconsistentPartsThrowOnEveryRank) {
       XdmfWriter writer(dir_, "column", mesh);
       ADD_FAILURE() << "no exception";
     } catch (const std::runtime_error& e) {
-      EXPECT_NE(std::string(e.what()).find("elements: offset 3 on rank 1 should be 2"), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find("elements: offset 3 on rank 1 should be 2"), std::string::npos) << e.what();
     }
   }
 }

@@ -46,13 +46,15 @@ TEST(PolyfemExpression, RefusesWhatItCannotRead) {
 std::string scene(const std::string& geometry, const std::string& extra = "") {
   return R"({"geometry": [)" + geometry + R"(],
     "materials": [{"type": "NeoHookean", "E": 1e6, "nu": 0.4}],
-    "time": {"dt": 0.01, "time_steps": 4})" + (extra.empty() ? "" : ", " + extra) + "}";
+    "time": {"dt": 0.01, "time_steps": 4})" +
+         (extra.empty() ? "" : ", " + extra) + "}";
 }
 
 // The one-body scene with more `time` keys.
 std::string timed(const std::string& time_keys) {
   return R"({"geometry": [{"mesh": "a.msh"}], "materials": [{"type": "NeoHookean", "E": 1e6, "nu": 0.4}],
-    "time": {"dt": 0.01, "time_steps": 4, )" + time_keys + "}}";
+    "time": {"dt": 0.01, "time_steps": 4, )" +
+         time_keys + "}}";
 }
 
 Scene read(const std::string& text) { return parse_scene_text(text, "pf.json", "/base"); }
@@ -81,7 +83,8 @@ TEST(PolyfemScene, DefaultsAndConventions) {
 
 TEST(PolyfemScene, TimeFollowsPolyfemsRules) {
   auto time = [](const std::string& t) {
-    return read(R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0}, "time": )" + t + "}");
+    return read(R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0}, "time": )" +
+                t + "}");
   };
   EXPECT_EQ(time(R"({"tend": 0.1, "dt": 0.03})").steps, 4);  // ceil(tend / dt)
   const Scene n = time(R"({"tend": 0.1, "time_steps": 4, "integrator": "BDF1"})");
@@ -123,9 +126,10 @@ TEST(PolyfemScene, MaterialsByVolumeId) {
 }
 
 TEST(PolyfemScene, DisplacementsBecomeMotions) {
-  const Scene s = read(scene(R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 0]]}, {"id": 2, "box": [[0, 0, 1], [1, 1, 1]]}, {"id": 3, "box": [[0, 0, 0], [0, 1, 1]]}]},
+  const Scene s = read(scene(
+      R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 0]]}, {"id": 2, "box": [[0, 0, 1], [1, 1, 1]]}, {"id": 3, "box": [[0, 0, 0], [0, 1, 1]]}]},
         {"mesh": "o.obj", "is_obstacle": true, "surface_selection": 4})",
-                             R"("contact": {"enabled": true, "dhat": 1e-3},
+      R"("contact": {"enabled": true, "dhat": 1e-3},
       "boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": [0, 0, 0]}, {"id": [2, 4], "value": ["0.5*t", 0, "-t"]},
                                                      {"id": 3, "value": ["t^2", 0, 0]}],
                               "obstacle_displacements": [{"id": 4, "value": [0, "2*t", 0]}]})"));
@@ -169,11 +173,14 @@ TEST(PolyfemScene, ErrorsSayWhyTheFileWasReadAsPolyfems) {
     read(R"({"materials": [{"E": 1e6}], "geometry": [{"box": {"size": [1, 1, 1]}}], "time": {"dt": 0.1, "tend": 1}})");
     FAIL();
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("[read in PolyFEM's format: it has time.tend]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("[read in PolyFEM's format: it has time.tend]"), std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(polyfem_marker(nlohmann::json::parse(R"({"geometry": [{"mesh": "a.msh", "is_obstacle": true}]})")),
             "geometry[0].is_obstacle");
-  EXPECT_EQ(polyfem_marker(nlohmann::json::parse(R"({"geometry": [{"mesh": "a.msh"}], "time": {"dt": 1, "steps": 2}})")), "");
+  EXPECT_EQ(polyfem_marker(
+                nlohmann::json::parse(R"({"geometry": [{"mesh": "a.msh"}], "time": {"dt": 1, "steps": 2}})")),
+            "");
 }
 
 struct Refused {
@@ -201,60 +208,100 @@ const std::string faces = R"({"mesh": "a.msh", "surface_selection": 1})";
 INSTANTIATE_TEST_SUITE_P(
     Table, PolyfemRefusals,
     ::testing::Values(
-        Refused{"other_material", R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "LinearElasticity", "E": 1, "nu": 0.3}, "time": {"dt": 1, "time_steps": 1}})",
-                {"materials.type = \"LinearElasticity\"", "cannot model", "NeoHookean"}},
-        Refused{"damping", R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3, "phi": 2}, "time": {"dt": 1, "time_steps": 1}})",
-                {"materials.phi", "damping"}},
-        Refused{"expression_material", R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": "1e6*x", "nu": 0.3}, "time": {"dt": 1, "time_steps": 1}})",
-                {"materials.E", "constant material parameters"}},
-        Refused{"newmark", timed(R"("integrator": "ImplicitNewmark")"),
-                {"time.integrator", "ImplicitEuler"}},
-        Refused{"bdf2", timed(R"("integrator": {"type": "BDF", "steps": 2})"),
-                {"time.integrator", "ImplicitEuler"}},
+        Refused{
+            "other_material",
+            R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "LinearElasticity", "E": 1, "nu": 0.3}, "time": {"dt": 1, "time_steps": 1}})",
+            {"materials.type = \"LinearElasticity\"", "cannot model", "NeoHookean"}},
+        Refused{
+            "damping",
+            R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3, "phi": 2}, "time": {"dt": 1, "time_steps": 1}})",
+            {"materials.phi", "damping"}},
+        Refused{
+            "expression_material",
+            R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": "1e6*x", "nu": 0.3}, "time": {"dt": 1, "time_steps": 1}})",
+            {"materials.E", "constant material parameters"}},
+        Refused{"newmark", timed(R"("integrator": "ImplicitNewmark")"), {"time.integrator", "ImplicitEuler"}},
+        Refused{"bdf2", timed(R"("integrator": {"type": "BDF", "steps": 2})"), {"time.integrator", "ImplicitEuler"}},
         Refused{"t0", timed(R"("t0": 1)"), {"time.t0", "t = 0"}},
-        Refused{"no_time", R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3}})", {"time", "missing"}},
-        Refused{"one_time_key", R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3}, "time": {"dt": 1}})",
-                {"time: give two of"}},
-        Refused{"tet_body", scene(R"({"mesh": "bunny.obj"})"), {"geometry[0].mesh", "hexahedral Gmsh MSH", "dipc-voxelize"}},
+        Refused{"no_time",
+                R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3}})",
+                {"time", "missing"}},
+        Refused{
+            "one_time_key",
+            R"({"geometry": {"mesh": "a.msh"}, "materials": {"type": "NeoHookean", "E": 1, "nu": 0.3}, "time": {"dt": 1}})",
+            {"time: give two of"}},
+        Refused{"tet_body",
+                scene(R"({"mesh": "bunny.obj"})"),
+                {"geometry[0].mesh", "hexahedral Gmsh MSH", "dipc-voxelize"}},
         Refused{"refined", scene(R"({"mesh": "a.msh", "n_refs": 1})"), {"geometry[0].n_refs", "refine"}},
-        Refused{"sphere_selection", scene(R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "center": [0, 0, 0], "radius": 1}]})"),
+        Refused{"sphere_selection",
+                scene(R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "center": [0, 0, 0], "radius": 1}]})"),
                 {"geometry[0].surface_selection[0]", "box selections"}},
-        Refused{"relative_box", scene(R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 1]], "relative": true}]})"),
-                {"geometry[0].surface_selection[0].relative", "absolute"}},
-        Refused{"dimensions", scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, 1, 1]}})"),
+        Refused{
+            "relative_box",
+            scene(
+                R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 1]], "relative": true}]})"),
+            {"geometry[0].surface_selection[0].relative", "absolute"}},
+        Refused{"dimensions",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, 1, 1]}})"),
                 {"geometry[0].transformation.dimensions"}},
-        Refused{"point_selection", scene(R"({"mesh": "a.msh", "point_selection": 3})"), {"geometry[0].point_selection"}},
-        Refused{"volume_selection_boxes", scene(R"({"mesh": "a.msh", "volume_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 1]]}]})"),
+        Refused{"point_selection",
+                scene(R"({"mesh": "a.msh", "point_selection": 3})"),
+                {"geometry[0].point_selection"}},
+        Refused{"volume_selection_boxes",
+                scene(R"({"mesh": "a.msh", "volume_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 1]]}]})"),
                 {"geometry[0].volume_selection", "integer"}},
-        Refused{"obstacle_without_contact", scene(mesh + R"(, {"mesh": "f.obj", "is_obstacle": true})"),
+        Refused{"obstacle_without_contact",
+                scene(mesh + R"(, {"mesh": "f.obj", "is_obstacle": true})"),
                 {"geometry[1]", "contact.enabled"}},
-        Refused{"obstacle_msh", scene(mesh + R"(, {"mesh": "f.msh", "is_obstacle": true})", R"("contact": {"enabled": true})"),
+        Refused{"obstacle_msh",
+                scene(mesh + R"(, {"mesh": "f.msh", "is_obstacle": true})", R"("contact": {"enabled": true})"),
                 {"geometry[1].mesh", "OBJ or STL"}},
-        Refused{"neumann", scene(faces, R"("boundary_conditions": {"neumann_boundary": [{"id": 1, "value": [0, 0, 1]}]})"),
+        Refused{"neumann",
+                scene(faces, R"("boundary_conditions": {"neumann_boundary": [{"id": 1, "value": [0, 0, 1]}]})"),
                 {"boundary_conditions.neumann_boundary", "traction"}},
-        Refused{"pressure", scene(faces, R"("boundary_conditions": {"pressure_boundary": [{"id": 1, "value": 5}]})"),
+        Refused{"pressure",
+                scene(faces, R"("boundary_conditions": {"pressure_boundary": [{"id": 1, "value": 5}]})"),
                 {"boundary_conditions.pressure_boundary"}},
-        Refused{"rotating_dirichlet", scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": ["x*cos(t) - x", 0, 0]}]})"),
+        Refused{"rotating_dirichlet",
+                scene(faces,
+                      R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": ["x*cos(t) - x", 0, 0]}]})"),
                 {"boundary_conditions.dirichlet_boundary[0].value[0]", "x, y or z"}},
-        Refused{"jump_dirichlet", scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": [0.1, 0, 0]}]})"),
+        Refused{"jump_dirichlet",
+                scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": [0.1, 0, 0]}]})"),
                 {"boundary_conditions.dirichlet_boundary[0].value", "t = 0 is not zero"}},
-        Refused{"partial_dirichlet", scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": [0, 0, 0], "dimension": [true, false, true]}]})"),
-                {"boundary_conditions.dirichlet_boundary[0].dimension[1]", "all three components"}},
-        Refused{"unknown_id", scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 9, "value": [0, 0, 0]}]})"),
+        Refused{
+            "partial_dirichlet",
+            scene(
+                faces,
+                R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": [0, 0, 0], "dimension": [true, false, true]}]})"),
+            {"boundary_conditions.dirichlet_boundary[0].dimension[1]", "all three components"}},
+        Refused{"unknown_id",
+                scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 9, "value": [0, 0, 0]}]})"),
                 {"boundary_conditions.dirichlet_boundary[0].id = 9", "surface_selection"}},
-        Refused{"interpolated", scene(faces, R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": ["t", 0, 0], "interpolation": {"type": "linear_ramp", "to": 1}}]})"),
-                {"boundary_conditions.dirichlet_boundary[0].interpolation", "expression of t"}},
-        Refused{"rhs_field", scene(mesh, R"("boundary_conditions": {"rhs": [0, "9.81*y", 0]})"),
+        Refused{
+            "interpolated",
+            scene(
+                faces,
+                R"("boundary_conditions": {"dirichlet_boundary": [{"id": 1, "value": ["t", 0, 0], "interpolation": {"type": "linear_ramp", "to": 1}}]})"),
+            {"boundary_conditions.dirichlet_boundary[0].interpolation", "expression of t"}},
+        Refused{"rhs_field",
+                scene(mesh, R"("boundary_conditions": {"rhs": [0, "9.81*y", 0]})"),
                 {"boundary_conditions.rhs[1]", "uniform gravity"}},
-        Refused{"initial_displacement", scene(mesh, R"("initial_conditions": {"solution": [{"id": 0, "value": [0.1, 0, 0]}]})"),
+        Refused{"initial_displacement",
+                scene(mesh, R"("initial_conditions": {"solution": [{"id": 0, "value": [0.1, 0, 0]}]})"),
                 {"initial_conditions.solution[0].value", "rest placement"}},
-        Refused{"spinning_start", scene(mesh, R"("initial_conditions": {"velocity": [{"id": 0, "value": ["-y", "x", 0]}]})"),
+        Refused{"spinning_start",
+                scene(mesh, R"("initial_conditions": {"velocity": [{"id": 0, "value": ["-y", "x", 0]}]})"),
                 {"initial_conditions.velocity[0].value[0]"}},
-        Refused{"convergent_ipc", scene(mesh, R"("contact": {"enabled": true, "use_convergent_formulation": true})"),
+        Refused{"convergent_ipc",
+                scene(mesh, R"("contact": {"enabled": true, "use_convergent_formulation": true})"),
                 {"contact.use_convergent_formulation"}},
-        Refused{"adhesion", scene(mesh, R"("contact": {"enabled": true, "adhesion": {"adhesion_enabled": true}})"),
+        Refused{"adhesion",
+                scene(mesh, R"("contact": {"enabled": true, "adhesion": {"adhesion_enabled": true}})"),
                 {"contact.adhesion.adhesion_enabled"}},
-        Refused{"rayleigh", scene(mesh, R"("solver": {"rayleigh_damping": [{"form": "elasticity", "stiffness": 1}]})"),
+        Refused{"rayleigh",
+                scene(mesh, R"("solver": {"rayleigh_damping": [{"form": "elasticity", "stiffness": 1}]})"),
                 {"solver.rayleigh_damping", "Rayleigh"}},
         Refused{"quadratic", scene(mesh, R"("space": {"discr_order": 2})"), {"space.discr_order", "linear"}},
         Refused{"units", scene(mesh, R"("units": {"length": "mm"})"), {"units.length", "m, kg, s"}},

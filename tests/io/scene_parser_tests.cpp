@@ -42,8 +42,8 @@ TEST(SceneParser, BaseSceneIsValid) { EXPECT_NO_THROW(parse(base_scene())); }
 
 struct BadScene {
   std::string name;
-  std::function<std::string()> text;     // the scene file's text
-  std::vector<std::string> expected;    // substrings of the error message
+  std::function<std::string()> text;  // the scene file's text
+  std::vector<std::string> expected;  // substrings of the error message
 };
 
 // gtest prints a failing parameter with this instead of its bytes.
@@ -66,31 +66,49 @@ std::string raw(const std::string& from, const std::string& to) {
 
 std::vector<BadScene> bad_scenes() {
   return {
-      {"BadJson", [] { return std::string("{\n  \"materials\": [,]\n}"); },
+      {"BadJson",
+       [] { return std::string("{\n  \"materials\": [,]\n}"); },
        {"scene.json: invalid JSON: parse error at line 2, column 17"}},
       {"NotAnObject", [] { return std::string("[1, 2]"); }, {"scene.json: expected an object, got array"}},
-      {"UnknownTopLevelKey", [] { return edited([](json& s) { s["meterials"] = json::array(); }); },
+      {"UnknownTopLevelKey",
+       [] { return edited([](json& s) { s["meterials"] = json::array(); }); },
        {"scene.json: meterials: unknown key (allowed: materials, geometry, boundary_conditions, time"}},
-      {"UnknownNestedKey", [] { return edited([](json& s) { s["geometry"][0]["box"]["sise"] = 1; }); },
+      {"UnknownNestedKey",
+       [] { return edited([](json& s) { s["geometry"][0]["box"]["sise"] = 1; }); },
        {"scene.json: geometry[0].box.sise: unknown key (allowed: size, resolution, origin)"}},
-      {"KeyOfAnotherBcType", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["velocity"] = {0, 0, 1}; }); },
+      {"KeyOfAnotherBcType",
+       [] { return edited([](json& s) {
+              s["boundary_conditions"]["dirichlet"][0]["velocity"] = {0, 0, 1};
+            }); },
        {"boundary_conditions.dirichlet[0].velocity: unknown key (allowed for type \"fixed\": selection, type)"}},
-      {"DuplicateKey", [] { return raw("\"E\": 1000000.0", "\"E\": 1000000.0, \"E\": 2"); },
+      {"DuplicateKey",
+       [] { return raw("\"E\": 1000000.0", "\"E\": 1000000.0, \"E\": 2"); },
        {"scene.json: materials[0].E: duplicate key"}},
-      {"WrongType", [] { return edited([](json& s) { s["time"]["dt"] = "0.01"; }); },
+      {"WrongType",
+       [] { return edited([](json& s) { s["time"]["dt"] = "0.01"; }); },
        {"scene.json: time.dt: expected a number, got string \"0.01\""}},
-      {"WrongTypeDeep", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][1]["velocity"][2] = "up"; }); },
+      {"WrongTypeDeep",
+       [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][1]["velocity"][2] = "up"; }); },
        {"scene.json: boundary_conditions.dirichlet[1].velocity[2]: expected a number, got string"}},
-      {"WrongLength", [] { return edited([](json& s) { s["boundary_conditions"]["gravity"] = {0, -9.81}; }); },
+      {"WrongLength",
+       [] { return edited([](json& s) {
+              s["boundary_conditions"]["gravity"] = {0, -9.81};
+            }); },
        {"scene.json: boundary_conditions.gravity: expected an array of 3 numbers, got 2"}},
-      {"NuHalf", [] { return edited([](json& s) { s["materials"][0]["nu"] = 0.5; }); },
+      {"NuHalf",
+       [] { return edited([](json& s) { s["materials"][0]["nu"] = 0.5; }); },
        {"scene.json: materials[0].nu = 0.5: must be in (-1, 0.5)"}},
-      {"NuMinusOne", [] { return edited([](json& s) { s["materials"][0]["nu"] = -1; }); },
+      {"NuMinusOne",
+       [] { return edited([](json& s) { s["materials"][0]["nu"] = -1; }); },
        {"scene.json: materials[0].nu = -1: must be in (-1, 0.5)"}},
-      {"EZero", [] { return edited([](json& s) { s["materials"][0]["E"] = 0; }); }, {"scene.json: materials[0].E = 0: must be > 0"}},
-      {"RhoNegative", [] { return edited([](json& s) { s["materials"][0]["rho"] = -5; }); },
+      {"EZero",
+       [] { return edited([](json& s) { s["materials"][0]["E"] = 0; }); },
+       {"scene.json: materials[0].E = 0: must be > 0"}},
+      {"RhoNegative",
+       [] { return edited([](json& s) { s["materials"][0]["rho"] = -5; }); },
        {"scene.json: materials[0].rho = -5: must be > 0"}},
-      {"UnknownModel", [] { return edited([](json& s) { s["materials"][0]["model"] = "mooney_rivlin"; }); },
+      {"UnknownModel",
+       [] { return edited([](json& s) { s["materials"][0]["model"] = "mooney_rivlin"; }); },
        {"scene.json: materials[0].model = \"mooney_rivlin\": must be \"neo_hookean\" or \"stable_neo_hookean\""}},
       {"StableNeoHookeanMeanDilatation",
        [] {
@@ -101,209 +119,353 @@ std::vector<BadScene> bad_scenes() {
        },
        {"scene.json: materials[0].model = \"stable_neo_hookean\": has no mean-dilatation element"}},
       {"DtZero", [] { return edited([](json& s) { s["time"]["dt"] = 0; }); }, {"scene.json: time.dt = 0: must be > 0"}},
-      {"Overflow", [] { return raw("-9.81", "1e999"); },
+      {"Overflow",
+       [] { return raw("-9.81", "1e999"); },
        {"scene.json: boundary_conditions.gravity[2]: number overflow parsing '1e999'", "must be finite"}},
-      {"EmptyMaterials", [] { return edited([](json& s) { s["materials"] = json::array(); }); },
+      {"EmptyMaterials",
+       [] { return edited([](json& s) { s["materials"] = json::array(); }); },
        {"scene.json: materials: must list at least one material"}},
-      {"DuplicateMaterial", [] { return edited([](json& s) { s["materials"].push_back({{"name", "rubber"}}); }); },
+      {"DuplicateMaterial",
+       [] { return edited([](json& s) {
+              s["materials"].push_back({{"name", "rubber"}});
+            }); },
        {"scene.json: materials[1].name = \"rubber\": duplicate material name (also materials[0].name)"}},
-      {"UnknownMaterial", [] { return edited([](json& s) { s["geometry"][0]["material"] = "steel"; }); },
+      {"UnknownMaterial",
+       [] { return edited([](json& s) { s["geometry"][0]["material"] = "steel"; }); },
        {"scene.json: geometry[0].material = \"steel\": unknown material (known: rubber)"}},
-      {"MaterialIndexOutOfRange", [] { return edited([](json& s) { s["geometry"][0]["material"] = 1; }); },
+      {"MaterialIndexOutOfRange",
+       [] { return edited([](json& s) { s["geometry"][0]["material"] = 1; }); },
        {"scene.json: geometry[0].material = 1: material index must be in [0, 1)"}},
-      {"MaterialMissingWithTwo", [] { return edited([](json& s) {
-         s["materials"].push_back({{"name", "steel"}});
-         s["geometry"][0].erase("material");
-       }); },
-       {"scene.json: geometry[0]: \"material\" is required when the scene has 2 materials"}},
-      {"BoxAndMesh", [] { return edited([](json& s) { s["geometry"][0]["mesh"] = "a.msh"; }); },
-       {"scene.json: geometry[0]: give either \"box\" or \"mesh\", not both"}},
-      {"NeitherBoxNorMesh", [] { return edited([](json& s) { s["geometry"][0].erase("box"); }); },
-       {"scene.json: geometry[0]: needs a \"box\" or a \"mesh\""}},
-      {"DuplicateBody", [] { return edited([](json& s) { s["geometry"].push_back(s["geometry"][0]); }); },
-       {"scene.json: geometry[1]: duplicate body name \"beam\" (also geometry[0])"}},
-      {"BodyNameWithDot", [] { return edited([](json& s) { s["geometry"][0]["name"] = "a.b"; }); },
-       {"scene.json: geometry[0].name = \"a.b\": must not contain '.'"}},
-      {"BoxSizeZero", [] { return edited([](json& s) { s["geometry"][0]["box"]["size"][1] = 0; }); },
-       {"scene.json: geometry[0].box.size[1] = 0: must be > 0"}},
-      {"ResolutionZero", [] { return edited([](json& s) { s["geometry"][0]["box"]["resolution"][2] = 0; }); },
-       {"scene.json: geometry[0].box.resolution[2] = 0: must be >= 1"}},
-      {"ResolutionNotInteger", [] { return edited([](json& s) { s["geometry"][0]["box"]["resolution"][0] = 2.5; }); },
-       {"scene.json: geometry[0].box.resolution[0]: expected an integer, got number 2.5"}},
-      {"TranslationOnBox", [] { return edited([](json& s) { s["geometry"][0]["translation"] = {1, 0, 0}; }); },
-       {"scene.json: geometry[0].translation: applies to a \"mesh\" body only"}},
-      {"ScaleZero", [] { return edited([](json& s) {
-         s["geometry"][0].erase("box");
-         s["geometry"][0]["mesh"] = "a.msh";
-         s["geometry"][0]["scale"] = 0;
-       }); },
-       {"scene.json: geometry[0].scale = 0: must be > 0"}},
-      {"ZeroAxis", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][2]["axis"] = {0, 0, 0}; }); },
-       {"scene.json: boundary_conditions.dirichlet[2].axis = [0,0,0]: rotation axis must be non-zero"}},
-      {"RotationWithoutSpeed", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][2].erase("angular_velocity"); }); },
-       {"scene.json: boundary_conditions.dirichlet[2].angular_velocity: required key is missing"}},
-      {"UnknownBcType", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["type"] = "clamped"; }); },
-       {"scene.json: boundary_conditions.dirichlet[0].type = \"clamped\": unknown type (allowed: fixed, velocity, rotation, path)"}},
-      {"SelectionBoxInverted", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][1]["selection"]["box"][1][0] = 0.5; }); },
-       {"scene.json: boundary_conditions.dirichlet[1].selection.box: min corner exceeds max corner in coordinate 0 (0.9 > 0.5)"}},
-      {"SelectionWrongType", [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["selection"] = 3; }); },
-       {"scene.json: boundary_conditions.dirichlet[0].selection: expected a node set name or {\"box\""}},
-      {"MissingTime", [] { return edited([](json& s) { s.erase("time"); }); }, {"scene.json: time: required key is missing"}},
-      {"MissingDt", [] { return edited([](json& s) { s["time"].erase("dt"); }); }, {"scene.json: time.dt: required key is missing"}},
-      {"MissingSteps", [] { return edited([](json& s) { s["time"].erase("steps"); }); },
-       {"scene.json: time: needs \"steps\" or \"t_end\""}},
-      {"StepsAndTEnd", [] { return edited([](json& s) { s["time"]["t_end"] = 0.1; }); },
-       {"scene.json: time: give either \"steps\" or \"t_end\", not both"}},
-      {"StepsZero", [] { return edited([](json& s) { s["time"]["steps"] = 0; }); }, {"scene.json: time.steps = 0: must be >= 1"}},
-      {"StepsTooLarge", [] { return edited([](json& s) { s["time"]["steps"] = 99999999999LL; }); },
-       {"scene.json: time.steps = 99999999999: too large (at most 2147483647)"}},
-      {"TEndNotMultiple", [] { return edited([](json& s) { s["time"].erase("steps"); s["time"]["t_end"] = 0.015; }); },
-       {"scene.json: time.t_end = 0.015: not a whole number of steps of dt = 0.01 (1.5 steps)"}},
-      {"TEndTooShort", [] { return edited([](json& s) { s["time"].erase("steps"); s["time"]["t_end"] = 0.004; }); },
-       {"scene.json: time.t_end = 0.004: shorter than one step of dt = 0.01"}},
-      {"UnknownIntegrator", [] { return edited([](json& s) { s["time"]["integrator"] = "newmark"; }); },
-       {"scene.json: time.integrator = \"newmark\": unknown integrator (allowed: implicit_euler, static)"}},
-      {"StaticWithTEnd",
+      {"MaterialMissingWithTwo",
        [] {
          return edited([](json& s) {
-           s["time"] = {{"integrator", "static"}, {"t_end", 1.0}};
+           s["materials"].push_back({{"name", "steel"}});
+           s["geometry"][0].erase("material");
          });
        },
+       {"scene.json: geometry[0]: \"material\" is required when the scene has 2 materials"}},
+      {"BoxAndMesh",
+       [] { return edited([](json& s) { s["geometry"][0]["mesh"] = "a.msh"; }); },
+       {"scene.json: geometry[0]: give either \"box\" or \"mesh\", not both"}},
+      {"NeitherBoxNorMesh",
+       [] { return edited([](json& s) { s["geometry"][0].erase("box"); }); },
+       {"scene.json: geometry[0]: needs a \"box\" or a \"mesh\""}},
+      {"DuplicateBody",
+       [] { return edited([](json& s) { s["geometry"].push_back(s["geometry"][0]); }); },
+       {"scene.json: geometry[1]: duplicate body name \"beam\" (also geometry[0])"}},
+      {"BodyNameWithDot",
+       [] { return edited([](json& s) { s["geometry"][0]["name"] = "a.b"; }); },
+       {"scene.json: geometry[0].name = \"a.b\": must not contain '.'"}},
+      {"BoxSizeZero",
+       [] { return edited([](json& s) { s["geometry"][0]["box"]["size"][1] = 0; }); },
+       {"scene.json: geometry[0].box.size[1] = 0: must be > 0"}},
+      {"ResolutionZero",
+       [] { return edited([](json& s) { s["geometry"][0]["box"]["resolution"][2] = 0; }); },
+       {"scene.json: geometry[0].box.resolution[2] = 0: must be >= 1"}},
+      {"ResolutionNotInteger",
+       [] { return edited([](json& s) { s["geometry"][0]["box"]["resolution"][0] = 2.5; }); },
+       {"scene.json: geometry[0].box.resolution[0]: expected an integer, got number 2.5"}},
+      {"TranslationOnBox",
+       [] { return edited([](json& s) {
+              s["geometry"][0]["translation"] = {1, 0, 0};
+            }); },
+       {"scene.json: geometry[0].translation: applies to a \"mesh\" body only"}},
+      {"ScaleZero",
+       [] {
+         return edited([](json& s) {
+           s["geometry"][0].erase("box");
+           s["geometry"][0]["mesh"] = "a.msh";
+           s["geometry"][0]["scale"] = 0;
+         });
+       },
+       {"scene.json: geometry[0].scale = 0: must be > 0"}},
+      {"ZeroAxis",
+       [] { return edited([](json& s) {
+              s["boundary_conditions"]["dirichlet"][2]["axis"] = {0, 0, 0};
+            }); },
+       {"scene.json: boundary_conditions.dirichlet[2].axis = [0,0,0]: rotation axis must be non-zero"}},
+      {"RotationWithoutSpeed",
+       [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][2].erase("angular_velocity"); }); },
+       {"scene.json: boundary_conditions.dirichlet[2].angular_velocity: required key is missing"}},
+      {"UnknownBcType",
+       [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["type"] = "clamped"; }); },
+       {"scene.json: boundary_conditions.dirichlet[0].type = \"clamped\": unknown type (allowed: fixed, velocity, "
+        "rotation, path)"}},
+      {"SelectionBoxInverted",
+       [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][1]["selection"]["box"][1][0] = 0.5; }); },
+       {"scene.json: boundary_conditions.dirichlet[1].selection.box: min corner exceeds max corner in coordinate 0 "
+        "(0.9 > 0.5)"}},
+      {"SelectionWrongType",
+       [] { return edited([](json& s) { s["boundary_conditions"]["dirichlet"][0]["selection"] = 3; }); },
+       {"scene.json: boundary_conditions.dirichlet[0].selection: expected a node set name or {\"box\""}},
+      {"MissingTime",
+       [] { return edited([](json& s) { s.erase("time"); }); },
+       {"scene.json: time: required key is missing"}},
+      {"MissingDt",
+       [] { return edited([](json& s) { s["time"].erase("dt"); }); },
+       {"scene.json: time.dt: required key is missing"}},
+      {"MissingSteps",
+       [] { return edited([](json& s) { s["time"].erase("steps"); }); },
+       {"scene.json: time: needs \"steps\" or \"t_end\""}},
+      {"StepsAndTEnd",
+       [] { return edited([](json& s) { s["time"]["t_end"] = 0.1; }); },
+       {"scene.json: time: give either \"steps\" or \"t_end\", not both"}},
+      {"StepsZero",
+       [] { return edited([](json& s) { s["time"]["steps"] = 0; }); },
+       {"scene.json: time.steps = 0: must be >= 1"}},
+      {"StepsTooLarge",
+       [] { return edited([](json& s) { s["time"]["steps"] = 99999999999LL; }); },
+       {"scene.json: time.steps = 99999999999: too large (at most 2147483647)"}},
+      {"TEndNotMultiple",
+       [] {
+         return edited([](json& s) {
+           s["time"].erase("steps");
+           s["time"]["t_end"] = 0.015;
+         });
+       },
+       {"scene.json: time.t_end = 0.015: not a whole number of steps of dt = 0.01 (1.5 steps)"}},
+      {"TEndTooShort",
+       [] {
+         return edited([](json& s) {
+           s["time"].erase("steps");
+           s["time"]["t_end"] = 0.004;
+         });
+       },
+       {"scene.json: time.t_end = 0.004: shorter than one step of dt = 0.01"}},
+      {"UnknownIntegrator",
+       [] { return edited([](json& s) { s["time"]["integrator"] = "newmark"; }); },
+       {"scene.json: time.integrator = \"newmark\": unknown integrator (allowed: implicit_euler, static)"}},
+      {"StaticWithTEnd",
+       [] { return edited([](json& s) {
+              s["time"] = {{"integrator", "static"}, {"t_end", 1.0}};
+            }); },
        {"scene.json: time.t_end: unknown key (allowed for integrator \"static\": integrator, dt, steps)"}},
-      {"UnknownMass", [] { return edited([](json& s) { s["solver"]["mass"] = "diagonal"; }); },
+      {"UnknownMass",
+       [] { return edited([](json& s) { s["solver"]["mass"] = "diagonal"; }); },
        {"scene.json: solver.mass = \"diagonal\": unknown mass matrix (allowed: lumped, consistent)"}},
-      {"EveryZero", [] { return edited([](json& s) { s["output"]["every"] = 0; }); }, {"scene.json: output.every = 0: must be >= 1"}},
-      {"OutputNameWithSlash", [] { return edited([](json& s) { s["output"]["name"] = "a/b"; }); },
+      {"EveryZero",
+       [] { return edited([](json& s) { s["output"]["every"] = 0; }); },
+       {"scene.json: output.every = 0: must be >= 1"}},
+      {"OutputNameWithSlash",
+       [] { return edited([](json& s) { s["output"]["name"] = "a/b"; }); },
        {"scene.json: output.name = \"a/b\": must be a non-empty file name without '/'"}},
-      {"DhatZero", [] { return edited([](json& s) { s["contact"]["dhat"] = 0; }); }, {"scene.json: contact.dhat = 0: must be > 0"}},
-      {"FrictionNegative", [] { return edited([](json& s) { s["contact"]["friction"] = -0.1; }); },
+      {"DhatZero",
+       [] { return edited([](json& s) { s["contact"]["dhat"] = 0; }); },
+       {"scene.json: contact.dhat = 0: must be > 0"}},
+      {"FrictionNegative",
+       [] { return edited([](json& s) { s["contact"]["friction"] = -0.1; }); },
        {"scene.json: contact.friction = -0.1: must be >= 0"}},
-      {"EnabledNotBool", [] { return edited([](json& s) { s["contact"]["enabled"] = 1; }); },
+      {"EnabledNotBool",
+       [] { return edited([](json& s) { s["contact"]["enabled"] = 1; }); },
        {"scene.json: contact.enabled: expected true or false, got number 1"}},
-      {"ContactUnknownKey", [] { return edited([](json& s) { s["contact"]["mu"] = 0.3; }); },
+      {"ContactUnknownKey",
+       [] { return edited([](json& s) { s["contact"]["mu"] = 0.3; }); },
        {"scene.json: contact.mu: unknown key (allowed: enabled, dhat, dhat_relative, barrier_stiffness, "
         "friction, epsv, friction_iterations, planes, obstacles)"}},
-      {"DhatNegative", [] { return edited([](json& s) { s["contact"]["dhat"] = -1e-3; }); },
+      {"DhatNegative",
+       [] { return edited([](json& s) { s["contact"]["dhat"] = -1e-3; }); },
        {"scene.json: contact.dhat = -0.001: must be > 0"}},
-      {"DhatRelativeWholeDiagonal", [] { return edited([](json& s) { s["contact"]["dhat"] = 1; }); },
+      {"DhatRelativeWholeDiagonal",
+       [] { return edited([](json& s) { s["contact"]["dhat"] = 1; }); },
        {"scene.json: contact.dhat = 1: a relative dhat is a fraction of the bounding-box diagonal, must be < 1"}},
-      {"BarrierStiffnessAuto", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = "auto"; }); },
-       {"scene.json: contact.barrier_stiffness = \"auto\": unknown barrier stiffness (allowed: \"adaptive\" or a number > 0)"}},
-      {"BarrierStiffnessZero", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = 0; }); },
+      {"BarrierStiffnessAuto",
+       [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = "auto"; }); },
+       {"scene.json: contact.barrier_stiffness = \"auto\": unknown barrier stiffness (allowed: \"adaptive\" or a "
+        "number > 0)"}},
+      {"BarrierStiffnessZero",
+       [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = 0; }); },
        {"scene.json: contact.barrier_stiffness = 0: must be > 0"}},
-      {"BarrierStiffnessNegative", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = -1e4; }); },
+      {"BarrierStiffnessNegative",
+       [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = -1e4; }); },
        {"scene.json: contact.barrier_stiffness = -10000.0: must be > 0"}},
-      {"BarrierStiffnessBool", [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = true; }); },
+      {"BarrierStiffnessBool",
+       [] { return edited([](json& s) { s["contact"]["barrier_stiffness"] = true; }); },
        {"scene.json: contact.barrier_stiffness: expected \"adaptive\" or a number > 0"}},
-      {"EpsvZero", [] { return edited([](json& s) { s["contact"]["epsv"] = 0; }); }, {"scene.json: contact.epsv = 0: must be > 0"}},
-      {"EpsvNegative", [] { return edited([](json& s) { s["contact"]["epsv"] = -1e-3; }); },
+      {"EpsvZero",
+       [] { return edited([](json& s) { s["contact"]["epsv"] = 0; }); },
+       {"scene.json: contact.epsv = 0: must be > 0"}},
+      {"EpsvNegative",
+       [] { return edited([](json& s) { s["contact"]["epsv"] = -1e-3; }); },
        {"scene.json: contact.epsv = -0.001: must be > 0"}},
-      {"FrictionIterationsZero", [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 0; }); },
+      {"FrictionIterationsZero",
+       [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 0; }); },
        {"scene.json: contact.friction_iterations = 0: must be >= 1"}},
-      {"FrictionIterationsNotInteger", [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 1.5; }); },
+      {"FrictionIterationsNotInteger",
+       [] { return edited([](json& s) { s["contact"]["friction_iterations"] = 1.5; }); },
        {"scene.json: contact.friction_iterations: expected an integer, got number 1.5"}},
-      {"PlanesNotArray", [] { return edited([](json& s) { s["contact"]["planes"] = {{"normal", {0, 0, 1}}}; }); },
+      {"PlanesNotArray",
+       [] { return edited([](json& s) {
+              s["contact"]["planes"] = {{"normal", {0, 0, 1}}};
+            }); },
        {"scene.json: contact.planes: expected an array, got object"}},
-      {"PlaneZeroNormal", [] { return edited([](json& s) {
-         s["contact"]["planes"] = json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 0}}}});
-       }); },
+      {"PlaneZeroNormal",
+       [] {
+         return edited([](json& s) {
+           s["contact"]["planes"] = json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 0}}}});
+         });
+       },
        {"scene.json: contact.planes[0].normal = [0,0,0]: plane normal must be non-zero"}},
-      {"PlaneWithoutNormal", [] { return edited([](json& s) {
-         s["contact"]["planes"] = json::array({{{"point", {0, 0, 0}}, {"normal", {0, 0, 1}}}, {{"point", {0, 0, 1}}}});
-       }); },
+      {"PlaneWithoutNormal",
+       [] {
+         return edited([](json& s) {
+           s["contact"]["planes"] = json::array(
+               {{{"point", {0, 0, 0}}, {"normal", {0, 0, 1}}}, {{"point", {0, 0, 1}}}});
+         });
+       },
        {"scene.json: contact.planes[1].normal: required key is missing"}},
-      {"PlaneUnknownKey", [] { return edited([](json& s) {
-         s["contact"]["planes"] = json::array({{{"origin", {0, 0, 0}}, {"normal", {0, 0, 1}}}});
-       }); },
+      {"PlaneUnknownKey",
+       [] {
+         return edited([](json& s) {
+           s["contact"]["planes"] = json::array({{{"origin", {0, 0, 0}}, {"normal", {0, 0, 1}}}});
+         });
+       },
        {"scene.json: contact.planes[0].origin: unknown key (allowed: point, normal)"}},
-      {"SelfContactNotBool", [] { return edited([](json& s) { s["geometry"][0]["self_contact"] = "yes"; }); },
+      {"SelfContactNotBool",
+       [] { return edited([](json& s) { s["geometry"][0]["self_contact"] = "yes"; }); },
        {"scene.json: geometry[0].self_contact: expected true or false, got string \"yes\""}},
-      {"KinematicUnknownType", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = {{"type", "spin"}};
-       }); },
+      {"KinematicUnknownType",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = {{"type", "spin"}};
+         });
+       },
        {"scene.json: geometry[0].kinematic.type = \"spin\": unknown type (allowed: fixed, velocity, rotation, path)"}},
-      {"KinematicNotObject", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = true;
-       }); },
+      {"KinematicNotObject",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = true;
+         });
+       },
        {"scene.json: geometry[0].kinematic: expected an object, got boolean true"}},
-      {"KinematicVelocityMissing", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = {{"type", "velocity"}};
-       }); },
+      {"KinematicVelocityMissing",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = {{"type", "velocity"}};
+         });
+       },
        {"scene.json: geometry[0].kinematic.velocity: required key is missing"}},
-      {"KinematicWithSelection", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = {{"selection", "beam.xmin"}};
-       }); },
+      {"KinematicWithSelection",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = {{"selection", "beam.xmin"}};
+         });
+       },
        {"scene.json: geometry[0].kinematic.selection: unknown key (allowed for type \"fixed\": type)"}},
-      {"KinematicZeroAxis", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = {{"type", "rotation"}, {"axis", {0, 0, 0}}, {"angular_velocity", 1}};
-       }); },
+      {"KinematicZeroAxis",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = {{"type", "rotation"}, {"axis", {0, 0, 0}}, {"angular_velocity", 1}};
+         });
+       },
        {"scene.json: geometry[0].kinematic.axis = [0,0,0]: rotation axis must be non-zero"}},
-      {"KinematicWithInitialVelocity", [] { return edited([](json& s) {
-         s["boundary_conditions"].erase("dirichlet");
-         s["geometry"][0]["kinematic"] = json::object();
-         s["geometry"][0]["initial_velocity"] = {1, 0, 0};
-       }); },
+      {"KinematicWithInitialVelocity",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"].erase("dirichlet");
+           s["geometry"][0]["kinematic"] = json::object();
+           s["geometry"][0]["initial_velocity"] = {1, 0, 0};
+         });
+       },
        {"scene.json: geometry[0].initial_velocity: a kinematic body's motion is prescribed by \"kinematic\", "
         "not by an initial velocity"}},
-      {"DirichletOnKinematicBody", [] { return edited([](json& s) { s["geometry"][0]["kinematic"] = json::object(); }); },
+      {"DirichletOnKinematicBody",
+       [] { return edited([](json& s) { s["geometry"][0]["kinematic"] = json::object(); }); },
        {"scene.json: boundary_conditions.dirichlet[0].selection = \"beam.xmin\": body \"beam\" is kinematic "
         "(geometry[0].kinematic prescribes all its nodes)"}},
-      {"DirichletOnWholeKinematicBody", [] { return edited([](json& s) {
-         s["geometry"][0]["kinematic"] = json::object();
-         s["boundary_conditions"]["dirichlet"] = json::array({{{"selection", "beam"}}});
-       }); },
+      {"DirichletOnWholeKinematicBody",
+       [] {
+         return edited([](json& s) {
+           s["geometry"][0]["kinematic"] = json::object();
+           s["boundary_conditions"]["dirichlet"] = json::array({{{"selection", "beam"}}});
+         });
+       },
        {"scene.json: boundary_conditions.dirichlet[0].selection = \"beam\": body \"beam\" is kinematic"}},
-      {"ObstacleWithoutContact", [] { return edited([](json& s) {
-         s["contact"] = {{"obstacles", json::array({{{"mesh", "floor.obj"}}})}};
-       }); },
+      {"ObstacleWithoutContact",
+       [] { return edited([](json& s) {
+              s["contact"] = {{"obstacles", json::array({{{"mesh", "floor.obj"}}})}};
+            }); },
        {"scene.json: contact.obstacles: triangle-mesh obstacles need contact (\"enabled\": true)"}},
-      {"ObstacleUnknownKey", [] { return edited([](json& s) {
-         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "floor.obj"}, {"rotation", 1}}})}};
-       }); },
+      {"ObstacleUnknownKey",
+       [] {
+         return edited([](json& s) {
+           s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "floor.obj"}, {"rotation", 1}}})}};
+         });
+       },
        {"scene.json: contact.obstacles[0].rotation: unknown key (allowed: name, mesh, scale, translation, motion)"}},
-      {"ObstacleWithoutMesh", [] { return edited([](json& s) {
-         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"name", "floor"}}})}};
-       }); },
+      {"ObstacleWithoutMesh",
+       [] {
+         return edited([](json& s) {
+           s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"name", "floor"}}})}};
+         });
+       },
        {"scene.json: contact.obstacles[0].mesh: required key is missing"}},
-      {"ObstacleZeroScale", [] { return edited([](json& s) {
-         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "f.obj"}, {"scale", 0}}})}};
-       }); },
+      {"ObstacleZeroScale",
+       [] {
+         return edited([](json& s) {
+           s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "f.obj"}, {"scale", 0}}})}};
+         });
+       },
        {"scene.json: contact.obstacles[0].scale = 0: must be > 0"}},
-      {"ObstacleDuplicateName", [] { return edited([](json& s) {
-         s["contact"] = {{"enabled", true},
-                         {"obstacles", json::array({{{"mesh", "a.obj"}, {"name", "f"}}, {{"mesh", "b.obj"}, {"name", "f"}}})}};
-       }); },
+      {"ObstacleDuplicateName",
+       [] {
+         return edited([](json& s) {
+           s["contact"] = {{"enabled", true},
+                           {"obstacles",
+                            json::array({{{"mesh", "a.obj"}, {"name", "f"}}, {{"mesh", "b.obj"}, {"name", "f"}}})}};
+         });
+       },
        {"scene.json: contact.obstacles[1]: duplicate obstacle name \"f\" (also contact.obstacles[0])"}},
-      {"PathTooShort", [] { return edited([](json& s) {
-         s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"}, {"type", "path"},
-                                                     {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 0}}}})}};
-       }); },
+      {"PathTooShort",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"},
+                                                       {"type", "path"},
+                                                       {"keyframes",
+                                                        json::array({{{"time", 0}, {"translation", {0, 0, 0}}}})}};
+         });
+       },
        {"scene.json: boundary_conditions.dirichlet[0].keyframes: a path needs at least two keyframes, got 1"}},
-      {"PathStartsLate", [] { return edited([](json& s) {
-         s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"}, {"type", "path"},
-                                                     {"keyframes", json::array({{{"time", 0.5}, {"translation", {0, 0, 0}}},
-                                                                                {{"time", 1}, {"translation", {0, 0, 1}}}})}};
-       }); },
+      {"PathStartsLate",
+       [] {
+         return edited([](json& s) {
+           s["boundary_conditions"]["dirichlet"][0] = {{"selection", "beam.xmin"},
+                                                       {"type", "path"},
+                                                       {"keyframes",
+                                                        json::array({{{"time", 0.5}, {"translation", {0, 0, 0}}},
+                                                                     {{"time", 1}, {"translation", {0, 0, 1}}}})}};
+         });
+       },
        {"scene.json: boundary_conditions.dirichlet[0].keyframes[0].time = 0.5: the first keyframe must be at time 0"}},
-      {"PathStartsAway", [] { return edited([](json& s) {
-         s["contact"] = {{"enabled", true}, {"obstacles", json::array({{{"mesh", "f.obj"}, {"motion", {{"type", "path"},
-                         {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 1}}},
-                                                    {{"time", 1}, {"translation", {0, 0, 2}}}})}}}}})}};
-       }); },
+      {"PathStartsAway",
+       [] {
+         return edited([](json& s) {
+           s["contact"] = {{"enabled", true},
+                           {"obstacles",
+                            json::array(
+                                {{{"mesh", "f.obj"},
+                                  {"motion",
+                                   {{"type", "path"},
+                                    {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 1}}},
+                                                               {{"time", 1}, {"translation", {0, 0, 2}}}})}}}}})}};
+         });
+       },
        {"scene.json: contact.obstacles[0].motion.keyframes[0].translation = [0,0,1]: the first keyframe's translation "
         "must be [0, 0, 0]"}},
-      {"PathTimesDoNotIncrease", [] { return edited([](json& s) {
-         s["geometry"][0]["kinematic"] = {{"type", "path"},
-                                          {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 0}}},
-                                                                     {{"time", 1}, {"translation", {0, 0, 1}}},
-                                                                     {{"time", 1}, {"translation", {0, 0, 2}}}})}};
-         s["boundary_conditions"].erase("dirichlet");
-       }); },
+      {"PathTimesDoNotIncrease",
+       [] {
+         return edited([](json& s) {
+           s["geometry"][0]["kinematic"] = {{"type", "path"},
+                                            {"keyframes", json::array({{{"time", 0}, {"translation", {0, 0, 0}}},
+                                                                       {{"time", 1}, {"translation", {0, 0, 1}}},
+                                                                       {{"time", 1}, {"translation", {0, 0, 2}}}})}};
+           s["boundary_conditions"].erase("dirichlet");
+         });
+       },
        {"scene.json: geometry[0].kinematic.keyframes[2].time = 1: keyframe times must strictly increase (previous 1)"}},
   };
 }
@@ -406,8 +568,7 @@ TEST(SceneParser, FullSceneFileParsesToItsValues) {
   const Body& part = scene.bodies[1];
   EXPECT_EQ(part.material, 1u);  // by index
   EXPECT_FALSE(part.box.has_value());
-  const auto expected_mesh =
-      (std::filesystem::absolute(DIPC_IO_TEST_DATA) / "meshes" / "part.msh").lexically_normal();
+  const auto expected_mesh = (std::filesystem::absolute(DIPC_IO_TEST_DATA) / "meshes" / "part.msh").lexically_normal();
   EXPECT_EQ(part.mesh_file, expected_mesh.string());
   EXPECT_EQ(part.translation, (std::array<double, 3>{0, 0, 1}));
   EXPECT_EQ(part.scale, 2.0);

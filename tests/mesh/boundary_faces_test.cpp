@@ -31,9 +31,7 @@ Quad face_node_ids(const HexMesh& mesh, const BoundaryFace& face) {
   return q;
 }
 
-Vec3 reference_corner(int a) {
-  return {hex8::corner_xi(a), hex8::corner_eta(a), hex8::corner_zeta(a)};
-}
+Vec3 reference_corner(int a) { return {hex8::corner_xi(a), hex8::corner_eta(a), hex8::corner_zeta(a)}; }
 
 TEST(HexFaceNodes, FacesLieOnTheirPlanesAndTurnCounterClockwiseSeenFromOutside) {
   std::array<int, 8> faces_per_node{};
@@ -65,8 +63,7 @@ TEST(HexFaceNodes, FacesLieOnTheirPlanesAndTurnCounterClockwiseSeenFromOutside) 
 // Checks that `faces` is the boundary of the axis-aligned box [lo, hi] meshed by `mesh`:
 // each face lies on a side of the box, its area vector points out of the box, and the areas
 // add up to the box's surface area.
-void expect_box_boundary(const HexMesh& mesh, const std::vector<BoundaryFace>& faces,
-                         const Vec3& lo, const Vec3& hi) {
+void expect_box_boundary(const HexMesh& mesh, const std::vector<BoundaryFace>& faces, const Vec3& lo, const Vec3& hi) {
   double area = 0;
   for (const BoundaryFace& face : faces) {
     const Quad q = face_node_ids(mesh, face);
@@ -144,10 +141,8 @@ TEST(ExtractBoundaryFaces, DistortedAndRenumberedMeshKeepsItsBoundary) {
     const Quad q = face_node_ids(renumbered, face);
     found.insert(std::set<std::int64_t>(q.begin(), q.end()));
     std::array<std::int64_t, 8> all;
-    std::copy(renumbered.hexes[face.element].begin(), renumbered.hexes[face.element].end(),
-              all.begin());
-    const Vec3 out = test::sub(test::centroid(renumbered, q.data(), 4),
-                               test::centroid(renumbered, all.data(), 8));
+    std::copy(renumbered.hexes[face.element].begin(), renumbered.hexes[face.element].end(), all.begin());
+    const Vec3 out = test::sub(test::centroid(renumbered, q.data(), 4), test::centroid(renumbered, all.data(), 8));
     EXPECT_GT(dot(test::quad_area_vector(renumbered, q), out), 0.0);
   }
   for (const BoundaryFace& face : extract_boundary_faces(mesh)) {

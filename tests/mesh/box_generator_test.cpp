@@ -69,8 +69,7 @@ TEST(BoxGenerator, FaceNodeSetsHoldExactlyTheNodesOnEachFace) {
   ASSERT_EQ(all.size(), mesh.num_nodes());
   for (std::size_t n = 0; n < all.size(); ++n) EXPECT_EQ(all[n], static_cast<std::int64_t>(n));
 
-  const char* faces[6] = {"beam.xmin", "beam.xmax", "beam.ymin",
-                          "beam.ymax", "beam.zmin", "beam.zmax"};
+  const char* faces[6] = {"beam.xmin", "beam.xmax", "beam.ymin", "beam.ymax", "beam.zmin", "beam.zmax"};
   for (int f = 0; f < 6; ++f) {
     const int axis = f / 2;
     const double plane = kOrigin[axis] + (f % 2 ? kSize[axis] : 0.0);
@@ -78,9 +77,7 @@ TEST(BoxGenerator, FaceNodeSetsHoldExactlyTheNodesOnEachFace) {
     for (std::size_t n = 0; n < mesh.num_nodes(); ++n)
       if (mesh.nodes[n][axis] == plane) expected.push_back(static_cast<std::int64_t>(n));
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-    EXPECT_EQ(expected.size(),
-              static_cast<std::size_t>((kResolution[a] + 1) * (kResolution[b] + 1)))
-        << faces[f];
+    EXPECT_EQ(expected.size(), static_cast<std::size_t>((kResolution[a] + 1) * (kResolution[b] + 1))) << faces[f];
     EXPECT_EQ(mesh.node_sets.at(faces[f]), expected) << faces[f];
   }
 }

@@ -45,20 +45,17 @@ TEST_P(GmshFormats, CommittedFileMatchesAscii41) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Committed, GmshFormats,
-                         ::testing::Values("gmsh_box_msh22.msh", "gmsh_box_msh22_bin.msh",
-                                           "gmsh_box_msh41_bin.msh"));
+                         ::testing::Values("gmsh_box_msh22.msh", "gmsh_box_msh22_bin.msh", "gmsh_box_msh41_bin.msh"));
 
 #ifdef DIPC_GMSH_EXECUTABLE
 // Every flavour as the installed gmsh writes it from gmsh_box.geo.
 TEST(GmshFormats, InstalledGmshOutputMatchesCommittedAscii41) {
   const HexMesh reference = read_gmsh(mesh_data("gmsh_box.msh"), 0);
-  for (const char* flags :
-       {"-format msh41", "-format msh41 -bin", "-format msh22", "-format msh22 -bin"}) {
+  for (const char* flags : {"-format msh41", "-format msh41 -bin", "-format msh22", "-format msh22 -bin"}) {
     SCOPED_TRACE(flags);
     const std::string out = ::testing::TempDir() + "gmsh_box_generated.msh";
-    const std::string command = std::string(DIPC_GMSH_EXECUTABLE) + " -3 " +
-                                mesh_data("gmsh_box.geo") + " " + flags + " -o " + out +
-                                " > /dev/null 2>&1";
+    const std::string command = std::string(DIPC_GMSH_EXECUTABLE) + " -3 " + mesh_data("gmsh_box.geo") + " " + flags +
+                                " -o " + out + " > /dev/null 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     expect_same_mesh(read_gmsh(out, 0), reference);
   }
@@ -112,8 +109,8 @@ std::size_t find_once(const std::string& data, const std::string& pattern, std::
   return at;
 }
 
-void expect_rejected(const std::string& name, const std::string& content,
-                     const std::string& location, const std::string& fragment) {
+void expect_rejected(const std::string& name, const std::string& content, const std::string& location,
+                     const std::string& fragment) {
   const std::string path = ::testing::TempDir() + name;
   std::ofstream(path, std::ios::binary) << content;
   try {
@@ -121,8 +118,7 @@ void expect_rejected(const std::string& name, const std::string& content,
     FAIL() << "accepted " << name;
   } catch (const MeshError& e) {
     const std::string message = e.what();
-    EXPECT_EQ(message.rfind(path + location, 0), 0u)
-        << "expected '" << path + location << "' in: " << message;
+    EXPECT_EQ(message.rfind(path + location, 0), 0u) << "expected '" << path + location << "' in: " << message;
     EXPECT_NE(message.find(fragment), std::string::npos) << message;
   }
 }
@@ -132,8 +128,7 @@ TEST(GmshFormatsRejects, BigEndianFiles) {
     std::string data = file_bytes(mesh_data(file));
     const std::size_t one = find_once(data, std::string(" 1 8\n")) + 5;
     data.replace(one, 4, std::string("\0\0\0\1", 4));
-    expect_rejected("big_endian.msh", data,
-                    ":2: ", "binary MSH written with big-endian byte order is not supported");
+    expect_rejected("big_endian.msh", data, ":2: ", "binary MSH written with big-endian byte order is not supported");
   }
 }
 
@@ -173,18 +168,16 @@ TEST(GmshFormatsRejects, BinaryInvertedElement) {
     nodes32 += bytes_of<std::int32_t>(static_cast<std::int32_t>(n));
   }
   // MSH 4.1: size_t tag then size_t nodes; MSH 2.2: int tag, int physical, int entity, nodes.
-  const Case cases[] = {
-      {"gmsh_box_msh41_bin.msh", bytes_of<std::uint64_t>(17), 8},
-      {"gmsh_box_msh22_bin.msh",
-       bytes_of<std::int32_t>(17) + bytes_of<std::int32_t>(1) + bytes_of<std::int32_t>(1), 4}};
+  const Case cases[] = {{"gmsh_box_msh41_bin.msh", bytes_of<std::uint64_t>(17), 8},
+                        {"gmsh_box_msh22_bin.msh",
+                         bytes_of<std::int32_t>(17) + bytes_of<std::int32_t>(1) + bytes_of<std::int32_t>(1), 4}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
     std::string data = file_bytes(mesh_data(c.file));
     const std::string& node_list = c.node_bytes == 8 ? nodes64 : nodes32;
     const std::size_t at = find_once(data, c.element + node_list);
     const std::size_t first = at + c.element.size();
-    std::string swapped =
-        node_list.substr(c.node_bytes, c.node_bytes) + node_list.substr(0, c.node_bytes);
+    std::string swapped = node_list.substr(c.node_bytes, c.node_bytes) + node_list.substr(0, c.node_bytes);
     data.replace(first, 2 * c.node_bytes, swapped);
     expect_rejected("inverted_binary.msh", data, ": byte " + std::to_string(at) + ": ",
                     "element 17 (hexahedron) is inverted");
@@ -196,8 +189,7 @@ TEST(GmshFormatsRejects, BinaryTruncatedInNodes) {
     SCOPED_TRACE(file);
     const std::string data = file_bytes(mesh_data(file));
     const std::size_t cut = find_once(data, node_9()) + 3;
-    expect_rejected("truncated_binary.msh", data.substr(0, cut),
-                    ": byte " + std::to_string(cut - 3) + ": ",
+    expect_rejected("truncated_binary.msh", data.substr(0, cut), ": byte " + std::to_string(cut - 3) + ": ",
                     "$Nodes section is truncated: the file ends where a node coordinate should be");
   }
 }
@@ -225,8 +217,7 @@ TEST(GmshFormatsRejects, Msh22AsciiElements) {
 TEST(GmshFormatsRejects, OtherVersions) {
   std::string data = file_bytes(mesh_data("gmsh_box.msh"));
   data.replace(find_once(data, "4.1 0 8"), 7, "4.0 0 8");
-  expect_rejected("version_4_0.msh", data,
-                  ":2: ", "MSH version 4.0 is not supported (dipc reads 4.1 and 2.2)");
+  expect_rejected("version_4_0.msh", data, ":2: ", "MSH version 4.0 is not supported (dipc reads 4.1 and 2.2)");
 }
 
 }  // namespace

@@ -55,10 +55,8 @@ TEST(GmshReader, BlockWithNamedPhysicalGroups) {
   EXPECT_NEAR(test::mesh_volume(mesh), 2.0, 1e-14);
 
   ASSERT_EQ(mesh.node_sets.size(), 3u);
-  EXPECT_EQ(coordinates_of(mesh, "clamp"),
-            (std::set<Vec3>{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 1, 1}}));
-  EXPECT_EQ(coordinates_of(mesh, "load"),
-            (std::set<Vec3>{{2, 0, 0}, {2, 1, 0}, {2, 0, 1}, {2, 1, 1}}));
+  EXPECT_EQ(coordinates_of(mesh, "clamp"), (std::set<Vec3>{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 1, 1}}));
+  EXPECT_EQ(coordinates_of(mesh, "load"), (std::set<Vec3>{{2, 0, 0}, {2, 1, 0}, {2, 0, 1}, {2, 1, 1}}));
   EXPECT_EQ(mesh.node_sets.at("solid").size(), 12u);
   expect_sorted_unique(mesh);
 }
@@ -67,8 +65,7 @@ TEST(GmshReader, UnnamedGroupsAreNamedByTag) {
   const HexMesh mesh = read_gmsh(mesh_data("unnamed_group.msh"), 0);
   ASSERT_EQ(mesh.num_elements(), 1u);
   ASSERT_EQ(mesh.node_sets.size(), 2u);
-  EXPECT_EQ(coordinates_of(mesh, "physical_7"),
-            (std::set<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
+  EXPECT_EQ(coordinates_of(mesh, "physical_7"), (std::set<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
   EXPECT_EQ(mesh.node_sets.at("physical_8"), (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5, 6, 7}));
 }
 
@@ -98,8 +95,7 @@ TEST(GmshReader, LowerDimensionalElementsOnlyFeedNodeSets) {
   ASSERT_EQ(mesh.node_sets.size(), 4u);
   EXPECT_EQ(coordinates_of(mesh, "corner"), (std::set<Vec3>{{0, 0, 0}}));
   EXPECT_EQ(coordinates_of(mesh, "edge"), (std::set<Vec3>{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}));
-  EXPECT_EQ(coordinates_of(mesh, "right"),
-            (std::set<Vec3>{{2, 0, 0}, {2, 1, 0}, {2, 0, 1}, {2, 1, 1}}));
+  EXPECT_EQ(coordinates_of(mesh, "right"), (std::set<Vec3>{{2, 0, 0}, {2, 1, 0}, {2, 0, 1}, {2, 1, 1}}));
   EXPECT_EQ(mesh.node_sets.at("solid").size(), 12u);
   expect_sorted_unique(mesh);
 }
@@ -125,10 +121,8 @@ TEST(GmshReader, FileWrittenByGmsh) {
     return out;
   };
   EXPECT_EQ(coordinates_of(mesh, "bottom"), nodes_where([](const Vec3& x) { return x[2] == 0; }));
-  EXPECT_EQ(coordinates_of(mesh, "physical_7"),
-            nodes_where([](const Vec3& x) { return x[2] == 1; }));
-  EXPECT_EQ(coordinates_of(mesh, "front_edge"),
-            nodes_where([](const Vec3& x) { return x[1] == 0 && x[2] == 0; }));
+  EXPECT_EQ(coordinates_of(mesh, "physical_7"), nodes_where([](const Vec3& x) { return x[2] == 1; }));
+  EXPECT_EQ(coordinates_of(mesh, "front_edge"), nodes_where([](const Vec3& x) { return x[1] == 0 && x[2] == 0; }));
   EXPECT_EQ(coordinates_of(mesh, "origin"), (std::set<Vec3>{{0, 0, 0}}));
   EXPECT_EQ(mesh.node_sets.at("solid").size(), mesh.num_nodes());
   expect_sorted_unique(mesh);

@@ -27,8 +27,7 @@ TEST(HexMeshAppend, ShiftsNodeIdsAndKeepsSets) {
   EXPECT_EQ(mesh.node_sets.size(), 14u);
   const auto& xmax = mesh.node_sets.at("right.xmax");
   ASSERT_EQ(xmax.size(), right.node_sets.at("right.xmax").size());
-  for (std::size_t i = 0; i < xmax.size(); ++i)
-    EXPECT_EQ(xmax[i], right.node_sets.at("right.xmax")[i] + offset);
+  for (std::size_t i = 0; i < xmax.size(); ++i) EXPECT_EQ(xmax[i], right.node_sets.at("right.xmax")[i] + offset);
   EXPECT_EQ(mesh.node_sets.at("left.xmin"),
             generate_box({1, 1, 1}, {2, 1, 1}, {0, 0, 0}, 0, "left").node_sets.at("left.xmin"));
   EXPECT_NO_THROW(check_mesh(mesh, "appended"));

@@ -135,8 +135,7 @@ TEST(CheckMesh, SourceMapNamesFileTagsAndLines) {
 }
 
 TEST(BoundingBoxDiagonal, OfBoxAndEmptyMesh) {
-  EXPECT_DOUBLE_EQ(bounding_box_diagonal(generate_box({3, 4, 12}, {2, 3, 1}, {-7, 2, 5}, 0, "b")),
-                   13.0);
+  EXPECT_DOUBLE_EQ(bounding_box_diagonal(generate_box({3, 4, 12}, {2, 3, 1}, {-7, 2, 5}, 0, "b")), 13.0);
   EXPECT_EQ(bounding_box_diagonal(HexMesh{}), 0.0);
 }
 

@@ -10,9 +10,7 @@
 
 namespace dipc::test {
 
-inline std::string mesh_data(const std::string& file) {
-  return dipc::test::source_dir() + "/tests/mesh/data/" + file;
-}
+inline std::string mesh_data(const std::string& file) { return dipc::test::source_dir() + "/tests/mesh/data/" + file; }
 
 inline void element_coordinates(const HexMesh& mesh, std::size_t e, double X[24]) {
   for (int a = 0; a < 8; ++a)

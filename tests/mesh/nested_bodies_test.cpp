@@ -41,15 +41,21 @@ TEST(NestedBodies, BoxInsideBoxIsFoundInEitherOrder) {
 TEST(NestedBodies, InnerBoxTouchingTheOuterSurfaceFromInsideIsFound) {
   // The inner box's bottom face lies on the outer box's bottom face: those vertices decide
   // nothing (winding number ½), the others do.
-  const HexMesh mesh = two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "outer", 4), box({0.5, 0.5, 0.5}, {0.25, 0.25, 0}, 1, "inner"));
+  const HexMesh mesh = two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "outer", 4),
+                                  box({0.5, 0.5, 0.5}, {0.25, 0.25, 0}, 1, "inner"));
   EXPECT_EQ(find_nested_bodies(mesh).inner, 1);
 }
 
 TEST(NestedBodies, SeparateAndTouchingBoxesAreNotNested) {
-  EXPECT_EQ(find_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {2, 0, 0}, 1, "b"))).inner, -1);
-  EXPECT_EQ(find_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {1, 0, 0}, 1, "b"))).inner, -1);
+  EXPECT_EQ(find_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {2, 0, 0}, 1, "b"))).inner,
+            -1);
+  EXPECT_EQ(find_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {1, 0, 0}, 1, "b"))).inner,
+            -1);
   // A small box standing on a larger one.
-  EXPECT_EQ(find_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({0.5, 0.5, 0.5}, {0.25, 0.25, 1}, 1, "b"))).inner, -1);
+  EXPECT_EQ(find_nested_bodies(
+                two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({0.5, 0.5, 0.5}, {0.25, 0.25, 1}, 1, "b")))
+                .inner,
+            -1);
 }
 
 TEST(NestedBodies, BoxInACavityIsNotInside) {
@@ -69,7 +75,8 @@ TEST(NestedBodies, BoxInTheNotchOfAnLShapeIsNotInside) {
 }
 
 TEST(NestedBodies, MessageNamesBothBodies) {
-  const HexMesh mesh = two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "outer", 4), box({0.2, 0.2, 0.2}, {0.4, 0.4, 0.4}, 1, "inner"));
+  const HexMesh mesh = two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "outer", 4),
+                                  box({0.2, 0.2, 0.2}, {0.4, 0.4, 0.4}, 1, "inner"));
   try {
     check_no_nested_bodies(mesh, {"outer", "inner"}, "scene.json");
     FAIL() << "no error";
@@ -77,8 +84,9 @@ TEST(NestedBodies, MessageNamesBothBodies) {
     const std::string what = e.what();
     EXPECT_NE(what.find("scene.json: body \"inner\" lies inside body \"outer\""), std::string::npos) << what;
   }
-  EXPECT_NO_THROW(check_no_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {2, 0, 0}, 1, "b")),
-                                         {"a", "b"}, "scene.json"));
+  EXPECT_NO_THROW(
+      check_no_nested_bodies(two_bodies(box({1, 1, 1}, {0, 0, 0}, 0, "a"), box({1, 1, 1}, {2, 0, 0}, 1, "b")),
+                             {"a", "b"}, "scene.json"));
 }
 
 TEST(NestedBodies, WindingNumberOfABox) {

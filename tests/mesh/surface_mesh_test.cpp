@@ -79,13 +79,11 @@ std::int64_t expect_valid_closed_surface(const HexMesh& mesh, const SurfaceMesh&
 
 // Sum of triangle areas, and every triangle's normal must point out of the box [lo, hi]:
 // along +axis when its centroid is on the hi side, -axis on the lo side.
-double box_triangle_area(const HexMesh& mesh, const SurfaceMesh& s, const Vec3& lo,
-                         const Vec3& hi) {
+double box_triangle_area(const HexMesh& mesh, const SurfaceMesh& s, const Vec3& lo, const Vec3& hi) {
   double area = 0;
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
     const auto& tri = s.triangles[t];
-    const Vec3 a =
-        test::triangle_area_vector(mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]]);
+    const Vec3 a = test::triangle_area_vector(mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]]);
     const Vec3 c = test::centroid(mesh, tri.data(), 3);
     area += norm(a);
     int axis = 0;
@@ -122,8 +120,7 @@ TEST(SurfaceMesh, TwoBodiesAreTwoSpheres) {
   EXPECT_EQ(s.triangles.size(), 2u * (24 + 6));
   // Nodes of body b come after those of body a, and so do its edges and vertices.
   const auto first_b_node = static_cast<std::int64_t>(27);
-  for (std::size_t e = 0; e < s.edges.size(); ++e)
-    EXPECT_EQ(s.edge_body[e], s.edges[e][0] >= first_b_node ? 1 : 0);
+  for (std::size_t e = 0; e < s.edges.size(); ++e) EXPECT_EQ(s.edge_body[e], s.edges[e][0] >= first_b_node ? 1 : 0);
   for (std::size_t v = 0; v < s.vertices.size(); ++v)
     EXPECT_EQ(s.vertex_body[v], s.vertices[v] >= first_b_node ? 1 : 0);
 }

@@ -20,8 +20,7 @@ inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 // Vector area ½ (x2 − x0) × (x3 − x1) of the quad x0 x1 x2 x3: its length is the area of a
 // planar quad and it points along the right-hand-rule normal of the corner order.
 inline Vec3 quad_area_vector(const HexMesh& mesh, const std::array<std::int64_t, 4>& q) {
-  const Vec3 c = cross(sub(mesh.nodes[q[2]], mesh.nodes[q[0]]),
-                       sub(mesh.nodes[q[3]], mesh.nodes[q[1]]));
+  const Vec3 c = cross(sub(mesh.nodes[q[2]], mesh.nodes[q[0]]), sub(mesh.nodes[q[3]], mesh.nodes[q[1]]));
   return {0.5 * c[0], 0.5 * c[1], 0.5 * c[2]};
 }
 

@@ -28,8 +28,7 @@ double enclosed_volume(const TriangleSurface& s) {
     const Vec3& a = s.vertices[t[0]];
     const Vec3& b = s.vertices[t[1]];
     const Vec3& c = s.vertices[t[2]];
-    v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-         a[2] * (b[0] * c[1] - b[1] * c[0]);
+    v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   return v / 6;
 }
@@ -38,8 +37,7 @@ double enclosed_volume(const TriangleSurface& s) {
 void expect_closed(const TriangleSurface& s) {
   std::multiset<std::pair<std::int64_t, std::int64_t>> edges;
   for (const Triangle& t : s.triangles)
-    for (int k = 0; k < 3; ++k)
-      edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    for (int k = 0; k < 3; ++k) edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
   for (const auto& e : edges) EXPECT_EQ(edges.count(e), 2u) << e.first << "-" << e.second;
 }
 
@@ -127,8 +125,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadSurface{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
                    ":2: ", "vertex 2 has a non-finite y coordinate"},
-        BadSurface{"inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n",
-                   ":3: ", "non-finite z coordinate"},
+        BadSurface{"inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n", ":3: ", "non-finite z coordinate"},
         BadSurface{"two_numbers.obj", "v 0 0\n", ":1: ", "vertex needs 3 coordinates"},
         BadSurface{"word.obj", "v 0 zero 0\n", ":1: ", "vertex y coordinate is not a number"},
         BadSurface{"weight.obj", "v 0 0 0 2\n", ":1: ", "vertex weight w must be 1"},
@@ -138,14 +135,11 @@ INSTANTIATE_TEST_SUITE_P(
                    ":5: ", "face refers to vertex 4 but the file has 3 vertices"},
         BadSurface{"negative_past_start.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
                    ":3: ", "refers to vertex -3 but only 2 vertices precede it"},
-        BadSurface{"two_corners.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n",
-                   ":3: ", "face needs at least 3 corners, found 2"},
-        BadSurface{"four_slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n",
-                   ":4: ", "has more than v/vt/vn"},
+        BadSurface{"two_corners.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", ":3: ", "face needs at least 3 corners, found 2"},
+        BadSurface{"four_slashes.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", ":4: ", "has more than v/vt/vn"},
         BadSurface{"bad_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n",
                    ":4: ", "face corner 'x3' is not v, v/vt, v//vn or v/vt/vn"},
-        BadSurface{"empty_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 /3\n",
-                   ":4: ", "face corner '/3' is not v"},
+        BadSurface{"empty_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 /3\n", ":4: ", "face corner '/3' is not v"},
         BadSurface{"collinear.obj", "v 0 0 0\nv 1 1 1\nv 2 2 2\n# c\nf 1 2 3\n",
                    ":5: ", "(2 2 2): area 0, its corners are collinear"},
         BadSurface{"repeated_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 1\n", ":5: ",
@@ -155,16 +149,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadSurface{"coincident.obj", "v 0 0 0\nv 1 0 0\nv 1 0 0\nf 1 2 3\n",
                    ":4: ", "two of its corners are the same point"},
         BadSurface{"no_faces.obj", "v 0 0 0\n", ": ", "no faces ('f' statements)"},
-        BadSurface{"line_element.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n",
-                   ":3: ", "line elements are not supported"},
-        BadSurface{"freeform.obj", "cstype bspline\n",
-                   ":1: ", "free-form geometry ('cstype') is not supported"},
-        BadSurface{"unknown.obj", "v 0 0 0\nvertex 1 2 3\n",
-                   ":2: ", "unknown OBJ statement 'vertex'"},
+        BadSurface{"line_element.obj", "v 0 0 0\nv 1 0 0\nl 1 2\n", ":3: ", "line elements are not supported"},
+        BadSurface{"freeform.obj", "cstype bspline\n", ":1: ", "free-form geometry ('cstype') is not supported"},
+        BadSurface{"unknown.obj", "v 0 0 0\nvertex 1 2 3\n", ":2: ", "unknown OBJ statement 'vertex'"},
         BadSurface{"missing.obj", nullptr, ": ", "cannot open file"},
         BadSurface{"mesh.ply", "ply\n", ": ", "unknown surface file extension 'ply'"},
-        BadSurface{"truncated.stl",
-                   "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n",
+        BadSurface{"truncated.stl", "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n",
                    ":5: ", "ASCII STL is truncated: the file ends where 'vertex' should be"},
         BadSurface{"quad.stl",
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
@@ -174,8 +164,7 @@ INSTANTIATE_TEST_SUITE_P(
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 NaN\n"
                    "vertex 1 1 0\nendloop\nendfacet\nendsolid\n",
                    ":5: ", "non-finite vertex z coordinate"},
-        BadSurface{"misspelt.stl", "solid t\nfacet normal 0 0 1\nouter lop\n",
-                   ":3: ", "expected 'loop', found 'lop'"},
+        BadSurface{"misspelt.stl", "solid t\nfacet normal 0 0 1\nouter lop\n", ":3: ", "expected 'loop', found 'lop'"},
         BadSurface{"degenerate.stl",
                    "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                    "vertex 2 0 0\nendloop\nendfacet\nendsolid\n",
@@ -210,8 +199,8 @@ void set_float(std::string& stl, std::size_t offset, float x) {
   for (int b = 0; b < 4; ++b) stl[offset + b] = static_cast<char>((bits >> (8 * b)) & 0xff);
 }
 
-void expect_binary_rejected(const std::string& name, const std::string& content,
-                            const std::string& location, const std::string& fragment) {
+void expect_binary_rejected(const std::string& name, const std::string& content, const std::string& location,
+                            const std::string& fragment) {
   const std::string path = ::testing::TempDir() + name;
   std::ofstream(path, std::ios::binary) << content;
   try {
@@ -236,8 +225,7 @@ TEST(StlReader, BinaryRejectsNonFiniteWithFacetAndByte) {
   std::string stl = binary_stl(3);
   // facet 2, corner 1, y: 84 + 50*2 + 12 (normal) + 12 (corner 0) + 4
   set_float(stl, 84 + 100 + 12 + 12 + 4, std::nanf(""));
-  expect_binary_rejected("nan_binary.stl", stl,
-                         ": facet 2 (byte 184): ", "corner 1 has a non-finite y coordinate");
+  expect_binary_rejected("nan_binary.stl", stl, ": facet 2 (byte 184): ", "corner 1 has a non-finite y coordinate");
 }
 
 TEST(StlReader, BinaryRejectsDegenerateWithFacetAndByte) {
@@ -246,8 +234,7 @@ TEST(StlReader, BinaryRejectsDegenerateWithFacetAndByte) {
   // corner 2 starts after the normal and two corners: 84 + 50 + 12 + 24
   set_float(stl, 84 + 50 + 12 + 24, 1.5f);
   set_float(stl, 84 + 50 + 12 + 24 + 4, 0.0f);
-  expect_binary_rejected("degenerate_binary.stl", stl,
-                         ": facet 1 (byte 134): ", "degenerate triangle");
+  expect_binary_rejected("degenerate_binary.stl", stl, ": facet 1 (byte 134): ", "degenerate triangle");
 }
 
 TEST(StlReader, BinaryRejectsSizeMismatchAndEmpty) {

@@ -53,8 +53,7 @@ TEST(VoxelizeCli, ObjToMshWithGroups) {
 TEST(VoxelizeCli, BinaryStlByCellSize) {
   // The tetrahedron (0.5,0.5,0.5) + 2 * {0, e_x, e_y, e_z}: volume 4/3.
   const std::string out = ::testing::TempDir() + "tetra_voxels.msh";
-  const Outcome o = voxelize(test::mesh_data("surfaces/tetrahedron_binary.stl") + " " + out +
-                             " --cell-size 0.05");
+  const Outcome o = voxelize(test::mesh_data("surfaces/tetrahedron_binary.stl") + " " + out + " --cell-size 0.05");
   ASSERT_EQ(o.status, 0) << o.output;
   const HexMesh mesh = read_gmsh(out, 0);
   EXPECT_NEAR(test::mesh_volume(mesh), 4.0 / 3, 0.05);
@@ -86,16 +85,12 @@ TEST(VoxelizeCli, BadInputExitsWithStatusOne) {
     std::string arguments, fragment;
   };
   const Case cases[] = {
-      {open + " " + out + " --resolution 4",
-       "dipc-voxelize: error: " + open + ": the surface is not closed: edge ("},
-      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out,
-       "give exactly one of --resolution and --cell-size"},
+      {open + " " + out + " --resolution 4", "dipc-voxelize: error: " + open + ": the surface is not closed: edge ("},
+      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out, "give exactly one of --resolution and --cell-size"},
       {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out + " --resolution 0",
        "--resolution: '0' is not an integer in [1, 100000]"},
-      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out + " --cell-size -1",
-       "--cell-size must be positive"},
-      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out +
-           " --resolution 4 --group far 5 5 5 6 6 6",
+      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out + " --cell-size -1", "--cell-size must be positive"},
+      {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out + " --resolution 4 --group far 5 5 5 6 6 6",
        "--group far: no boundary face of the mesh lies in its box"},
       {test::mesh_data("surfaces/unit_cube_quads.obj") + " " + out + " --resolution 4 --bogus",
        "unknown option --bogus"},

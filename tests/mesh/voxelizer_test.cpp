@@ -44,8 +44,7 @@ std::string write_parametric_obj(const std::string& name, int nu, int nv, bool p
   auto id = [&](int i, int j) { return 1 + (j % rings) * nu + (i % nu); };  // 1-based
   if (poles) {
     const Vec3 n = at(0, 0), s = at(0, 1);
-    out << "v " << n[0] << " " << n[1] << " " << n[2] << "\nv " << s[0] << " " << s[1] << " "
-        << s[2] << "\n";
+    out << "v " << n[0] << " " << n[1] << " " << n[2] << "\nv " << s[0] << " " << s[1] << " " << s[2] << "\n";
     const int north = rings * nu + 1, south = north + 1;
     for (int i = 0; i < nu; ++i) {
       out << "f " << north << " " << id(i, 0) << " " << id(i + 1, 0) << "\n";
@@ -54,8 +53,7 @@ std::string write_parametric_obj(const std::string& name, int nu, int nv, bool p
   }
   for (int j = 0; j < (poles ? rings - 1 : rings); ++j)
     for (int i = 0; i < nu; ++i)
-      out << "f " << id(i, j) << " " << id(i, j + 1) << " " << id(i + 1, j + 1) << " "
-          << id(i + 1, j) << "\n";
+      out << "f " << id(i, j) << " " << id(i, j + 1) << " " << id(i + 1, j + 1) << " " << id(i + 1, j) << "\n";
   return path;
 }
 
@@ -71,11 +69,9 @@ std::string sphere_obj() {
 std::string torus_obj() {
   return write_parametric_obj("torus.obj", 120, 48, false, [](double u, double v) {
     const double a = 2 * kPi * u, b = -2 * kPi * v;
-    const Vec3 p{(1 + 0.4 * std::cos(b)) * std::cos(a), (1 + 0.4 * std::cos(b)) * std::sin(a),
-                 0.4 * std::sin(b)};
+    const Vec3 p{(1 + 0.4 * std::cos(b)) * std::cos(a), (1 + 0.4 * std::cos(b)) * std::sin(a), 0.4 * std::sin(b)};
     const double t = 0.3;  // rotation about x
-    return Vec3{p[0], std::cos(t) * p[1] - std::sin(t) * p[2],
-                std::sin(t) * p[1] + std::cos(t) * p[2]};
+    return Vec3{p[0], std::cos(t) * p[1] - std::sin(t) * p[2], std::sin(t) * p[1] + std::cos(t) * p[2]};
   });
 }
 
@@ -86,8 +82,7 @@ void expect_mesh_error(const std::function<void()>& f, const std::vector<std::st
     f();
     FAIL() << "no MeshError";
   } catch (const MeshError& e) {
-    for (const std::string& p : parts)
-      EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    for (const std::string& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
   }
 }
 
@@ -103,10 +98,9 @@ TEST(ClosedSurface, RejectsAMissingFaceNamingAnEdge) {
   s.triangles.pop_back();  // the second triangle of the face on line 30: (4 5 8)
   s.triangle_origin.pop_back();
   const std::string path = s.source;
-  expect_mesh_error(
-      [&] { check_closed_surface(s); },
-      {path + ": the surface is not closed: edge (", "belongs to one triangle only (" + path + ":",
-       "a solid needs a closed surface"});
+  expect_mesh_error([&] { check_closed_surface(s); },
+                    {path + ": the surface is not closed: edge (", "belongs to one triangle only (" + path + ":",
+                     "a solid needs a closed surface"});
 }
 
 TEST(ClosedSurface, RejectsNonManifoldAndFlippedFaces) {
@@ -185,8 +179,7 @@ TEST(Voxelizer, RowsThroughVerticesMatchTheExactInsideTest) {
           const double level = std::abs(p[0]) + std::abs(p[1]) + std::abs(p[2]) - 1;
           if (std::abs(level) < 1e-9) continue;  // on a face: either answer is right
           ++checked;
-          EXPECT_EQ(bool(c.inside[grid.cell_index(i, j, k)]), level < 0)
-              << i << " " << j << " " << k;
+          EXPECT_EQ(bool(c.inside[grid.cell_index(i, j, k)]), level < 0) << i << " " << j << " " << k;
         }
     EXPECT_GT(checked, n * n * n / 2);
     EXPECT_GT(c.solid_angle_cells, 0);
@@ -204,8 +197,7 @@ void expect_first_order(const std::string& path, const char* what) {
   for (const Triangle& t : s.triangles) {
     const Vec3 &a = s.vertices[t[0]], &b = s.vertices[t[1]], &c = s.vertices[t[2]];
     const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    area += 0.5 * std::sqrt(std::pow(u[1] * v[2] - u[2] * v[1], 2) +
-                            std::pow(u[2] * v[0] - u[0] * v[2], 2) +
+    area += 0.5 * std::sqrt(std::pow(u[1] * v[2] - u[2] * v[1], 2) + std::pow(u[2] * v[0] - u[0] * v[2], 2) +
                             std::pow(u[0] * v[1] - u[1] * v[0], 2));
   }
   std::vector<double> h, error;
@@ -216,8 +208,8 @@ void expect_first_order(const std::string& path, const char* what) {
     EXPECT_NEAR(volume, double(mesh.hexes.size()) * std::pow(grid.h, 3), 1e-12 * volume);
     h.push_back(grid.h);
     error.push_back(std::abs(volume - exact));
-    std::printf("%s n = %2d: h = %.4f, volume %.6f (exact %.6f), error %.3e, error / (A h) %.3f\n",
-                what, n, grid.h, volume, exact, error.back(), error.back() / (area * grid.h));
+    std::printf("%s n = %2d: h = %.4f, volume %.6f (exact %.6f), error %.3e, error / (A h) %.3f\n", what, n, grid.h,
+                volume, exact, error.back(), error.back() / (area * grid.h));
     // Cells cut by the surface lie within sqrt(3) h / 2 of it, a shell of volume ~ sqrt(3) A h.
     EXPECT_LE(error.back(), std::sqrt(3.0) * area * grid.h) << what << " n = " << n;
   }
@@ -234,9 +226,7 @@ void expect_first_order(const std::string& path, const char* what) {
   EXPECT_LT(error.back(), error.front() / 4) << what;
 }
 
-TEST(Voxelizer, VolumeConvergesAtFirstOrderOnASphere) {
-  expect_first_order(sphere_obj(), "sphere");
-}
+TEST(Voxelizer, VolumeConvergesAtFirstOrderOnASphere) { expect_first_order(sphere_obj(), "sphere"); }
 TEST(Voxelizer, VolumeConvergesAtFirstOrderOnATorus) { expect_first_order(torus_obj(), "torus"); }
 
 TEST(Voxelizer, InwardFacingSurfaceGivesTheSameMesh) {
@@ -250,9 +240,8 @@ TEST(Voxelizer, InwardFacingSurfaceGivesTheSameMesh) {
 
 TEST(Voxelizer, RejectsOpenSurfacesAndTooCoarseGrids) {
   const std::string open = ::testing::TempDir() + "open_box.obj";
-  std::ofstream(open)
-      << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\n";  // no x = 0 face
+  std::ofstream(open) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\n";  // no x = 0 face
   expect_mesh_error([&] { voxelize(read_obj(open), 8, 0); },
                     {open + ": the surface is not closed: edge", "belongs to one triangle only"});
   // One cell along the longest side: its centre is the torus's, in the hole.
@@ -313,8 +302,7 @@ TEST(SurfaceSnapping, KeepsElementsValidAndMovesNodesOntoTheSurface) {
     std::int64_t on_surface = 0, changed = 0;
     for (std::size_t v = 0; v < mesh.nodes.size(); ++v) {
       const Vec3& p = mesh.nodes[v];
-      if (std::abs(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1) <=
-          1 - std::cos(kPi / 48) + 1e-12)
+      if (std::abs(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1) <= 1 - std::cos(kPi / 48) + 1e-12)
         ++on_surface;
       if (p != staircase.nodes[v]) ++changed;
     }
@@ -322,8 +310,7 @@ TEST(SurfaceSnapping, KeepsElementsValidAndMovesNodesOntoTheSurface) {
     EXPECT_GE(changed, stats.backed_off);
     EXPECT_GE(on_surface, stats.moved);
     const double area = 4 * kPi;  // the sphere's, to within the first-order bound's slack
-    EXPECT_LE(std::abs(test::mesh_volume(mesh) - signed_enclosed_volume(s)),
-              std::sqrt(3.0) * area * grid.h);
+    EXPECT_LE(std::abs(test::mesh_volume(mesh) - signed_enclosed_volume(s)), std::sqrt(3.0) * area * grid.h);
   }
 }
 

@@ -49,8 +49,8 @@ TEST(Cantilever, MatchesEulerBernoulliAndConvergesUnderRefinement) {
     const double w = tip_deflection(beam, 10 * level, level);
     errors.push_back(std::abs(w - exact) / exact);
     if (testing::comm_rank() == 0)
-      std::printf("cantilever %2dx%dx%d: tip deflection %.6e, Euler-Bernoulli %.6e, relative error %.4f\n",
-                  10 * level, level, level, w, exact, errors.back());
+      std::printf("cantilever %2dx%dx%d: tip deflection %.6e, Euler-Bernoulli %.6e, relative error %.4f\n", 10 * level,
+                  level, level, w, exact, errors.back());
   }
   testing::clear_solver_options();
   EXPECT_LT(errors[1], errors[0]);

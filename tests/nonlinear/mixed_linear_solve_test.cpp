@@ -16,11 +16,11 @@
 #include <random>
 #include <tuple>
 
-#include "mesh/box_generator.hpp"
 #include "forms/elastic_form.hpp"
-#include "potential/incremental_potential.hpp"
 #include "forms/inertia_form.hpp"
+#include "mesh/box_generator.hpp"
 #include "nonlinear/mixed_linear_solve.hpp"
+#include "potential/incremental_potential.hpp"
 
 namespace dipc {
 namespace {
@@ -58,15 +58,16 @@ std::vector<double> gather_by_input_id(const DistributedMesh& mesh, Vec v) {
 }
 
 // One potential (consistent inertia + elasticity), split or not, on `mesh`.
-std::unique_ptr<IncrementalPotential> make_potential(const DistributedMesh& mesh, const ElementData& elements,
-                                                     double h, bool split) {
+std::unique_ptr<IncrementalPotential> make_potential(const DistributedMesh& mesh, const ElementData& elements, double h,
+                                                     bool split) {
   std::vector<std::unique_ptr<Form>> forms;
   forms.push_back(std::make_unique<ConsistentInertiaForm>(elements));
   auto elastic = std::make_unique<ElasticForm>(elements, h * h);
   if (split) elastic->split_volumetric();
   forms.push_back(std::move(elastic));
   std::vector<char> prescribed(3 * mesh.num_local_nodes(), 0);
-  for (std::int32_t n : mesh.node_sets.at("box.xmin")) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
+  for (std::int32_t n : mesh.node_sets.at("box.xmin"))
+    prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
   auto potential = std::make_unique<IncrementalPotential>();
   EXPECT_EQ(potential->setup(mesh, std::move(forms), prescribed), 0);
   return potential;
@@ -163,8 +164,7 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
   return diff / norm;
 }
 
-class MixedSolve
-    : public ::testing::TestWithParam<std::tuple<double, SchurApproximation, SchurFactorization>> {};
+class MixedSolve : public ::testing::TestWithParam<std::tuple<double, SchurApproximation, SchurFactorization>> {};
 
 TEST_P(MixedSolve, EqualsPrimalSolveAndRankCount) {
   const double nu = std::get<0>(GetParam());
@@ -190,8 +190,9 @@ TEST_P(MixedSolve, EqualsPrimalSolveAndRankCount) {
   if (rank == 0)
     std::printf("nu %g, s block %s, %s: |(A + Bs^T Bs) v - H v| / |H v| = %.2e, mixed vs primal du %.2e, %d Krylov "
                 "iterations\n",
-                nu, options.schur == SchurApproximation::mass ? "mass" : "selfp", options.factorization == SchurFactorization::upper ? "upper" : "diag",
-                parallel.split_product_error, d, static_cast<int>(parallel.mixed_iterations));
+                nu, options.schur == SchurApproximation::mass ? "mass" : "selfp",
+                options.factorization == SchurFactorization::upper ? "upper" : "diag", parallel.split_product_error, d,
+                static_cast<int>(parallel.mixed_iterations));
 }
 
 // An inner Krylov solve of the s block (options prefix -dipc_mixed_s_): a preconditioner that is
@@ -222,7 +223,8 @@ TEST(MixedSolveInnerSchurSolve, EqualsPrimalSolveWithUpperAndIsRefusedWithDiag) 
     PetscPopErrorHandler();
     EXPECT_EQ(code, PETSC_ERR_USER_INPUT) << "an inner CG on the s block with MINRES must be refused";
   }
-  for (const char* o : {"-pc_type", "-dipc_mixed_s_ksp_type", "-dipc_mixed_s_ksp_rtol"}) PetscOptionsClearValue(nullptr, o);
+  for (const char* o : {"-pc_type", "-dipc_mixed_s_ksp_type", "-dipc_mixed_s_ksp_rtol"})
+    PetscOptionsClearValue(nullptr, o);
 }
 
 INSTANTIATE_TEST_SUITE_P(NearlyIncompressibleAndCompressible, MixedSolve,

@@ -18,9 +18,7 @@ namespace dipc::test {
 inline HexMesh structured_box(int nx, int ny, int nz, Vec3 origin = {0, 0, 0}, int body = 0,
                               const std::string& prefix = "box") {
   HexMesh mesh;
-  auto id = [&](int i, int j, int k) {
-    return static_cast<std::int64_t>(i + (nx + 1) * (j + (ny + 1) * k));
-  };
+  auto id = [&](int i, int j, int k) { return static_cast<std::int64_t>(i + (nx + 1) * (j + (ny + 1) * k)); };
   for (int k = 0; k <= nz; ++k) {
     for (int j = 0; j <= ny; ++j) {
       for (int i = 0; i <= nx; ++i) {
@@ -34,9 +32,8 @@ inline HexMesh structured_box(int nx, int ny, int nz, Vec3 origin = {0, 0, 0}, i
   for (int k = 0; k < nz; ++k) {
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
-        mesh.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
-                              id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1),
-                              id(i, j + 1, k + 1)});
+        mesh.hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
+                              id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
         mesh.body.push_back(body);
       }
     }
@@ -62,8 +59,7 @@ inline HexMesh concatenate(HexMesh a, const HexMesh& b) {
 
 // Two separate bodies: a 6x4x3 box (body 0) and a 3x2x2 box above it (body 1).
 inline HexMesh two_body_mesh() {
-  return concatenate(structured_box(6, 4, 3, {0, 0, 0}, 0, "lower"),
-                     structured_box(3, 2, 2, {1, 1, 4}, 1, "upper"));
+  return concatenate(structured_box(6, 4, 3, {0, 0, 0}, 0, "lower"), structured_box(3, 2, 2, {1, 1, 4}, 1, "upper"));
 }
 
 // `mesh` with its nodes renumbered as a mesh file may number them: node i gets id

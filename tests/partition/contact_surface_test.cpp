@@ -47,15 +47,13 @@ std::vector<std::int64_t> gather_to_root(const std::vector<std::int64_t>& mine, 
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
   for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<std::int64_t> all(test::rank_of(comm) == 0 ? displs.back() + counts.back() : 0);
-  MPI_Gatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(),
-              MPI_INT64_T, 0, comm);
+  MPI_Gatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, 0, comm);
   return all;
 }
 
 // The gathered union of owned primitives (as input node ids) is the serial surface with
 // each primitive once; this check does not use the global ids.
-void expect_union_is_serial_surface(const DistributedMesh& part, const ContactSurface& cs,
-                                    const SurfaceMesh& serial) {
+void expect_union_is_serial_surface(const DistributedMesh& part, const ContactSurface& cs, const SurfaceMesh& serial) {
   const auto input = [&](std::int32_t local) { return part.node_input_id.at(local); };
   std::vector<std::int64_t> flat_triangles, flat_edges, flat_vertices;
   for (const auto& f : cs.faces) {
@@ -130,15 +128,13 @@ void expect_surface_matches_serial(const HexMesh& mesh) {
     ASSERT_LT(g, cs.num_global_faces);
     ++face_count[g];
     const auto& f = cs.faces[t];
-    EXPECT_EQ((Triple{input(f[0]), input(f[1]), input(f[2])}), serial.triangles[g])
-        << "triangle gid " << g;
+    EXPECT_EQ((Triple{input(f[0]), input(f[1]), input(f[2])}), serial.triangles[g]) << "triangle gid " << g;
     EXPECT_EQ(cs.face_body[t], serial.triangle_body[g]);
     EXPECT_EQ(part.element_input_id.at(cs.face_element[t]), serial.quads[g / 2].element);
     for (int i = 0; i < 3; ++i) {
       auto& edge_rank = lowest_rank_using_edge[serial.triangle_edges[g][i]];
       edge_rank = std::min(edge_rank, rank);
-      auto& vertex_rank =
-          lowest_rank_using_vertex[surface_vertex_index(serial, serial.triangles[g][i])];
+      auto& vertex_rank = lowest_rank_using_vertex[surface_vertex_index(serial, serial.triangles[g][i])];
       vertex_rank = std::min(vertex_rank, rank);
     }
   }
@@ -187,17 +183,11 @@ void expect_surface_matches_serial(const HexMesh& mesh) {
   expect_union_is_serial_surface(part, cs, serial);
 }
 
-TEST(ContactSurface, BoxMatchesTheSerialSurface) {
-  expect_surface_matches_serial(test::structured_box(6, 4, 3));
-}
+TEST(ContactSurface, BoxMatchesTheSerialSurface) { expect_surface_matches_serial(test::structured_box(6, 4, 3)); }
 
-TEST(ContactSurface, TwoBodiesMatchTheSerialSurface) {
-  expect_surface_matches_serial(test::two_body_mesh());
-}
+TEST(ContactSurface, TwoBodiesMatchTheSerialSurface) { expect_surface_matches_serial(test::two_body_mesh()); }
 
-TEST(ContactSurface, CavityMatchesTheSerialSurface) {
-  expect_surface_matches_serial(box_with_cavity(5));
-}
+TEST(ContactSurface, CavityMatchesTheSerialSurface) { expect_surface_matches_serial(box_with_cavity(5)); }
 
 TEST(ContactSurface, CutFacesAreNotBoundary) {
   // A face on the cut between two ranks is the only face of its element on that rank but
@@ -218,10 +208,8 @@ TEST(ContactSurface, CutFacesAreNotBoundary) {
 
 TEST(ContactSurface, SameInputGivesSameSurface) {
   const HexMesh mesh = box_with_cavity(3);
-  const ContactSurface a =
-      build_contact_surface(test::distribute_from_root(mesh, PETSC_COMM_WORLD));
-  const ContactSurface b =
-      build_contact_surface(test::distribute_from_root(mesh, PETSC_COMM_WORLD));
+  const ContactSurface a = build_contact_surface(test::distribute_from_root(mesh, PETSC_COMM_WORLD));
+  const ContactSurface b = build_contact_surface(test::distribute_from_root(mesh, PETSC_COMM_WORLD));
   EXPECT_EQ(a.faces, b.faces);
   EXPECT_EQ(a.face_gid, b.face_gid);
   EXPECT_EQ(a.edges, b.edges);
@@ -231,8 +219,7 @@ TEST(ContactSurface, SameInputGivesSameSurface) {
 }
 
 TEST(ContactSurface, InconsistentMeshIsRejected) {
-  DistributedMesh part =
-      test::distribute_from_root(test::structured_box(6, 4, 3), PETSC_COMM_WORLD);
+  DistributedMesh part = test::distribute_from_root(test::structured_box(6, 4, 3), PETSC_COMM_WORLD);
   DistributedMesh no_masks = part;
   no_masks.boundary_face_mask.clear();
   EXPECT_THROW(build_contact_surface(no_masks), PartitionError);

@@ -40,9 +40,9 @@ TEST(DistributeSlices, SlicesRoundTrip) {
 }
 
 TEST(DistributeSlices, MetisGivesTheRootDistribution) {
-  for (const HexMesh& mesh : {test::structured_box(6, 4, 3), test::two_body_mesh(), mesh_with_orphan_node(),
-                              test::scattered_node_ids(test::two_body_mesh(), 3),
-                              test::scattered_node_ids(test::two_body_mesh(), 20)}) {
+  for (const HexMesh& mesh :
+       {test::structured_box(6, 4, 3), test::two_body_mesh(), mesh_with_orphan_node(),
+        test::scattered_node_ids(test::two_body_mesh(), 3), test::scattered_node_ids(test::two_body_mesh(), 20)}) {
     for (bool with_surface : {true, false}) {
       const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
       const DistributedMesh expected = distribute_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD, with_surface);
@@ -66,8 +66,10 @@ TEST(DistributeSlices, PtScotchPartsAreConsistentAndBalanced) {
   // 84 elements; PT-Scotch's default strategy allows a few percent of imbalance.
   EXPECT_LE(quality.imbalance, 1.15);
   EXPECT_GT(quality.smallest_part, 0);
-  if (size == 1) EXPECT_EQ(quality.edge_cut, 0);
-  else EXPECT_GT(quality.edge_cut, 0);
+  if (size == 1)
+    EXPECT_EQ(quality.edge_cut, 0);
+  else
+    EXPECT_GT(quality.edge_cut, 0);
   // The interior faces of a 6x4x3 and a 3x2x2 box: 5*4*3 + 6*3*3 + 6*4*2 + 2*2*2 + 3*1*2 + 3*2*1.
   EXPECT_EQ(quality.dual_edges, 60 + 54 + 48 + 8 + 6 + 6);
 }
@@ -122,7 +124,8 @@ TEST(DistributeSlices, RcbBalancesToTheElement) {
     const DistributedMesh part = distribute_slices(slice, Partitioner::rcb, true, &report);
     test::expect_consistent_with(m, part);
     const std::int64_t n = static_cast<std::int64_t>(m.hexes.size());
-    EXPECT_LE(report.quality.largest_part - report.quality.smallest_part, 1) << n << " elements on " << size << " ranks";
+    EXPECT_LE(report.quality.largest_part - report.quality.smallest_part, 1)
+        << n << " elements on " << size << " ranks";
     EXPECT_EQ(report.quality.largest_part, (n + size - 1) / size);
   }
 }
@@ -174,10 +177,10 @@ TEST(DistributeSlices, FaceOfThreeElementsThrowsOnEveryRank) {
 // per loop, and one has scattered node ids (TouchedNodes' sorted path).
 TEST(DistributeSlices, HostThreadsGiveTheSameParts) {
   const bool root = test::rank_of(PETSC_COMM_WORLD) == 0;
-  for (const HexMesh& mesh : {test::structured_box(30, 30, 30),
-                              test::scattered_node_ids(test::concatenate(test::structured_box(25, 20, 20),
-                                                                         test::structured_box(10, 10, 10, {0, 0, 21}, 1)),
-                                                       7)}) {
+  for (const HexMesh& mesh :
+       {test::structured_box(30, 30, 30),
+        test::scattered_node_ids(
+            test::concatenate(test::structured_box(25, 20, 20), test::structured_box(10, 10, 10, {0, 0, 21}, 1)), 7)}) {
     const MeshSlice slice = slice_whole_mesh(root ? mesh : HexMesh(), PETSC_COMM_WORLD);
     for (Partitioner p : {Partitioner::metis, Partitioner::rcb}) {
       DistributeReport one, four;

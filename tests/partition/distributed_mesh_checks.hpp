@@ -39,8 +39,7 @@ std::vector<T> allreduce(std::vector<T> values, MPI_Datatype type, MPI_Op op, MP
 }
 
 // How many ranks hold each input node as a local (owned or ghost) node.
-inline std::vector<std::int64_t> ranks_holding_each_node(const HexMesh& mesh,
-                                                        const DistributedMesh& part) {
+inline std::vector<std::int64_t> ranks_holding_each_node(const HexMesh& mesh, const DistributedMesh& part) {
   std::vector<std::int64_t> holders(mesh.num_nodes(), 0);
   for (std::int64_t input : part.node_input_id) ++holders.at(input);
   return allreduce(holders, MPI_INT64_T, MPI_SUM, part.comm);
@@ -93,8 +92,7 @@ inline void expect_consistent_with(const HexMesh& mesh, const DistributedMesh& p
   }
   owner_count = allreduce(owner_count, MPI_INT64_T, MPI_SUM, comm);
   for (std::size_t n = 0; n < nn; ++n) EXPECT_EQ(owner_count[n], touched[n]) << "node " << n;
-  EXPECT_TRUE(std::is_sorted(part.node_input_id.begin(),
-                             part.node_input_id.begin() + part.num_owned_nodes))
+  EXPECT_TRUE(std::is_sorted(part.node_input_id.begin(), part.node_input_id.begin() + part.num_owned_nodes))
       << "owned nodes must be numbered in increasing input id";
 
   // Ghosts: sorted, owned by a lower rank, and that owner is the lowest rank holding them.
@@ -145,8 +143,8 @@ inline void expect_consistent_with(const HexMesh& mesh, const DistributedMesh& p
   for (const auto& [name, input_nodes] : mesh.node_sets) {
     ASSERT_EQ(part.node_sets.count(name), 1u) << name;
     const std::vector<std::int32_t>& local_ids = part.node_sets.at(name);
-    EXPECT_TRUE(std::adjacent_find(local_ids.begin(), local_ids.end(),
-                                   [](auto a, auto b) { return a >= b; }) == local_ids.end())
+    EXPECT_TRUE(std::adjacent_find(local_ids.begin(), local_ids.end(), [](auto a, auto b) { return a >= b; }) ==
+                local_ids.end())
         << name << " must be sorted and unique";
     const std::set<std::int64_t> input_set(input_nodes.begin(), input_nodes.end());
     std::vector<char> in_local_set(part.num_local_nodes(), 0);

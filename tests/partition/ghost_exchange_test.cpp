@@ -27,8 +27,7 @@ class GhostExchangeTest : public ::testing::TestWithParam<PetscInt> {};
 
 TEST_P(GhostExchangeTest, VecLayoutsFollowTheMesh) {
   const PetscInt bs = GetParam();
-  const DistributedMesh part =
-      test::distribute_from_root(test::two_body_mesh(), PETSC_COMM_WORLD);
+  const DistributedMesh part = test::distribute_from_root(test::two_body_mesh(), PETSC_COMM_WORLD);
   GhostExchange exchange;
   ASSERT_PETSC(exchange.setup(part, bs));
   Vec global = nullptr;
@@ -91,8 +90,7 @@ void expect_to_local_gives_owner_values(const GhostExchange& exchange, const Dis
 
 TEST_P(GhostExchangeTest, ToLocalGivesEveryLocalNodeItsOwnersValue) {
   const PetscInt bs = GetParam();
-  const DistributedMesh part =
-      test::distribute_from_root(test::two_body_mesh(), PETSC_COMM_WORLD);
+  const DistributedMesh part = test::distribute_from_root(test::two_body_mesh(), PETSC_COMM_WORLD);
   GhostExchange exchange;
   ASSERT_PETSC(exchange.setup(part, bs));
   expect_to_local_gives_owner_values(exchange, part, bs);
@@ -157,8 +155,7 @@ TEST_P(GhostExchangeTest, AddToGlobalSumsOverRanksHoldingTheNode) {
 
 TEST_P(GhostExchangeTest, MismatchedVecIsAnError) {
   const PetscInt bs = GetParam();
-  const DistributedMesh part =
-      test::distribute_from_root(test::structured_box(6, 4, 3), PETSC_COMM_WORLD);
+  const DistributedMesh part = test::distribute_from_root(test::structured_box(6, 4, 3), PETSC_COMM_WORLD);
   GhostExchange exchange;
   Vec global = nullptr;
   Vec wrong_local = nullptr;
@@ -238,8 +235,7 @@ TEST_P(GhostExchangeTest, ExtraGhostNodesRoundTrip) {
   ASSERT_PETSC(VecGetArrayRead(global, &sums));
   for (int i = 0; i < part.num_owned_nodes; ++i) {
     for (PetscInt c = 0; c < bs; ++c) {
-      EXPECT_EQ(sums[bs * i + c], static_cast<PetscScalar>(listed[part.node_offset + i]))
-          << "owned node " << i;
+      EXPECT_EQ(sums[bs * i + c], static_cast<PetscScalar>(listed[part.node_offset + i])) << "owned node " << i;
     }
   }
   ASSERT_PETSC(VecRestoreArrayRead(global, &sums));

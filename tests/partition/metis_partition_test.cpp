@@ -60,8 +60,7 @@ TEST(MetisPartition, MorePartsThanElementsThrows) {
     partition_elements(mesh, 3);
     FAIL() << "expected PartitionError";
   } catch (const PartitionError& e) {
-    EXPECT_NE(std::string(e.what()).find("more parts than elements"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("more parts than elements"), std::string::npos) << e.what();
   }
   EXPECT_THROW(partition_elements(mesh, 0), PartitionError);
   EXPECT_THROW(partition_elements(HexMesh{}, 1), PartitionError);
@@ -74,8 +73,7 @@ TEST(MetisPartition, NodeIdOutsideMeshNamesTheElement) {
     partition_elements(mesh, 2);
     FAIL() << "expected PartitionError";
   } catch (const PartitionError& e) {
-    EXPECT_NE(std::string(e.what()).find("element 1 node 6 has id 1000"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("element 1 node 6 has id 1000"), std::string::npos) << e.what();
   }
 }
 

@@ -28,8 +28,7 @@ HexMesh box_with_cavity() {
 
 // Lowest part among the triangles using edge (a, b) or, with b < 0, vertex a; INT_MAX if
 // no triangle uses it.
-int lowest_part_using(const SurfaceMesh& s, const SurfaceOwners& owners, std::int64_t a,
-                      std::int64_t b) {
+int lowest_part_using(const SurfaceMesh& s, const SurfaceOwners& owners, std::int64_t a, std::int64_t b) {
   int lowest = INT_MAX;
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
     const auto& tri = s.triangles[t];
@@ -50,12 +49,10 @@ void expect_owner_rules(const HexMesh& mesh, const std::vector<int>& element_par
     EXPECT_EQ(owners.triangle[t], element_part[s.quads[t / 2].element]) << "triangle " << t;
   }
   for (std::size_t e = 0; e < s.edges.size(); ++e) {
-    EXPECT_EQ(owners.edge[e], lowest_part_using(s, owners, s.edges[e][0], s.edges[e][1]))
-        << "edge " << e;
+    EXPECT_EQ(owners.edge[e], lowest_part_using(s, owners, s.edges[e][0], s.edges[e][1])) << "edge " << e;
   }
   for (std::size_t v = 0; v < s.vertices.size(); ++v) {
-    EXPECT_EQ(owners.vertex[v], lowest_part_using(s, owners, s.vertices[v], -1))
-        << "vertex " << v;
+    EXPECT_EQ(owners.vertex[v], lowest_part_using(s, owners, s.vertices[v], -1)) << "vertex " << v;
   }
 }
 
@@ -81,8 +78,7 @@ TEST(SurfaceOwners, CavityCornerGoesToAPartWithATriangleNotToTheNodeOwner) {
 
 TEST(SurfaceOwners, RandomPartitionsFollowTheRules) {
   std::mt19937 rng(2024);
-  const HexMesh meshes[] = {test::structured_box(4, 3, 2), test::two_body_mesh(),
-                            box_with_cavity()};
+  const HexMesh meshes[] = {test::structured_box(4, 3, 2), test::two_body_mesh(), box_with_cavity()};
   for (const HexMesh& mesh : meshes) {
     for (int num_parts : {1, 2, 3, 5}) {
       std::uniform_int_distribution<int> pick(0, num_parts - 1);

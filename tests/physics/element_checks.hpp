@@ -13,9 +13,9 @@
 #include <random>
 #include <vector>
 
+#include "math/symmetric_eigen.hpp"
 #include "physics/hex8_elasticity.hpp"
 #include "physics/neo_hookean.hpp"
-#include "math/symmetric_eigen.hpp"
 #include "physics_test_support.hpp"
 
 namespace dipc::test {
@@ -54,7 +54,8 @@ void expect_gradient_is_central_difference(Element element, const std::vector<El
   for (const ElementCase& c : cases) {
     double e, g[24], g_fd[24];
     ASSERT_TRUE(element(c.X.data(), c.x.data(), c.lambda, c.mu, &e, g, nullptr));
-    ASSERT_TRUE(central_difference_gradient(element, c.X, c.x, c.lambda, c.mu, 1e-6 * characteristic_length(c.X), g_fd));
+    ASSERT_TRUE(
+        central_difference_gradient(element, c.X, c.x, c.lambda, c.mu, 1e-6 * characteristic_length(c.X), g_fd));
     EXPECT_LT(max_abs_difference(g, g_fd, 24), 1e-6 * max_abs(g, 24));
   }
 }

@@ -143,7 +143,8 @@ TEST(Hex8MeanDilatation, InvertedStateIsRejected) {
   Nodes mirrored = X;
   for (int a = 0; a < 8; ++a) mirrored[3 * a + 2] = -X[3 * a + 2];
   EXPECT_FALSE(hex8_mean_dilatation(X.data(), mirrored.data(), lambda, mu, &e, g, H));
-  EXPECT_FALSE(hex8_elastic(VolumetricTerm::mean_dilatation, MaterialModel::neo_hookean, X.data(), mirrored.data(), lambda, mu, &e, g, H));
+  EXPECT_FALSE(hex8_elastic(VolumetricTerm::mean_dilatation, MaterialModel::neo_hookean, X.data(), mirrored.data(),
+                            lambda, mu, &e, g, H));
 }
 
 TEST(Hex8MeanDilatation, IsochoricBendingModeIsNotLocked) {
@@ -166,7 +167,7 @@ TEST(Hex8MeanDilatation, IsochoricBendingModeIsNotLocked) {
   ASSERT_TRUE(hex8_neo_hookean(X.data(), x.data(), lambda_high, mu, &e_sd_high, nullptr, nullptr));
   ASSERT_TRUE(hex8_mean_dilatation(X.data(), x.data(), lambda_low, mu, &e_md_low, nullptr, nullptr));
   ASSERT_TRUE(hex8_mean_dilatation(X.data(), x.data(), lambda_high, mu, &e_md_high, nullptr, nullptr));
-  EXPECT_GT(e_sd_high, 10 * e_sd_low);                        // locks
+  EXPECT_GT(e_sd_high, 10 * e_sd_low);                          // locks
   EXPECT_NEAR(e_md_high, e_md_low, 1e-9 * std::abs(e_md_low));  // does not
 }
 

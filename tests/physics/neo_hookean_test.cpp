@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "physics/materials.hpp"
 #include "math/symmetric_eigen.hpp"
+#include "physics/materials.hpp"
 #include "physics_test_support.hpp"
 
 namespace dipc {

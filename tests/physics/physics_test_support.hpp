@@ -117,7 +117,9 @@ bool central_difference_gradient(Element element, const std::array<double, 24>& 
 template <class Element>
 bool central_difference_hessian(Element element, const std::array<double, 24>& X, const std::array<double, 24>& x,
                                 double lambda, double mu, double h, double H_fd[576]) {
-  const auto gradient = [&](const double* y, double* g) { return element(X.data(), y, lambda, mu, nullptr, g, nullptr); };
+  const auto gradient = [&](const double* y, double* g) {
+    return element(X.data(), y, lambda, mu, nullptr, g, nullptr);
+  };
   return central_difference(gradient, x.data(), 24, 24, h, H_fd);
 }
 

@@ -12,13 +12,13 @@
 #include <random>
 #include <vector>
 
+#include "element_checks.hpp"
+#include "math/symmetric_eigen.hpp"
 #include "physics/hex8_elasticity.hpp"
 #include "physics/hex8_mean_dilatation.hpp"
 #include "physics/materials.hpp"
 #include "physics/neo_hookean.hpp"
-#include "math/symmetric_eigen.hpp"
 #include "physics_test_support.hpp"
-#include "element_checks.hpp"
 
 namespace dipc {
 namespace {
@@ -309,8 +309,8 @@ TEST(Hex8StableNeoHookean, InvertedElementIsRefusedLikeEveryMaterial) {
   double lambda, mu, e, g[24], H[576];
   lame_parameters(1e6, 0.3, &lambda, &mu);
   EXPECT_FALSE(kElement(X.data(), mirrored.data(), lambda, mu, &e, g, H));
-  EXPECT_FALSE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::stable_neo_hookean, X.data(),
-                            mirrored.data(), lambda, mu, &e, g, H));
+  EXPECT_FALSE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::stable_neo_hookean, X.data(), mirrored.data(),
+                            lambda, mu, &e, g, H));
 }
 
 TEST(Hex8StableNeoHookean, DispatchSelectsTheMaterial) {
@@ -318,10 +318,10 @@ TEST(Hex8StableNeoHookean, DispatchSelectsTheMaterial) {
     double e_nh, e_snh, e_nh_d, e_snh_d;
     ASSERT_TRUE(hex8_neo_hookean(c.X.data(), c.x.data(), c.lambda, c.mu, &e_nh, nullptr, nullptr));
     ASSERT_TRUE(kElement(c.X.data(), c.x.data(), c.lambda, c.mu, &e_snh, nullptr, nullptr));
-    ASSERT_TRUE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::neo_hookean, c.X.data(), c.x.data(),
-                             c.lambda, c.mu, &e_nh_d, nullptr, nullptr));
-    ASSERT_TRUE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::stable_neo_hookean, c.X.data(),
-                             c.x.data(), c.lambda, c.mu, &e_snh_d, nullptr, nullptr));
+    ASSERT_TRUE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::neo_hookean, c.X.data(), c.x.data(), c.lambda,
+                             c.mu, &e_nh_d, nullptr, nullptr));
+    ASSERT_TRUE(hex8_elastic(VolumetricTerm::gauss_points, MaterialModel::stable_neo_hookean, c.X.data(), c.x.data(),
+                             c.lambda, c.mu, &e_snh_d, nullptr, nullptr));
     EXPECT_EQ(e_nh_d, e_nh);
     EXPECT_EQ(e_snh_d, e_snh);
     if (std::abs(e_nh) > 1e-6 * c.mu) {

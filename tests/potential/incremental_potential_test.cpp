@@ -14,11 +14,11 @@
 #include <string>
 #include <tuple>
 
-#include "mesh/box_generator.hpp"
 #include "forms/body_force_form.hpp"
 #include "forms/elastic_form.hpp"
-#include "potential/incremental_potential.hpp"
 #include "forms/inertia_form.hpp"
+#include "mesh/box_generator.hpp"
+#include "potential/incremental_potential.hpp"
 #include "support/directional_difference.hpp"
 
 namespace dipc {
@@ -72,9 +72,11 @@ TEST_P(PotentialFiniteDifferences, GradientAndHessianMatchDifferences) {
   else
     forms.push_back(std::make_unique<ConsistentInertiaForm>(elements));
   forms.push_back(std::make_unique<ElasticForm>(elements, h * h));
-  forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, std::array<double, 3>{0, -3, -9.81}, h * h));
+  forms.push_back(
+      std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, std::array<double, 3>{0, -3, -9.81}, h * h));
   std::vector<char> prescribed(3 * mesh.num_local_nodes(), 0);
-  for (std::int32_t n : mesh.node_sets.at("box.xmin")) prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
+  for (std::int32_t n : mesh.node_sets.at("box.xmin"))
+    prescribed[3 * n] = prescribed[3 * n + 1] = prescribed[3 * n + 2] = 1;
   IncrementalPotential potential;
   ASSERT_EQ(potential.setup(mesh, std::move(forms), prescribed), 0);
   Mat H;

@@ -23,10 +23,13 @@ TEST(HostThreads, ChunksCoverTheRangeInOrder) {
     for (std::size_t n : {0, 1, 5, 4096, 10000, 100003}) {
       std::vector<std::size_t> begin(threads, 0), end(threads, 0);
       std::vector<int> hits(n, 0);
-      const int k = parallel_chunks(n, [&](int c, std::size_t b, std::size_t e) {
-        begin[c] = b, end[c] = e;
-        for (std::size_t i = b; i < e; ++i) ++hits[i];
-      }, 1000);
+      const int k = parallel_chunks(
+          n,
+          [&](int c, std::size_t b, std::size_t e) {
+            begin[c] = b, end[c] = e;
+            for (std::size_t i = b; i < e; ++i) ++hits[i];
+          },
+          1000);
       const std::size_t by_grain = std::max<std::size_t>(1, n / 1000);
       EXPECT_EQ(static_cast<std::size_t>(k), std::min<std::size_t>(threads, by_grain)) << n;
       EXPECT_EQ(begin[0], 0u);
@@ -42,20 +45,26 @@ TEST(HostThreads, ChunksRunAtOnce) {
   if (!host_threads_available()) GTEST_SKIP() << "built without OpenMP: chunks run one after the other";
   Threads use(4);
   int started = 0;
-  const int k = parallel_chunks(4, [&](int, std::size_t, std::size_t) {
-    atomic_fetch_add(started, 1);
-    while (__atomic_load_n(&started, __ATOMIC_RELAXED) < 4) {
-    }
-  }, 1);
+  const int k = parallel_chunks(
+      4,
+      [&](int, std::size_t, std::size_t) {
+        atomic_fetch_add(started, 1);
+        while (__atomic_load_n(&started, __ATOMIC_RELAXED) < 4) {
+        }
+      },
+      1);
   EXPECT_EQ(k, 4);
 }
 
 TEST(HostThreads, LowestChunksExceptionIsRethrown) {
   Threads use(4);
   try {
-    parallel_chunks(4000, [](int c, std::size_t, std::size_t) {
-      if (c >= 1) throw std::runtime_error("chunk " + std::to_string(c));
-    }, 1);
+    parallel_chunks(
+        4000,
+        [](int c, std::size_t, std::size_t) {
+          if (c >= 1) throw std::runtime_error("chunk " + std::to_string(c));
+        },
+        1);
     FAIL() << "expected the chunks' exception";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "chunk 1");

@@ -13,7 +13,10 @@ __device__ int offd_index(const std::int64_t* col_map, std::size_t size, std::in
   std::size_t lo = 0, hi = size;
   while (lo < hi) {
     const std::size_t mid = (lo + hi) / 2;
-    if (col_map[mid] < col) lo = mid + 1; else hi = mid;
+    if (col_map[mid] < col)
+      lo = mid + 1;
+    else
+      hi = mid;
   }
   return static_cast<int>(lo);
 }

@@ -17,11 +17,11 @@
 //      accumulators), written straight into the COO value array at elastic_coo_offset, whose
 //      order makes the 8 threads of an element store 8 consecutive doubles at a time.
 #include "assembly/cuda/element_kernels.hpp"
-#include "physics/hex8_elasticity.hpp"
-#include "physics/hex8_mean_dilatation.hpp"
-#include "physics/hex8_mass.hpp"
-#include "physics/materials.hpp"
 #include "device/cuda_check.cuh"
+#include "physics/hex8_elasticity.hpp"
+#include "physics/hex8_mass.hpp"
+#include "physics/hex8_mean_dilatation.hpp"
+#include "physics/materials.hpp"
 
 namespace dipc::device {
 
@@ -82,8 +82,7 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
   const int slot = threadIdx.x / kThreadsPerElement, t = threadIdx.x % kThreadsPerElement;
   const long e = static_cast<long>(blockIdx.x) * kElementsPerBlock + slot;
   const bool active = e < block.num_elements;
-  const bool mean_dilatation =
-      MeanDilatation && active && block.volumetric_term(e) == VolumetricTerm::mean_dilatation;
+  const bool mean_dilatation = MeanDilatation && active && block.volumetric_term(e) == VolumetricTerm::mean_dilatation;
   double* s = shared + slot * kPerElement;
   int node = 0;
   if (active) {
@@ -214,8 +213,8 @@ __global__ void __launch_bounds__(kElasticThreads, DIPC_ELASTIC_MIN_BLOCKS)
 }
 
 template <bool Grad, bool Hess, bool MeanDilatation, bool AnyModel>
-void launch_elastic(const ElementBlock& block, const double* x, double scale, double* partials, int* failed,
-                    double* g, double* coo, unsigned blocks) {
+void launch_elastic(const ElementBlock& block, const double* x, double scale, double* partials, int* failed, double* g,
+                    double* coo, unsigned blocks) {
   const std::size_t bytes = sizeof(double) * kElementsPerBlock * shared_per_element<Grad, Hess, MeanDilatation>();
   static bool configured = false;
   if (!configured) {
@@ -229,8 +228,8 @@ void launch_elastic(const ElementBlock& block, const double* x, double scale, do
 }
 
 template <bool MeanDilatation, bool AnyModel>
-void launch_elastic_outputs(const ElementBlock& block, const double* x, double scale, double* partials,
-                            int* failed, double* g, double* coo, unsigned blocks) {
+void launch_elastic_outputs(const ElementBlock& block, const double* x, double scale, double* partials, int* failed,
+                            double* g, double* coo, unsigned blocks) {
   if (g && coo)
     launch_elastic<true, true, MeanDilatation, AnyModel>(block, x, scale, partials, failed, g, coo, blocks);
   else if (g)
@@ -238,13 +237,12 @@ void launch_elastic_outputs(const ElementBlock& block, const double* x, double s
   else if (coo)
     launch_elastic<false, true, MeanDilatation, AnyModel>(block, x, scale, partials, failed, nullptr, coo, blocks);
   else
-    launch_elastic<false, false, MeanDilatation, AnyModel>(block, x, scale, partials, failed, nullptr, nullptr,
-                                                           blocks);
+    launch_elastic<false, false, MeanDilatation, AnyModel>(block, x, scale, partials, failed, nullptr, nullptr, blocks);
 }
 
 template <bool MeanDilatation>
-void launch_elastic_models(const ElementBlock& block, const double* x, double scale, double* partials,
-                           int* failed, double* g, double* coo, unsigned blocks) {
+void launch_elastic_models(const ElementBlock& block, const double* x, double scale, double* partials, int* failed,
+                           double* g, double* coo, unsigned blocks) {
   if (block.model)
     launch_elastic_outputs<MeanDilatation, true>(block, x, scale, partials, failed, g, coo, blocks);
   else
@@ -295,8 +293,8 @@ __global__ void dot_kernel(const double* f, const double* x, std::size_t n, doub
 // One thread per element: d = x − x̂ at its 8 nodes, then energy ½ dᵀ(M⊗I)d or gradient (M⊗I)d.
 template <bool Energy>
 __global__ void consistent_inertia_kernel(ElementBlock block, const double* __restrict__ mass,
-                                          const double* __restrict__ xh, const double* __restrict__ x,
-                                          double* partials, double* g) {
+                                          const double* __restrict__ xh, const double* __restrict__ x, double* partials,
+                                          double* g) {
   __shared__ double reduction[kReduceThreads];
   const long e = static_cast<long>(blockIdx.x) * blockDim.x + threadIdx.x;
   double energy = 0;
@@ -366,13 +364,13 @@ void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const st
   ElementBlockMaps all{};
   for (int m = 0; m < num_maps; ++m) all.map[m] = maps[m];
   all.count = num_maps;
-  reduce_element_blocks_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(d_raw, num_blocks, d_block_mask,
-                                                                        d_block_start, all, d_unique);
+  reduce_element_blocks_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(d_raw, num_blocks, d_block_mask, d_block_start,
+                                                                         all, d_unique);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy,
-                      double* d_gradient, double* d_hessian, Reducer& reducer) {
+bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy, double* d_gradient,
+                      double* d_hessian, Reducer& reducer) {
   if (block.num_elements == 0) {
     if (energy) *energy = 0;
     return true;
@@ -419,8 +417,8 @@ double consistent_inertia_energy(const ElementBlock& block, const double* d_elem
                                  const double* d_x, Reducer& reducer) {
   if (block.num_elements == 0) return 0;
   const unsigned blocks = blocks_for(block.num_elements, kReduceThreads);
-  consistent_inertia_kernel<true><<<blocks, kReduceThreads>>>(block, d_element_mass, d_x_hat, d_x,
-                                                               reducer.partials(blocks), nullptr);
+  consistent_inertia_kernel<true>
+      <<<blocks, kReduceThreads>>>(block, d_element_mass, d_x_hat, d_x, reducer.partials(blocks), nullptr);
   DIPC_CUDA_CHECK_LAUNCH();
   return reducer.sum_partials(blocks);
 }
@@ -428,8 +426,9 @@ double consistent_inertia_energy(const ElementBlock& block, const double* d_elem
 void consistent_inertia_gradient(const ElementBlock& block, const double* d_element_mass, const double* d_x_hat,
                                  const double* d_x, double* d_g) {
   if (block.num_elements == 0) return;
-  consistent_inertia_kernel<false><<<blocks_for(block.num_elements, kReduceThreads), kReduceThreads>>>(
-      block, d_element_mass, d_x_hat, d_x, nullptr, d_g);
+  consistent_inertia_kernel<false>
+      <<<blocks_for(block.num_elements, kReduceThreads), kReduceThreads>>>(block, d_element_mass, d_x_hat, d_x, nullptr,
+                                                                           d_g);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

@@ -16,8 +16,8 @@ namespace dipc::device {
 // may be null. energy (host) is overwritten, d_gradient (3 per local node) added into,
 // d_hessian (576 per element) written. Returns false if an element is inverted at a Gauss
 // point (det F <= 0); the outputs are then partial.
-bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy,
-                      double* d_gradient, double* d_hessian, Reducer& reducer);
+bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy, double* d_gradient,
+                      double* d_hessian, Reducer& reducer);
 
 // min over elements of hex8_min_volume_ratio (+huge for an empty block).
 double min_volume_ratio(const ElementBlock& block, const double* d_x, Reducer& reducer);

@@ -84,7 +84,10 @@ __global__ void row_starts(const std::uint32_t* __restrict__ row, std::size_t nu
   std::size_t lo = 0, hi = num_blocks;
   while (lo < hi) {
     const std::size_t mid = (lo + hi) / 2;
-    if (row[mid] < r) lo = mid + 1; else hi = mid;
+    if (row[mid] < r)
+      lo = mid + 1;
+    else
+      hi = mid;
   }
   row_start[r] = lo;
 }
@@ -179,7 +182,8 @@ void build_node_blocks(const NodeBlockForm* forms, int num_forms, std::size_t nu
       const std::size_t pairs = 64 * forms[f].num_elements;
       if (pairs == 0) continue;
       make_pairs<<<blocks_for(pairs, kThreads), kThreads>>>(forms[f].d_slots, pairs, num_rows, ranges.base[f],
-                                                             keys.data() + ranges.base[f], items.data() + ranges.base[f]);
+                                                            keys.data() + ranges.base[f],
+                                                            items.data() + ranges.base[f]);
       DIPC_CUDA_CHECK_LAUNCH();
     }
     const int end_bit = bits_for(static_cast<std::uint64_t>(num_rows) * num_rows - 1);

@@ -15,8 +15,7 @@ namespace dipc::contact {
 // linear trajectory of every vertex (each coordinate moves monotonically from x0 to x1) and,
 // the box being convex, every point of the primitive along the step: what the CCD of the
 // IPC line search (Li et al. 2020) needs from its candidates.
-DIPC_HD Aabb primitive_box(const double* x0, const double* x1, const std::int32_t* ids,
-                           int count, double inflation) {
+DIPC_HD Aabb primitive_box(const double* x0, const double* x1, const std::int32_t* ids, int count, double inflation) {
   Aabb box;
   const double* p = x0 + 3 * static_cast<std::int64_t>(ids[0]);
   for (int k = 0; k < 3; ++k) box.lo[k] = box.hi[k] = p[k];

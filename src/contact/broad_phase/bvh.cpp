@@ -9,8 +9,7 @@ namespace dipc::contact {
 
 Bvh::Bvh(const std::vector<Aabb>& boxes) {
   if (boxes.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
-    throw BroadPhaseError("Bvh: " + std::to_string(boxes.size()) +
-                          " boxes do not fit in 32-bit primitive ids");
+    throw BroadPhaseError("Bvh: " + std::to_string(boxes.size()) + " boxes do not fit in 32-bit primitive ids");
   }
   const auto n = static_cast<std::int32_t>(boxes.size());
   if (n == 0) return;
@@ -65,8 +64,7 @@ std::int32_t Bvh::build(std::int32_t begin, std::int32_t end, std::vector<BuildI
   const std::int32_t mid = begin + (end - begin) / 2;
   std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
                    [axis](const BuildItem& a, const BuildItem& b) {
-                     return a.centre[axis] < b.centre[axis] ||
-                            (a.centre[axis] == b.centre[axis] && a.id < b.id);
+                     return a.centre[axis] < b.centre[axis] || (a.centre[axis] == b.centre[axis] && a.id < b.id);
                    });
   const std::int32_t left = build(begin, mid, items, boxes, level + 1);
   const std::int32_t right = build(mid, end, items, boxes, level + 1);

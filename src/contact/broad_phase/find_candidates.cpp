@@ -17,9 +17,9 @@ void check_ids(const std::int32_t* ids, int count, int per, int num_vertices, co
     for (int j = 0; j < per; ++j) {
       const std::int32_t v = ids[static_cast<std::int64_t>(per) * e + j];
       if (v < 0 || v >= num_vertices) {
-        throw BroadPhaseError("find_candidates: " + std::string(kind) + " " + std::to_string(e) +
-                              " vertex " + std::to_string(j) + " = " + std::to_string(v) +
-                              " is outside [0, " + std::to_string(num_vertices) + ")");
+        throw BroadPhaseError("find_candidates: " + std::string(kind) + " " + std::to_string(e) + " vertex " +
+                              std::to_string(j) + " = " + std::to_string(v) + " is outside [0, " +
+                              std::to_string(num_vertices) + ")");
       }
     }
   }
@@ -29,36 +29,30 @@ void check_finite(const double* x, int num_vertices, const char* name) {
   for (int v = 0; v < num_vertices; ++v) {
     for (int k = 0; k < 3; ++k) {
       if (!std::isfinite(x[3 * static_cast<std::int64_t>(v) + k])) {
-        throw BroadPhaseError("find_candidates: vertex " + std::to_string(v) + " has a non-finite " +
-                              name + " coordinate " + std::to_string(k));
+        throw BroadPhaseError("find_candidates: vertex " + std::to_string(v) + " has a non-finite " + name +
+                              " coordinate " + std::to_string(k));
       }
     }
   }
 }
 
-void check_input(const SurfaceView& s, double inflation, const Candidates* out,
-                 const CandidateFilter& filter) {
+void check_input(const SurfaceView& s, double inflation, const Candidates* out, const CandidateFilter& filter) {
   if (out == nullptr) throw BroadPhaseError("find_candidates: output is null");
   if (!std::isfinite(inflation) || inflation < 0.0) {
-    throw BroadPhaseError("find_candidates: inflation " + std::to_string(inflation) +
-                          " must be finite and >= 0");
+    throw BroadPhaseError("find_candidates: inflation " + std::to_string(inflation) + " must be finite and >= 0");
   }
   if (s.num_vertices < 0 || s.num_edges < 0 || s.num_faces < 0) {
-    throw BroadPhaseError("find_candidates: negative count (vertices " +
-                          std::to_string(s.num_vertices) + ", edges " + std::to_string(s.num_edges) +
-                          ", faces " + std::to_string(s.num_faces) + ")");
+    throw BroadPhaseError("find_candidates: negative count (vertices " + std::to_string(s.num_vertices) + ", edges " +
+                          std::to_string(s.num_edges) + ", faces " + std::to_string(s.num_faces) + ")");
   }
   if (s.num_vertices > 0 && s.x0 == nullptr) {
-    throw BroadPhaseError("find_candidates: x0 is null for " + std::to_string(s.num_vertices) +
-                          " vertices");
+    throw BroadPhaseError("find_candidates: x0 is null for " + std::to_string(s.num_vertices) + " vertices");
   }
   if (s.num_edges > 0 && s.edges == nullptr) {
-    throw BroadPhaseError("find_candidates: edges is null for " + std::to_string(s.num_edges) +
-                          " edges");
+    throw BroadPhaseError("find_candidates: edges is null for " + std::to_string(s.num_edges) + " edges");
   }
   if (s.num_faces > 0 && s.faces == nullptr) {
-    throw BroadPhaseError("find_candidates: faces is null for " + std::to_string(s.num_faces) +
-                          " faces");
+    throw BroadPhaseError("find_candidates: faces is null for " + std::to_string(s.num_faces) + " faces");
   }
   if (filter.allow_groups && s.vertex_group == nullptr && s.num_vertices > 0) {
     throw BroadPhaseError("find_candidates: a group filter needs SurfaceView::vertex_group");
@@ -69,8 +63,7 @@ void check_input(const SurfaceView& s, double inflation, const Candidates* out,
   if (s.num_vertices > 0 && s.x1 != nullptr) check_finite(s.x1, s.num_vertices, "x1");
 }
 
-std::vector<Aabb> primitive_boxes(const SurfaceView& s, const std::int32_t* ids, int count,
-                                  int per, double inflation) {
+std::vector<Aabb> primitive_boxes(const SurfaceView& s, const std::int32_t* ids, int count, int per, double inflation) {
   std::vector<Aabb> boxes(static_cast<std::size_t>(count));
   for (int e = 0; e < count; ++e) {
     boxes[e] = primitive_box(s.x0, s.x1, ids + static_cast<std::int64_t>(per) * e, per, inflation);
@@ -80,9 +73,7 @@ std::vector<Aabb> primitive_boxes(const SurfaceView& s, const std::int32_t* ids,
 
 // Pairs that share a vertex are excluded: they are at distance zero by construction, so they
 // are no contact and the barrier would be infinite on them (IPC Toolkit skips them too).
-bool face_has_vertex(const std::int32_t* tri, std::int32_t v) {
-  return tri[0] == v || tri[1] == v || tri[2] == v;
-}
+bool face_has_vertex(const std::int32_t* tri, std::int32_t v) { return tri[0] == v || tri[1] == v || tri[2] == v; }
 
 bool edges_share_vertex(const std::int32_t* a, const std::int32_t* b) {
   return a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
@@ -137,8 +128,7 @@ void find_edge_edge(const SurfaceView& s, double inflation, const CandidateFilte
 
 }  // namespace
 
-void find_candidates(const SurfaceView& surface, double inflation, Candidates* out,
-                     const CandidateFilter& filter) {
+void find_candidates(const SurfaceView& surface, double inflation, Candidates* out, const CandidateFilter& filter) {
   check_input(surface, inflation, out, filter);
   out->vertex_face.clear();
   out->edge_edge.clear();

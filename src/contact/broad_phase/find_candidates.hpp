@@ -45,8 +45,7 @@ struct CandidateFilter {
 // negative, an array needed for a positive count is null, a vertex id is out of range (names
 // the edge or face), a coordinate is not finite (names the vertex), or allow_groups is
 // given without vertex_group.
-void find_candidates(const SurfaceView& surface, double inflation, Candidates* out,
-                     const CandidateFilter& filter);
+void find_candidates(const SurfaceView& surface, double inflation, Candidates* out, const CandidateFilter& filter);
 
 // The same with only a group filter (`allow(group_a, group_b)`, see CandidateFilter).
 void find_candidates(const SurfaceView& surface, double inflation, Candidates* out,

@@ -12,7 +12,7 @@ struct SurfaceView {
   int num_edges = 0;
   const std::int32_t* edges = nullptr;  // 2 vertex ids per edge
   int num_faces = 0;
-  const std::int32_t* faces = nullptr;  // 3 vertex ids per triangle
+  const std::int32_t* faces = nullptr;         // 3 vertex ids per triangle
   const std::int32_t* vertex_group = nullptr;  // e.g. the body of each vertex; nullable
 };
 

@@ -25,15 +25,15 @@
 
 #include "contact/ccd/ccd_distances.hpp"
 #include "contact/ccd/ccd_parameters.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact::ccd {
 
 struct AdditiveCcdResult {
-  double toi;       // t*: collision-free (distance > xi) on [0, toi]; t_max when no impact
-  int iterations;   // distance evaluations after the initial one
-  bool truncated;   // stopped by the max_iterations guard (toi is still conservative)
+  double toi;      // t*: collision-free (distance > xi) on [0, toi]; t_max when no impact
+  int iterations;  // distance evaluations after the initial one
+  bool truncated;  // stopped by the max_iterations guard (toi is still conservative)
 };
 
 // A point-triangle pair on stacked coordinates [p, t0, t1, t2].
@@ -74,9 +74,8 @@ struct EdgeEdgePair {
 // Conservative time of impact of a pair whose 4 vertices move linearly from x_t0 to x_t1
 // (stacked, 12 doubles each). See time_of_impact.hpp for the contract.
 template <class Pair>
-DIPC_HD AdditiveCcdResult additive_ccd(const double x_t0[12], const double x_t1[12],
-                                       double min_separation, double t_max,
-                                       double conservative_rescaling, int max_iterations) {
+DIPC_HD AdditiveCcdResult additive_ccd(const double x_t0[12], const double x_t1[12], double min_separation,
+                                       double t_max, double conservative_rescaling, int max_iterations) {
   if (!(t_max > 0.0)) return {0.0, 0, false};
 
   // Distances are translation invariant: work relative to the mean start position and the
@@ -92,8 +91,7 @@ DIPC_HD AdditiveCcdResult additive_ccd(const double x_t0[12], const double x_t1[
       magnitude = m0 > magnitude ? m0 : magnitude;
       magnitude = m1 > magnitude ? m1 : magnitude;
     }
-  const double resolution =
-      ccd_defaults::resolution_ulps * ccd_defaults::machine_epsilon * magnitude;
+  const double resolution = ccd_defaults::resolution_ulps * ccd_defaults::machine_epsilon * magnitude;
   double x0[12], dx[12];
   for (int v = 0; v < 4; ++v)
     for (int k = 0; k < 3; ++k) {

@@ -12,15 +12,14 @@
 // not) can only lower the value near the decision boundary, where the candidates agree —
 // which for CCD means an earlier stop, never a missed contact.
 #pragma once
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact::ccd {
 
 // Closest point of segment [a, b] to p at a + s (b - a), s = clamp(((p-a).(b-a)) / |b-a|^2);
 // a degenerate segment (a == b) is the point a.
-DIPC_HD double point_segment_distance_squared(const double p[3], const double a[3],
-                                              const double b[3]) {
+DIPC_HD double point_segment_distance_squared(const double p[3], const double a[3], const double b[3]) {
   double e[3], w[3];
   subtract3(b, a, e);
   subtract3(p, a, w);
@@ -35,8 +34,8 @@ DIPC_HD double point_segment_distance_squared(const double p[3], const double a[
 // the distance is the plane distance (n.(p - t0))^2 / |n|^2; otherwise the closest point lies
 // on the boundary, so it is the smallest of the three point-segment distances. The boundary
 // candidates are always evaluated, which also covers degenerate (zero-area) triangles.
-DIPC_HD double point_triangle_distance_squared(const double p[3], const double t0[3],
-                                               const double t1[3], const double t2[3]) {
+DIPC_HD double point_triangle_distance_squared(const double p[3], const double t0[3], const double t1[3],
+                                               const double t2[3]) {
   double best = point_segment_distance_squared(p, t0, t1);
   const double d12 = point_segment_distance_squared(p, t1, t2);
   const double d20 = point_segment_distance_squared(p, t2, t0);
@@ -95,8 +94,8 @@ DIPC_HD double point_triangle_distance_squared(const double p[3], const double t
 // 5e-11 of the edge length, the bound the CCD contract (time_of_impact.hpp) states.
 constexpr double kNearlyParallelSin2 = 1e-21;
 
-DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3],
-                                          const double b0[3], const double b1[3]) {
+DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3], const double b0[3],
+                                          const double b1[3]) {
   double best = point_segment_distance_squared(a0, b0, b1);
   const double c1 = point_segment_distance_squared(a1, b0, b1);
   const double c2 = point_segment_distance_squared(b0, a0, a1);
@@ -119,8 +118,7 @@ DIPC_HD double edge_edge_distance_squared(const double a0[3], const double a1[3]
   const double s = dot3(n, vw) / nn;
   const double t = dot3(n, uw) / nn;
   if (s < 0.0 || s > 1.0 || t < 0.0 || t > 1.0) return best;
-  const double r[3] = {w[0] + s * u[0] - t * v[0], w[1] + s * u[1] - t * v[1],
-                       w[2] + s * u[2] - t * v[2]};
+  const double r[3] = {w[0] + s * u[0] - t * v[0], w[1] + s * u[1] - t * v[1], w[2] + s * u[2] - t * v[2]};
   const double h = dot3(r, n);
   const double interior = h * h / nn;
   return interior < best ? interior : best;

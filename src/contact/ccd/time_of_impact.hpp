@@ -37,32 +37,31 @@
 
 #include "contact/ccd/additive_ccd.hpp"
 #include "contact/ccd/ccd_parameters.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
 // Stacked forms: x_t0, x_t1 are 12 doubles [p, t0, t1, t2] (point-triangle) or
 // [ea0, ea1, eb0, eb1] (edge-edge); the result carries the iteration count for diagnostics.
-DIPC_HD ccd::AdditiveCcdResult point_triangle_ccd(
-    const double x_t0[12], const double x_t1[12], double min_separation, double t_max,
-    double conservative_rescaling = ccd_defaults::conservative_rescaling,
-    int max_iterations = ccd_defaults::max_iterations) {
-  return ccd::additive_ccd<ccd::PointTrianglePair>(x_t0, x_t1, min_separation, t_max,
-                                                   conservative_rescaling, max_iterations);
+DIPC_HD ccd::AdditiveCcdResult point_triangle_ccd(const double x_t0[12], const double x_t1[12], double min_separation,
+                                                  double t_max,
+                                                  double conservative_rescaling = ccd_defaults::conservative_rescaling,
+                                                  int max_iterations = ccd_defaults::max_iterations) {
+  return ccd::additive_ccd<ccd::PointTrianglePair>(x_t0, x_t1, min_separation, t_max, conservative_rescaling,
+                                                   max_iterations);
 }
 
-DIPC_HD ccd::AdditiveCcdResult edge_edge_ccd(
-    const double x_t0[12], const double x_t1[12], double min_separation, double t_max,
-    double conservative_rescaling = ccd_defaults::conservative_rescaling,
-    int max_iterations = ccd_defaults::max_iterations) {
-  return ccd::additive_ccd<ccd::EdgeEdgePair>(x_t0, x_t1, min_separation, t_max,
-                                              conservative_rescaling, max_iterations);
+DIPC_HD ccd::AdditiveCcdResult edge_edge_ccd(const double x_t0[12], const double x_t1[12], double min_separation,
+                                             double t_max,
+                                             double conservative_rescaling = ccd_defaults::conservative_rescaling,
+                                             int max_iterations = ccd_defaults::max_iterations) {
+  return ccd::additive_ccd<ccd::EdgeEdgePair>(x_t0, x_t1, min_separation, t_max, conservative_rescaling,
+                                              max_iterations);
 }
 
 namespace ccd {
-DIPC_HD void stack4(const double a[3], const double b[3], const double c[3], const double d[3],
-                    double x[12]) {
+DIPC_HD void stack4(const double a[3], const double b[3], const double c[3], const double d[3], double x[12]) {
   for (int k = 0; k < 3; ++k) {
     x[k] = a[k];
     x[3 + k] = b[k];
@@ -72,32 +71,28 @@ DIPC_HD void stack4(const double a[3], const double b[3], const double c[3], con
 }
 }  // namespace ccd
 
-DIPC_HD double point_triangle_time_of_impact(
-    const double p_t0[3], const double t0_t0[3], const double t1_t0[3], const double t2_t0[3],
-    const double p_t1[3], const double t0_t1[3], const double t1_t1[3], const double t2_t1[3],
-    double min_separation, double t_max,
-    double conservative_rescaling = ccd_defaults::conservative_rescaling,
-    int max_iterations = ccd_defaults::max_iterations) {
+DIPC_HD double point_triangle_time_of_impact(const double p_t0[3], const double t0_t0[3], const double t1_t0[3],
+                                             const double t2_t0[3], const double p_t1[3], const double t0_t1[3],
+                                             const double t1_t1[3], const double t2_t1[3], double min_separation,
+                                             double t_max,
+                                             double conservative_rescaling = ccd_defaults::conservative_rescaling,
+                                             int max_iterations = ccd_defaults::max_iterations) {
   double x_t0[12], x_t1[12];
   ccd::stack4(p_t0, t0_t0, t1_t0, t2_t0, x_t0);
   ccd::stack4(p_t1, t0_t1, t1_t1, t2_t1, x_t1);
-  return point_triangle_ccd(x_t0, x_t1, min_separation, t_max, conservative_rescaling,
-                            max_iterations)
-      .toi;
+  return point_triangle_ccd(x_t0, x_t1, min_separation, t_max, conservative_rescaling, max_iterations).toi;
 }
 
-DIPC_HD double edge_edge_time_of_impact(
-    const double ea0_t0[3], const double ea1_t0[3], const double eb0_t0[3],
-    const double eb1_t0[3], const double ea0_t1[3], const double ea1_t1[3],
-    const double eb0_t1[3], const double eb1_t1[3], double min_separation, double t_max,
-    double conservative_rescaling = ccd_defaults::conservative_rescaling,
-    int max_iterations = ccd_defaults::max_iterations) {
+DIPC_HD double edge_edge_time_of_impact(const double ea0_t0[3], const double ea1_t0[3], const double eb0_t0[3],
+                                        const double eb1_t0[3], const double ea0_t1[3], const double ea1_t1[3],
+                                        const double eb0_t1[3], const double eb1_t1[3], double min_separation,
+                                        double t_max,
+                                        double conservative_rescaling = ccd_defaults::conservative_rescaling,
+                                        int max_iterations = ccd_defaults::max_iterations) {
   double x_t0[12], x_t1[12];
   ccd::stack4(ea0_t0, ea1_t0, eb0_t0, eb1_t0, x_t0);
   ccd::stack4(ea0_t1, ea1_t1, eb0_t1, eb1_t1, x_t1);
-  return edge_edge_ccd(x_t0, x_t1, min_separation, t_max, conservative_rescaling,
-                       max_iterations)
-      .toi;
+  return edge_edge_ccd(x_t0, x_t1, min_separation, t_max, conservative_rescaling, max_iterations).toi;
 }
 
 // A point moving against a static plane (analytic obstacle) through plane_origin with normal
@@ -109,10 +104,8 @@ DIPC_HD double edge_edge_time_of_impact(
 // sum_k |n_k (p_k - o_k)| / |n|, Higham, "Accuracy and Stability of Numerical Algorithms",
 // 2002, sec. 3.1, dot products), and the quotient by a few ulps. A starting gap below that
 // error counts as contact (t* = 0); a zero normal returns 0 (no plane: refuse to move).
-DIPC_HD double point_plane_time_of_impact(const double p_t0[3], const double p_t1[3],
-                                          const double plane_origin[3],
-                                          const double plane_normal[3], double min_separation,
-                                          double t_max) {
+DIPC_HD double point_plane_time_of_impact(const double p_t0[3], const double p_t1[3], const double plane_origin[3],
+                                          const double plane_normal[3], double min_separation, double t_max) {
   constexpr double eps = ccd_defaults::machine_epsilon;
   if (!(t_max > 0.0)) return 0.0;
   const double nn = dot3(plane_normal, plane_normal);

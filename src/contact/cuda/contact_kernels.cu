@@ -5,10 +5,10 @@
 // multiply-adds every +, −, ×, ÷ and √ rounds as on the CPU, so distances, active sets and
 // times of impact are bit-identical to ContactForm's CPU loops (the CCD uses nothing else);
 // the barrier terms differ only through log/log1p, within an ulp of the CPU's libm.
-#include "device/cuda_check.cuh"
 #include "contact/contact_pair_terms.hpp"
 #include "contact/cuda/contact_kernels.hpp"
 #include "contact/obstacle_nodes.hpp"
+#include "device/cuda_check.cuh"
 
 namespace dipc::device {
 
@@ -225,14 +225,15 @@ bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContac
                              const BarrierConstants& c, const double* x, double* values, Reducer& reducer) {
   if (pairs.count == 0) return true;
   reducer.reset_flag();
-  hessian_kernel<<<blocks_for(pairs.count, kHessianThreads), kHessianThreads>>>(
-      view(pairs, obstacles), pairs.hessian_offset.data(), c, x, values, reducer.flag());
+  hessian_kernel<<<blocks_for(pairs.count, kHessianThreads), kHessianThreads>>>(view(pairs, obstacles),
+                                                                                pairs.hessian_offset.data(), c, x,
+                                                                                values, reducer.flag());
   DIPC_CUDA_CHECK_LAUNCH();
   return !reducer.flag_set();
 }
 
-bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const BarrierConstants& c,
-                          const double* x, std::int32_t* active, Reducer& reducer) {
+bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                          const BarrierConstants& c, const double* x, std::int32_t* active, Reducer& reducer) {
   if (pairs.count == 0) return true;
   reducer.reset_flag();
   active_kernel<<<blocks_for(pairs.count, kThreads), kThreads>>>(view(pairs, obstacles), c, x, active, reducer.flag());
@@ -240,8 +241,8 @@ bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactOb
   return !reducer.flag_set();
 }
 
-double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
-                                    Reducer& reducer) {
+double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                                    const double* x, Reducer& reducer) {
   if (pairs.count == 0) return INFINITY;
   const unsigned blocks = blocks_for(pairs.count, kReduceThreads);
   squared_distance_kernel<<<blocks, kReduceThreads>>>(view(pairs, obstacles), x, reducer.partials(blocks));
@@ -256,8 +257,8 @@ void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContac
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
-                                  const double* p, double t_max, Reducer& reducer) {
+double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                                  const double* x, const double* p, double t_max, Reducer& reducer) {
   if (pairs.count == 0) return t_max;
   const unsigned blocks = blocks_for(pairs.count, kReduceThreads);
   min_time_of_impact_kernel<<<blocks, kReduceThreads>>>(view(pairs, obstacles), x, p, t_max, reducer.partials(blocks));

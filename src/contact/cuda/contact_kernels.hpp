@@ -93,12 +93,12 @@ bool contact_barrier_hessian(const DeviceContactPairs& pairs, const DeviceContac
                              const BarrierConstants& c, const double* x, double* values, Reducer& reducer);
 // active[i] = 1 if pair i is active at x (0 < d < d̂²), else 0 (active: device array, one per
 // pair). Returns false as contact_barrier_energy.
-bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const BarrierConstants& c,
-                          const double* x, std::int32_t* active, Reducer& reducer);
+bool contact_active_flags(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                          const BarrierConstants& c, const double* x, std::int32_t* active, Reducer& reducer);
 // Smallest squared distance over the pairs at x (contact_pair_squared_distance); +∞ without
 // pairs.
-double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
-                                    Reducer& reducer);
+double contact_min_squared_distance(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                                    const double* x, Reducer& reducer);
 // toi[i] = time of impact of pair i along x + t p (obstacle vertices from their start to their
 // end positions), searched on [0, t_max]
 // (contact_pair_time_of_impact, bit-identical to the CPU: no fused multiply-add); toi is a
@@ -107,7 +107,7 @@ void contact_times_of_impact(const DeviceContactPairs& pairs, const DeviceContac
                              const double* p, double t_max, double* toi);
 // Smallest time of impact over the pairs along x + t p, t ∈ [0, t_max], each pair searched on
 // [0, t_max] as contact_times_of_impact; t_max without pairs.
-double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles, const double* x,
-                                  const double* p, double t_max, Reducer& reducer);
+double contact_min_time_of_impact(const DeviceContactPairs& pairs, const DeviceContactObstacles& obstacles,
+                                  const double* x, const double* p, double t_max, Reducer& reducer);
 
 }  // namespace dipc::device

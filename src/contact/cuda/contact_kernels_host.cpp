@@ -22,8 +22,8 @@ bool contact_barrier_hessian(const DeviceContactPairs&, const DeviceContactObsta
                              const double*, double*, Reducer&) {
   no_cuda("contact barrier Hessian on the device");
 }
-bool contact_active_flags(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&, const double*,
-                          std::int32_t*, Reducer&) {
+bool contact_active_flags(const DeviceContactPairs&, const DeviceContactObstacles&, const BarrierConstants&,
+                          const double*, std::int32_t*, Reducer&) {
   no_cuda("contact active set on the device");
 }
 double contact_min_squared_distance(const DeviceContactPairs&, const DeviceContactObstacles&, const double*, Reducer&) {
@@ -33,8 +33,8 @@ void contact_times_of_impact(const DeviceContactPairs&, const DeviceContactObsta
                              double, double*) {
   no_cuda("contact CCD on the device");
 }
-double contact_min_time_of_impact(const DeviceContactPairs&, const DeviceContactObstacles&, const double*, const double*,
-                                  double, Reducer&) {
+double contact_min_time_of_impact(const DeviceContactPairs&, const DeviceContactObstacles&, const double*,
+                                  const double*, double, Reducer&) {
   no_cuda("contact CCD on the device");
 }
 

@@ -32,7 +32,8 @@ void DeviceContactPairs::upload(const ContactPairList& pairs) {
     for (int k = 0; k < 4; ++k) slot_major[k * count + i] = pairs.nodes[4 * i + k];
     offset[i] = hessian_values;
     int slots[4];
-    const std::size_t n = 3 * static_cast<std::size_t>(body_slots(&pairs.nodes[4 * i], pair_node_count(pairs.kind[i]), slots));
+    const std::size_t n = 3 * static_cast<std::size_t>(
+                                  body_slots(&pairs.nodes[4 * i], pair_node_count(pairs.kind[i]), slots));
     kinds[i] = static_cast<std::int32_t>(pairs.kind[i]);
     hessian_values += n * n;
   }

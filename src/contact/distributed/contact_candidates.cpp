@@ -9,8 +9,8 @@
 
 #include "contact/broad_phase/find_candidates.hpp"
 #include "contact/broad_phase/pair_filter.hpp"
-#include "math/aabb.hpp"
 #include "contact/distributed/contact_set.hpp"
+#include "math/aabb.hpp"
 
 namespace dipc {
 
@@ -233,63 +233,63 @@ void ContactSet::find_candidates_on_device(const double* x, const double* p) {
 ContactSet::PairInfo ContactSet::describe(CandidateKind kind, std::size_t i) const {
   PairInfo info;
   switch (kind) {
-  case CandidateKind::vertex_face: {
-    info.kind = PairKind::vertex_triangle;
-    const auto& f = faces_[vertex_face_[i][1]];
-    info.nodes = {vertex_face_[i][0], f.node[0], f.node[1], f.node[2]};
-    info.count = 4;
-    info.weight = node_area_.at(info.nodes[0]);
-    break;
-  }
-  case CandidateKind::edge_edge: {
-    info.kind = PairKind::edge_edge;
-    // The edge with the smaller global id first, so that every rank count evaluates (and runs
-    // CCD on) the pair in the same order and gets bit-identical results.
-    const bool swap = edges_[edge_edge_[i][0]].gid > edges_[edge_edge_[i][1]].gid;
-    const auto& a = edges_[edge_edge_[i][swap ? 1 : 0]];
-    const auto& b = edges_[edge_edge_[i][swap ? 0 : 1]];
-    info.nodes = {a.node[0], a.node[1], b.node[0], b.node[1]};
-    info.count = 4;
-    const Primitive& own = a.gid < b.gid ? a : b;
-    info.weight = 0.5 * (node_area_.at(own.node[0]) + node_area_.at(own.node[1]));
-    // Mollifier threshold ε_x = 1e-3 |ea0−ea1|²|eb0−eb1|² at rest (Li et al. 2020, §4.3).
-    info.eps_x = 1e-3 * a.rest_length2 * b.rest_length2;
-    break;
-  }
-  case CandidateKind::vertex_plane:
-    info.kind = PairKind::vertex_plane;
-    info.nodes = {vertex_plane_[i][0], -1, -1, -1};
-    info.count = 1;
-    info.plane = &parameters_.planes[vertex_plane_[i][1]];
-    info.weight = node_area_.at(info.nodes[0]);
-    break;
-  case CandidateKind::vertex_obstacle_face: {
-    const auto& f = obstacles_.faces[vertex_obstacle_face_[i][1]];
-    info.kind = PairKind::vertex_triangle;
-    info.nodes = {vertex_obstacle_face_[i][0], obstacle_node(f[0]), obstacle_node(f[1]), obstacle_node(f[2])};
-    info.count = 4;
-    info.weight = node_area_.at(info.nodes[0]);
-    break;
-  }
-  case CandidateKind::edge_obstacle_edge: {  // the body's edge first, always
-    const Primitive& a = edges_[edge_obstacle_edge_[i][0]];
-    const std::int32_t b = edge_obstacle_edge_[i][1];
-    info.kind = PairKind::edge_edge;
-    info.nodes = {a.node[0], a.node[1], obstacle_node(obstacles_.edges[b][0]), obstacle_node(obstacles_.edges[b][1])};
-    info.count = 4;
-    info.weight = 0.5 * (node_area_.at(a.node[0]) + node_area_.at(a.node[1]));
-    info.eps_x = 1e-3 * a.rest_length2 * obstacles_.edge_rest_length2[b];
-    break;
-  }
-  case CandidateKind::obstacle_vertex_face: {
-    const std::int32_t v = obstacle_vertex_face_[i][0];
-    const auto& f = faces_[obstacle_vertex_face_[i][1]];
-    info.kind = PairKind::vertex_triangle;
-    info.nodes = {obstacle_node(v), f.node[0], f.node[1], f.node[2]};
-    info.count = 4;
-    info.weight = obstacles_.vertex_area[v];
-    break;
-  }
+    case CandidateKind::vertex_face: {
+      info.kind = PairKind::vertex_triangle;
+      const auto& f = faces_[vertex_face_[i][1]];
+      info.nodes = {vertex_face_[i][0], f.node[0], f.node[1], f.node[2]};
+      info.count = 4;
+      info.weight = node_area_.at(info.nodes[0]);
+      break;
+    }
+    case CandidateKind::edge_edge: {
+      info.kind = PairKind::edge_edge;
+      // The edge with the smaller global id first, so that every rank count evaluates (and runs
+      // CCD on) the pair in the same order and gets bit-identical results.
+      const bool swap = edges_[edge_edge_[i][0]].gid > edges_[edge_edge_[i][1]].gid;
+      const auto& a = edges_[edge_edge_[i][swap ? 1 : 0]];
+      const auto& b = edges_[edge_edge_[i][swap ? 0 : 1]];
+      info.nodes = {a.node[0], a.node[1], b.node[0], b.node[1]};
+      info.count = 4;
+      const Primitive& own = a.gid < b.gid ? a : b;
+      info.weight = 0.5 * (node_area_.at(own.node[0]) + node_area_.at(own.node[1]));
+      // Mollifier threshold ε_x = 1e-3 |ea0−ea1|²|eb0−eb1|² at rest (Li et al. 2020, §4.3).
+      info.eps_x = 1e-3 * a.rest_length2 * b.rest_length2;
+      break;
+    }
+    case CandidateKind::vertex_plane:
+      info.kind = PairKind::vertex_plane;
+      info.nodes = {vertex_plane_[i][0], -1, -1, -1};
+      info.count = 1;
+      info.plane = &parameters_.planes[vertex_plane_[i][1]];
+      info.weight = node_area_.at(info.nodes[0]);
+      break;
+    case CandidateKind::vertex_obstacle_face: {
+      const auto& f = obstacles_.faces[vertex_obstacle_face_[i][1]];
+      info.kind = PairKind::vertex_triangle;
+      info.nodes = {vertex_obstacle_face_[i][0], obstacle_node(f[0]), obstacle_node(f[1]), obstacle_node(f[2])};
+      info.count = 4;
+      info.weight = node_area_.at(info.nodes[0]);
+      break;
+    }
+    case CandidateKind::edge_obstacle_edge: {  // the body's edge first, always
+      const Primitive& a = edges_[edge_obstacle_edge_[i][0]];
+      const std::int32_t b = edge_obstacle_edge_[i][1];
+      info.kind = PairKind::edge_edge;
+      info.nodes = {a.node[0], a.node[1], obstacle_node(obstacles_.edges[b][0]), obstacle_node(obstacles_.edges[b][1])};
+      info.count = 4;
+      info.weight = 0.5 * (node_area_.at(a.node[0]) + node_area_.at(a.node[1]));
+      info.eps_x = 1e-3 * a.rest_length2 * obstacles_.edge_rest_length2[b];
+      break;
+    }
+    case CandidateKind::obstacle_vertex_face: {
+      const std::int32_t v = obstacle_vertex_face_[i][0];
+      const auto& f = faces_[obstacle_vertex_face_[i][1]];
+      info.kind = PairKind::vertex_triangle;
+      info.nodes = {obstacle_node(v), f.node[0], f.node[1], f.node[2]};
+      info.count = 4;
+      info.weight = obstacles_.vertex_area[v];
+      break;
+    }
   }
   return info;
 }
@@ -301,8 +301,7 @@ void ContactSet::gather(const double* x, const PairInfo& info, double* X) const 
   }
 }
 
-void ContactSet::gather_segment(const double* x, const double* p, const PairInfo& info, double* X0,
-                                 double* X1) const {
+void ContactSet::gather_segment(const double* x, const double* p, const PairInfo& info, double* X0, double* X1) const {
   for (int k = 0; k < info.count; ++k) {
     const std::int32_t n = info.nodes[k];
     for (int c = 0; c < 3; ++c) {

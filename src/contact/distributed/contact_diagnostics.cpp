@@ -8,16 +8,16 @@
 
 #include "contact/broad_phase/bvh.hpp"
 #include "contact/contact_pair_terms.hpp"
+#include "contact/distributed/contact_set.hpp"
 #include "contact/segment_triangle.hpp"
 #include "math/aabb.hpp"
-#include "contact/distributed/contact_set.hpp"
 #include "threads/host_threads.hpp"
 
 namespace dipc {
 
 std::string ContactSet::body_label(int b) const {
   return b >= 0 && b < static_cast<int>(parameters_.body_names.size()) ? "\"" + parameters_.body_names[b] + "\""
-                                                                        : std::to_string(b);
+                                                                       : std::to_string(b);
 }
 
 std::string ContactSet::node_label(std::int32_t n) const {
@@ -80,36 +80,37 @@ std::string ContactSet::closest_pair(const double* x) const {
       return s + ") of body " + body_label(p.body);
     };
     switch (closest_kind) {
-    case CandidateKind::vertex_face: {
-      const std::int32_t v = vertex_face_[i][0];
-      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
-             primitive("triangle", faces_[vertex_face_[i][1]], 3);
-      break;
-    }
-    case CandidateKind::edge_edge:
-      text = primitive("edge", edges_[edge_edge_[i][0]], 2) + " and " + primitive("edge", edges_[edge_edge_[i][1]], 2);
-      break;
-    case CandidateKind::vertex_plane: {
-      const std::int32_t v = vertex_plane_[i][0];
-      const auto& point = parameters_.planes[vertex_plane_[i][1]].point;
-      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and the plane through (" +
-             std::to_string(point[0]) + ", " + std::to_string(point[1]) + ", " + std::to_string(point[2]) + ")";
-      break;
-    }
-    case CandidateKind::vertex_obstacle_face: {
-      const std::int32_t v = vertex_obstacle_face_[i][0];
-      text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
-             obstacle_face_label(vertex_obstacle_face_[i][1]);
-      break;
-    }
-    case CandidateKind::edge_obstacle_edge:
-      text = primitive("edge", edges_[edge_obstacle_edge_[i][0]], 2) + " and " +
-             obstacle_edge_label(edge_obstacle_edge_[i][1]);
-      break;
-    case CandidateKind::obstacle_vertex_face:
-      text = obstacle_vertex_label(obstacle_vertex_face_[i][0]) + " and " +
-             primitive("triangle", faces_[obstacle_vertex_face_[i][1]], 3);
-      break;
+      case CandidateKind::vertex_face: {
+        const std::int32_t v = vertex_face_[i][0];
+        text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
+               primitive("triangle", faces_[vertex_face_[i][1]], 3);
+        break;
+      }
+      case CandidateKind::edge_edge:
+        text = primitive("edge", edges_[edge_edge_[i][0]], 2) + " and " +
+               primitive("edge", edges_[edge_edge_[i][1]], 2);
+        break;
+      case CandidateKind::vertex_plane: {
+        const std::int32_t v = vertex_plane_[i][0];
+        const auto& point = parameters_.planes[vertex_plane_[i][1]].point;
+        text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and the plane through (" +
+               std::to_string(point[0]) + ", " + std::to_string(point[1]) + ", " + std::to_string(point[2]) + ")";
+        break;
+      }
+      case CandidateKind::vertex_obstacle_face: {
+        const std::int32_t v = vertex_obstacle_face_[i][0];
+        text = node_label(v) + " of body " + body_label(vertex_body(v)) + " and " +
+               obstacle_face_label(vertex_obstacle_face_[i][1]);
+        break;
+      }
+      case CandidateKind::edge_obstacle_edge:
+        text = primitive("edge", edges_[edge_obstacle_edge_[i][0]], 2) + " and " +
+               obstacle_edge_label(edge_obstacle_edge_[i][1]);
+        break;
+      case CandidateKind::obstacle_vertex_face:
+        text = obstacle_vertex_label(obstacle_vertex_face_[i][0]) + " and " +
+               primitive("triangle", faces_[obstacle_vertex_face_[i][1]], 3);
+        break;
     }
     char distance[32];
     std::snprintf(distance, sizeof distance, ", %g apart", closest.distance);
@@ -147,29 +148,32 @@ long ContactSet::count_intersections(const double* x, std::string* first) const 
     std::size_t edge = 0, face = 0;
   };
   std::vector<Found> found(static_cast<std::size_t>(host_threads()));
-  parallel_chunks(owned_edges_, [&](int chunk, std::size_t begin, std::size_t end) {
-    Found& mine = found[static_cast<std::size_t>(chunk)];
-    for (std::size_t e = begin; e < end; ++e) {
-      const Primitive& edge = edges_[e];
-      Aabb eb = aabb_empty();
-      aabb_add_point(&eb, x + 3 * edge.node[0]);
-      aabb_add_point(&eb, x + 3 * edge.node[1]);
-      tree.for_each_overlap(eb, [&](std::int32_t fi) {
-        const std::size_t f = static_cast<std::size_t>(fi);
-        const Primitive& face = faces_[f];
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 3; ++b)
-            if (edge.node[a] == face.node[b]) return;
-        if (!segment_crosses_triangle(x + 3 * edge.node[0], x + 3 * edge.node[1], x + 3 * face.node[0],
-                                      x + 3 * face.node[1], x + 3 * face.node[2]))
-          return;
-        if (mine.count++ == 0)
-          mine.edge = e, mine.face = f;
-        else if (e == mine.edge && before(f, mine.face))
-          mine.face = f;
-      });
-    }
-  }, 256);
+  parallel_chunks(
+      owned_edges_,
+      [&](int chunk, std::size_t begin, std::size_t end) {
+        Found& mine = found[static_cast<std::size_t>(chunk)];
+        for (std::size_t e = begin; e < end; ++e) {
+          const Primitive& edge = edges_[e];
+          Aabb eb = aabb_empty();
+          aabb_add_point(&eb, x + 3 * edge.node[0]);
+          aabb_add_point(&eb, x + 3 * edge.node[1]);
+          tree.for_each_overlap(eb, [&](std::int32_t fi) {
+            const std::size_t f = static_cast<std::size_t>(fi);
+            const Primitive& face = faces_[f];
+            for (int a = 0; a < 2; ++a)
+              for (int b = 0; b < 3; ++b)
+                if (edge.node[a] == face.node[b]) return;
+            if (!segment_crosses_triangle(x + 3 * edge.node[0], x + 3 * edge.node[1], x + 3 * face.node[0],
+                                          x + 3 * face.node[1], x + 3 * face.node[2]))
+              return;
+            if (mine.count++ == 0)
+              mine.edge = e, mine.face = f;
+            else if (e == mine.edge && before(f, mine.face))
+              mine.face = f;
+          });
+        }
+      },
+      256);
   long count = 0;
   std::size_t first_edge = 0, first_face = 0;
   for (const Found& chunk : found) {
@@ -188,9 +192,9 @@ long ContactSet::count_intersections(const double* x, std::string* first) const 
       const std::int32_t v = surface_.vertices[i];
       if (contact_plane_offset(x + 3 * v, plane.point.data(), plane.normal.data()) > 0) continue;
       if (count++ == 0 && first)
-        *first = node_label(v) + " of body " + body_label(surface_.vertex_body[i]) + " is on or behind the plane through (" +
-                 std::to_string(plane.point[0]) + ", " + std::to_string(plane.point[1]) + ", " +
-                 std::to_string(plane.point[2]) + ")";
+        *first = node_label(v) + " of body " + body_label(surface_.vertex_body[i]) +
+                 " is on or behind the plane through (" + std::to_string(plane.point[0]) + ", " +
+                 std::to_string(plane.point[1]) + ", " + std::to_string(plane.point[2]) + ")";
     }
   return count;
 }

@@ -31,9 +31,9 @@
 #include <string>
 #include <vector>
 
+#include "contact/distributed/contact_parameters.hpp"
 #include "contact/obstacle_nodes.hpp"
 #include "math/aabb.hpp"
-#include "contact/distributed/contact_parameters.hpp"
 
 namespace dipc {
 
@@ -48,7 +48,7 @@ class ObstacleSurface {
   std::vector<std::array<std::int32_t, 2>> edges;  // each undirected edge once
   std::vector<std::array<std::int32_t, 3>> faces;
   std::vector<int> vertex_obstacle, edge_obstacle, face_obstacle;  // which obstacle
-  std::vector<std::int32_t> first_vertex, first_face;  // per obstacle: its first ids (messages)
+  std::vector<std::int32_t> first_vertex, first_face;              // per obstacle: its first ids (messages)
   std::vector<double> vertex_area;        // ⅓ of the incident rest triangle areas (barrier weight)
   std::vector<double> edge_rest_length2;  // squared rest length (edge–edge mollifier)
 

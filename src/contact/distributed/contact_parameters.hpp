@@ -10,8 +10,8 @@
 namespace dipc {
 
 struct ContactParameters {
-  double dhat = 1e-3;              // activation distance (unsquared, length)
-  double kappa = 0;                // barrier stiffness; adaptive when kappa_adaptive
+  double dhat = 1e-3;  // activation distance (unsquared, length)
+  double kappa = 0;    // barrier stiffness; adaptive when kappa_adaptive
   bool kappa_adaptive = true;
   std::vector<char> self_contact;  // per body: may its surface touch itself?
   struct Plane {
@@ -32,8 +32,8 @@ struct ContactParameters {
     PrescribedMotion motion;
   };
   std::vector<Obstacle> obstacles;
-  double ccd_fraction = 0.8;  // the Newton step starts at min(1, ccd_fraction · t_CCD)
-  bool project_hessian = true;  // PSD-project each pair's Hessian (tests switch it off)
+  double ccd_fraction = 0.8;            // the Newton step starts at min(1, ccd_fraction · t_CCD)
+  bool project_hessian = true;          // PSD-project each pair's Hessian (tests switch it off)
   std::vector<std::string> body_names;  // for messages (body id when absent)
 };
 

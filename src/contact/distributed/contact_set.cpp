@@ -8,10 +8,10 @@
 
 #include <cmath>
 
+#include "contact/distributed/ghost_surface_exchange.hpp"
 #include "math/aabb.hpp"
 #include "math/vector3.hpp"
 #include "partition/ghost_exchange.hpp"
-#include "contact/distributed/ghost_surface_exchange.hpp"
 
 namespace dipc {
 
@@ -29,7 +29,11 @@ double triangle_area(const double* a, const double* b, const double* c) {
 
 ContactSet::ContactSet(const DistributedMesh& mesh, const ContactParameters& parameters, MemorySpace space,
                        ContactStats* stats, const GhostExchange* nodal)
-    : comm_(mesh.comm), mesh_(mesh), parameters_(parameters), space_(space), stats_(stats),
+    : comm_(mesh.comm),
+      mesh_(mesh),
+      parameters_(parameters),
+      space_(space),
+      stats_(stats),
       obstacles_(parameters.obstacles) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
@@ -137,7 +141,8 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
     Aabb b = aabb_empty();
     for (int k = 0; k < nodes; ++k) {
       const double* xi = x + 3 * prim.node[k];
-      const double xe[3] = {xi[0] + p[3 * prim.node[k]], xi[1] + p[3 * prim.node[k] + 1], xi[2] + p[3 * prim.node[k] + 2]};
+      const double xe[3] = {xi[0] + p[3 * prim.node[k]], xi[1] + p[3 * prim.node[k] + 1],
+                            xi[2] + p[3 * prim.node[k] + 2]};
       aabb_add_point(&b, xi);
       aabb_add_point(&b, xe);
     }
@@ -171,8 +176,8 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
   edges_.resize(owned_edges_);
   faces_.resize(owned_faces_);
   for (const SurfacePrimitiveRecord& m : received) {
-    Primitive prim{m.gid, static_cast<int>(m.body), false, {ext_local(m.node[0]), ext_local(m.node[1]), -1},
-                   m.rest_length2};
+    Primitive prim{
+        m.gid, static_cast<int>(m.body), false, {ext_local(m.node[0]), ext_local(m.node[1]), -1}, m.rest_length2};
     if (m.is_face == 0) {
       edges_.push_back(prim);
     } else {
@@ -215,7 +220,8 @@ void ContactSet::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>*
   // Only the body nodes' blocks: obstacle nodes (negative ids) have no unknowns.
   for (const auto& k : pattern_key_) {
     int slots[4];
-    const int n = body_slots(k.data() + 1, k[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4, slots);
+    const int n = body_slots(k.data() + 1, k[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4,
+                             slots);
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i)
         for (int b = 0; b < n; ++b)

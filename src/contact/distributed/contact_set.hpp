@@ -43,9 +43,9 @@
 
 #include "contact/broad_phase/cuda/device_broad_phase.hpp"
 #include "contact/cuda/contact_kernels.hpp"
-#include "contact/pair_kind.hpp"
 #include "contact/distributed/contact_obstacles.hpp"
 #include "contact/distributed/contact_parameters.hpp"
+#include "contact/pair_kind.hpp"
 #include "device/memory_space.hpp"
 #include "partition/contact_surface.hpp"
 #include "partition/distributed_mesh.hpp"
@@ -71,9 +71,9 @@ constexpr int kNumCandidateKinds = 6;
 struct ContactStats {
   double broad_phase_seconds = 0;  // candidate search (device space: with the surface uploads)
   double ccd_seconds = 0;
-  double barrier_seconds = 0;     // value/gradient/Hessian of the barrier
-  double exchange_seconds = 0;    // ghost-surface exchange
-  double transfer_seconds = 0;    // device space: pair lists copied to the device
+  double barrier_seconds = 0;   // value/gradient/Hessian of the barrier
+  double exchange_seconds = 0;  // ghost-surface exchange
+  double transfer_seconds = 0;  // device space: pair lists copied to the device
 };
 
 class ContactSet {
@@ -225,7 +225,7 @@ class ContactSet {
   ContactStats* stats_;
   ContactSurface surface_;
   std::unordered_map<std::int32_t, double> node_area_;  // mesh-local node -> rest vertex area
-  std::vector<Primitive> edges_, faces_;  // owned first, then ghosts (rebuilt by exchanges)
+  std::vector<Primitive> edges_, faces_;                // owned first, then ghosts (rebuilt by exchanges)
   std::size_t owned_edges_ = 0, owned_faces_ = 0;
   std::vector<std::int64_t> extra_nodes_;
   std::vector<std::int64_t> pinned_;
@@ -256,9 +256,9 @@ class ContactSet {
 
 template <class F>
 bool ContactSet::for_each_pair(F&& f) const {
-  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),          edge_edge_.size(),
-                                                 vertex_plane_.size(),         vertex_obstacle_face_.size(),
-                                                 edge_obstacle_edge_.size(),   obstacle_vertex_face_.size()};
+  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),        edge_edge_.size(),
+                                                 vertex_plane_.size(),       vertex_obstacle_face_.size(),
+                                                 edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
   bool ok = true;
   for (int kind = 0; kind < kNumCandidateKinds; ++kind)
     for (std::size_t i = 0; i < count[kind]; ++i) ok = f(static_cast<CandidateKind>(kind), i) && ok;

@@ -21,7 +21,7 @@ struct SurfacePrimitiveRecord {
   std::int64_t gid = 0;      // global edge or triangle id (contact_surface.hpp)
   std::int64_t body = 0;
   std::array<std::int64_t, 3> node{-1, -1, -1};  // global node ids; an edge leaves node[2] = −1
-  double rest_length2 = 0;                        // edges: squared rest length
+  double rest_length2 = 0;                       // edges: squared rest length
 };
 
 // Collective over comm. Sends each other rank the records of `owned` whose box (boxes[i], one

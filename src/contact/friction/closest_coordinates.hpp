@@ -11,8 +11,8 @@
 #pragma once
 #include <cmath>
 
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -37,9 +37,8 @@ DIPC_HD double point_segment_closest_parameter(const double p[3], const double a
 // Collision Detection" (2005), §5.1.5: each region test uses only dot products, and every
 // division is by a squared edge length or by |(t1-t0) x (t2-t0)|^2, positive for a
 // non-degenerate triangle. A degenerate (zero-area) triangle falls back to its closest edge.
-DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], const double t0[3],
-                                                           const double t1[3], const double t2[3],
-                                                           double beta[2]) {
+DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], const double t0[3], const double t1[3],
+                                                           const double t2[3], double beta[2]) {
   double ab[3], ac[3], ap[3], bc[3], normal[3];
   subtract3(t1, t0, ab);
   subtract3(t2, t0, ac);
@@ -71,12 +70,14 @@ DIPC_HD TriangleFeature point_triangle_closest_coordinates(const double p[3], co
     if (edge == 0) {
       beta[0] = s01;
       beta[1] = 0.0;
-      return s01 == 0.0 ? TriangleFeature::kVertex0 : (s01 == 1.0 ? TriangleFeature::kVertex1 : TriangleFeature::kEdge01);
+      return s01 == 0.0 ? TriangleFeature::kVertex0
+                        : (s01 == 1.0 ? TriangleFeature::kVertex1 : TriangleFeature::kEdge01);
     }
     if (edge == 1) {
       beta[0] = 1.0 - s12;
       beta[1] = s12;
-      return s12 == 0.0 ? TriangleFeature::kVertex1 : (s12 == 1.0 ? TriangleFeature::kVertex2 : TriangleFeature::kEdge12);
+      return s12 == 0.0 ? TriangleFeature::kVertex1
+                        : (s12 == 1.0 ? TriangleFeature::kVertex2 : TriangleFeature::kEdge12);
     }
     beta[0] = 0.0;
     beta[1] = 1.0 - s20;
@@ -177,8 +178,7 @@ DIPC_HD void edge_edge_closest_coordinates(const double ea0[3], const double ea1
 // Closest point c of the plane through `origin` with normal n (any non-zero length) to p,
 // c = p - ((p - origin).n / |n|^2) n. Returns the signed distance (p - origin).n / |n|,
 // positive on the side n points to (the free side of an obstacle half-space).
-DIPC_HD double point_plane_closest_point(const double p[3], const double origin[3], const double n[3],
-                                         double c[3]) {
+DIPC_HD double point_plane_closest_point(const double p[3], const double origin[3], const double n[3], double c[3]) {
   double op[3];
   subtract3(p, origin, op);
   const double n2 = dot3(n, n);

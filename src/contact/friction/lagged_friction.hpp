@@ -46,8 +46,8 @@ DIPC_HD LaggedPairFriction point_triangle_lagged_friction(const double x_lag12[1
                                                           double eps_u) {
   LaggedPairFriction f;
   double beta[2];
-  const TriangleFeature feature =
-      point_triangle_closest_coordinates(x_lag12, x_lag12 + 3, x_lag12 + 6, x_lag12 + 9, beta);
+  const TriangleFeature feature = point_triangle_closest_coordinates(x_lag12, x_lag12 + 3, x_lag12 + 6, x_lag12 + 9,
+                                                                     beta);
   point_triangle_relative_velocity_weights(beta, f.weights);
   point_triangle_tangent_basis(x_lag12, x_lag12 + 3, x_lag12 + 6, x_lag12 + 9, feature, beta, f.basis);
   f.normal_force = normal_force;

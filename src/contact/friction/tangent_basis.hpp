@@ -12,8 +12,8 @@
 #include <cmath>
 
 #include "contact/friction/closest_coordinates.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -58,9 +58,8 @@ DIPC_HD void tangent_basis_from_normal(const double n[3], double P[6]) {
 // the plane of the triangle, first tangent along t1 - t0 (as IPC Toolkit). Edge region: the
 // plane orthogonal to p - c, first tangent along the edge (orthogonal to p - c already).
 // Vertex region: orthogonal to p - c. Zero distance outside the face: triangle plane.
-DIPC_HD void point_triangle_tangent_basis(const double p[3], const double t0[3], const double t1[3],
-                                          const double t2[3], TriangleFeature feature, const double beta[2],
-                                          double P[6]) {
+DIPC_HD void point_triangle_tangent_basis(const double p[3], const double t0[3], const double t1[3], const double t2[3],
+                                          TriangleFeature feature, const double beta[2], double P[6]) {
   double e01[3], e02[3], e12[3], face_normal[3];
   subtract3(t1, t0, e01);
   subtract3(t2, t0, e02);
@@ -99,8 +98,8 @@ DIPC_HD void point_triangle_tangent_basis(const double p[3], const double t0[3],
 // tangent is along an edge whose closest point is interior (that edge is orthogonal to the
 // normal), else along ea. Zero distance: orthogonal to ea x eb, or, for parallel edges,
 // a plane containing ea.
-DIPC_HD void edge_edge_tangent_basis(const double ea0[3], const double ea1[3], const double eb0[3],
-                                     const double eb1[3], double alpha, double beta, double P[6]) {
+DIPC_HD void edge_edge_tangent_basis(const double ea0[3], const double ea1[3], const double eb0[3], const double eb1[3],
+                                     double alpha, double beta, double P[6]) {
   double ea[3], eb[3], d[3];
   subtract3(ea1, ea0, ea);
   subtract3(eb1, eb0, eb);

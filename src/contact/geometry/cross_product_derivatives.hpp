@@ -6,8 +6,8 @@
 // sum_k (dF/dn_k) eps_klm = -([g_n]_x)_lm: the (a, b) block of the Hessian of F(n(a, b))
 // gains -[g_n]_x and the (b, a) block its transpose, +[g_n]_x.
 #pragma once
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 

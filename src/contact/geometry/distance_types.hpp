@@ -8,8 +8,8 @@
 // EA0_EB = ea0 closest to the interior of B, EA_EB0 = eb0 closest to the interior of A,
 // EA_EB = both closest points interior (line-line), EAi_EBj = two endpoints.
 #pragma once
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -160,8 +160,7 @@ DIPC_HD EdgeEdgeType edge_edge_distance_type(const double ea0[3], const double e
     feature_a = detail::clamped_parameter_feature(s_numerator, s_denominator);
   }
   // t(s) = (b s + e) / c; with s = s_numerator / s_denominator scaled by s_denominator > 0.
-  const double s_clamped_numerator =
-      feature_a == 2 ? s_numerator : (feature_a == 1 ? s_denominator : 0.0);
+  const double s_clamped_numerator = feature_a == 2 ? s_numerator : (feature_a == 1 ? s_denominator : 0.0);
   const double t_numerator = b * s_clamped_numerator + e * s_denominator;
   const double t_denominator = c * s_denominator;
   const int feature_b = detail::clamped_parameter_feature(t_numerator, t_denominator);

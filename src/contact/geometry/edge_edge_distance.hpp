@@ -20,15 +20,48 @@ namespace dipc::contact {
 // (2, 3 or 4), or 0 for an invalid type.
 DIPC_HD int edge_edge_type_vertices(EdgeEdgeType type, int ids[4]) {
   switch (type) {
-    case EdgeEdgeType::EA0_EB0: ids[0] = 0; ids[1] = 2; return 2;
-    case EdgeEdgeType::EA0_EB1: ids[0] = 0; ids[1] = 3; return 2;
-    case EdgeEdgeType::EA1_EB0: ids[0] = 1; ids[1] = 2; return 2;
-    case EdgeEdgeType::EA1_EB1: ids[0] = 1; ids[1] = 3; return 2;
-    case EdgeEdgeType::EA_EB0: ids[0] = 2; ids[1] = 0; ids[2] = 1; return 3;
-    case EdgeEdgeType::EA_EB1: ids[0] = 3; ids[1] = 0; ids[2] = 1; return 3;
-    case EdgeEdgeType::EA0_EB: ids[0] = 0; ids[1] = 2; ids[2] = 3; return 3;
-    case EdgeEdgeType::EA1_EB: ids[0] = 1; ids[1] = 2; ids[2] = 3; return 3;
-    case EdgeEdgeType::EA_EB: ids[0] = 0; ids[1] = 1; ids[2] = 2; ids[3] = 3; return 4;
+    case EdgeEdgeType::EA0_EB0:
+      ids[0] = 0;
+      ids[1] = 2;
+      return 2;
+    case EdgeEdgeType::EA0_EB1:
+      ids[0] = 0;
+      ids[1] = 3;
+      return 2;
+    case EdgeEdgeType::EA1_EB0:
+      ids[0] = 1;
+      ids[1] = 2;
+      return 2;
+    case EdgeEdgeType::EA1_EB1:
+      ids[0] = 1;
+      ids[1] = 3;
+      return 2;
+    case EdgeEdgeType::EA_EB0:
+      ids[0] = 2;
+      ids[1] = 0;
+      ids[2] = 1;
+      return 3;
+    case EdgeEdgeType::EA_EB1:
+      ids[0] = 3;
+      ids[1] = 0;
+      ids[2] = 1;
+      return 3;
+    case EdgeEdgeType::EA0_EB:
+      ids[0] = 0;
+      ids[1] = 2;
+      ids[2] = 3;
+      return 3;
+    case EdgeEdgeType::EA1_EB:
+      ids[0] = 1;
+      ids[1] = 2;
+      ids[2] = 3;
+      return 3;
+    case EdgeEdgeType::EA_EB:
+      ids[0] = 0;
+      ids[1] = 1;
+      ids[2] = 2;
+      ids[3] = 3;
+      return 4;
   }
   return 0;
 }

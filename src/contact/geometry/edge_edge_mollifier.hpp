@@ -12,8 +12,8 @@
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
 #include "contact/geometry/cross_product_derivatives.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -46,8 +46,8 @@ DIPC_HD double mollifier_second_derivative(double c, double eps_x) {
 namespace detail {
 // J (6 x 12) of u = ea1 - ea0, v = eb1 - eb0 w.r.t. [ea0, ea1, eb0, eb1].
 DIPC_HD void edge_directions_jacobian(double J[6 * 12]) {
-  const double C[] = {-1.0, 1.0, 0.0, 0.0,  //
-                      0.0, 0.0, -1.0, 1.0};
+  const double C[] = {-1.0, 1.0, 0.0,  0.0,  //
+                      0.0,  0.0, -1.0, 1.0};
   vertex_combination_jacobian(C, 2, 4, J);
 }
 }  // namespace detail

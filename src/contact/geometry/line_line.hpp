@@ -8,8 +8,8 @@
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
 #include "contact/geometry/normal_component.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -17,15 +17,14 @@ namespace detail {
 // J (9 x 12) of r = ea0 - eb0, a = ea1 - ea0, b = eb1 - eb0 w.r.t. [ea0, ea1, eb0, eb1]. A
 // local array, not a namespace constant, so CUDA device code can use it.
 DIPC_HD void line_line_jacobian(double J[9 * 12]) {
-  const double C[] = {1.0, 0.0, -1.0, 0.0,  //
-                      -1.0, 1.0, 0.0, 0.0,  //
-                      0.0, 0.0, -1.0, 1.0};
+  const double C[] = {1.0,  0.0, -1.0, 0.0,  //
+                      -1.0, 1.0, 0.0,  0.0,  //
+                      0.0,  0.0, -1.0, 1.0};
   vertex_combination_jacobian(C, 3, 4, J);
 }
 }  // namespace detail
 
-DIPC_HD double line_line_distance(const double ea0[3], const double ea1[3], const double eb0[3],
-                                  const double eb1[3]) {
+DIPC_HD double line_line_distance(const double ea0[3], const double ea1[3], const double eb0[3], const double eb1[3]) {
   double r[3], a[3], b[3];
   subtract3(ea0, eb0, r);
   subtract3(ea1, ea0, a);

@@ -14,8 +14,8 @@
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
 #include "contact/geometry/cross_product_derivatives.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -26,8 +26,7 @@ DIPC_HD double squared_normal_component(const double r[3], const double a[3], co
   return w * w / squared_norm3(n);
 }
 
-DIPC_HD void squared_normal_component_gradient(const double r[3], const double a[3], const double b[3],
-                                               double g[9]) {
+DIPC_HD void squared_normal_component_gradient(const double r[3], const double a[3], const double b[3], double g[9]) {
   double n[3], gn[3], an[3], nb[3];
   cross3(a, b, n);
   const double lambda = dot3(r, n) / squared_norm3(n);
@@ -44,8 +43,7 @@ DIPC_HD void squared_normal_component_gradient(const double r[3], const double a
   }
 }
 
-DIPC_HD void squared_normal_component_hessian(const double r[3], const double a[3], const double b[3],
-                                              double H[81]) {
+DIPC_HD void squared_normal_component_hessian(const double r[3], const double a[3], const double b[3], double H[81]) {
   double n[3];
   cross3(a, b, n);
   const double q = squared_norm3(n);

@@ -14,8 +14,8 @@
 // select a point-point case then).
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 

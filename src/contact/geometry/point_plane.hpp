@@ -7,8 +7,8 @@
 #pragma once
 #include "contact/geometry/chain_rule.hpp"
 #include "contact/geometry/normal_component.hpp"
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 
@@ -42,8 +42,8 @@ DIPC_HD void point_plane_distance_gradient(const double p[3], const double t0[3]
   pull_back_gradient(J, 9, 12, gy, g);
 }
 
-DIPC_HD void point_plane_distance_hessian(const double p[3], const double t0[3], const double t1[3],
-                                          const double t2[3], double H[144]) {
+DIPC_HD void point_plane_distance_hessian(const double p[3], const double t0[3], const double t1[3], const double t2[3],
+                                          double H[144]) {
   double r[3], a[3], b[3], Hy[81], J[9 * 12];
   subtract3(p, t0, r);
   subtract3(t1, t0, a);

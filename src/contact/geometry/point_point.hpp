@@ -2,8 +2,8 @@
 // (36) w.r.t. [p, q]: g = [2(p - q), -2(p - q)], H = [[2I, -2I], [-2I, 2I]]. The vertex-vertex
 // cases of the point-triangle and edge-edge distances.
 #pragma once
-#include "math/vector3.hpp"
 #include "math/host_device.hpp"
+#include "math/vector3.hpp"
 
 namespace dipc::contact {
 

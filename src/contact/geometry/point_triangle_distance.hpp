@@ -24,10 +24,23 @@ DIPC_HD int point_triangle_type_vertices(PointTriangleType type, int ids[4]) {
     case PointTriangleType::P_T0: ids[1] = 1; return 2;
     case PointTriangleType::P_T1: ids[1] = 2; return 2;
     case PointTriangleType::P_T2: ids[1] = 3; return 2;
-    case PointTriangleType::P_E0: ids[1] = 1; ids[2] = 2; return 3;
-    case PointTriangleType::P_E1: ids[1] = 2; ids[2] = 3; return 3;
-    case PointTriangleType::P_E2: ids[1] = 3; ids[2] = 1; return 3;
-    case PointTriangleType::P_T: ids[1] = 1; ids[2] = 2; ids[3] = 3; return 4;
+    case PointTriangleType::P_E0:
+      ids[1] = 1;
+      ids[2] = 2;
+      return 3;
+    case PointTriangleType::P_E1:
+      ids[1] = 2;
+      ids[2] = 3;
+      return 3;
+    case PointTriangleType::P_E2:
+      ids[1] = 3;
+      ids[2] = 1;
+      return 3;
+    case PointTriangleType::P_T:
+      ids[1] = 1;
+      ids[2] = 2;
+      ids[3] = 3;
+      return 4;
   }
   return 0;
 }

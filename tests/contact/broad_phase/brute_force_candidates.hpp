@@ -15,8 +15,7 @@ struct ReferenceBox {
   double hi[3];
 };
 
-inline ReferenceBox reference_box(const TestSurface& s, const std::int32_t* ids, int count,
-                                  double inflation) {
+inline ReferenceBox reference_box(const TestSurface& s, const std::int32_t* ids, int count, double inflation) {
   ReferenceBox b;
   for (int k = 0; k < 3; ++k) {
     b.lo[k] = s.x0[3 * ids[0] + k];
@@ -46,8 +45,7 @@ inline bool reference_overlap(const ReferenceBox& a, const ReferenceBox& b) {
   return true;
 }
 
-inline Candidates brute_force_candidates(const TestSurface& s, double inflation,
-                                         const CandidateFilter& filter = {}) {
+inline Candidates brute_force_candidates(const TestSurface& s, double inflation, const CandidateFilter& filter = {}) {
   Candidates out;
   const int nv = s.num_vertices();
   const int nf = static_cast<int>(s.faces.size() / 3);

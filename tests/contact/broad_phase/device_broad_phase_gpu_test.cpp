@@ -78,8 +78,8 @@ CandidateFilter host_filter(const Filters& f) {
     return i < p.size() ? "(" + std::to_string(p[i][0]) + ", " + std::to_string(p[i][1]) + ")" : std::string("end");
   };
   return ::testing::AssertionFailure() << "device " << got.size() << " pairs, host " << want.size()
-                                       << "; first difference at " << at << ": device " << show(got, at)
-                                       << ", host " << show(want, at);
+                                       << "; first difference at " << at << ": device " << show(got, at) << ", host "
+                                       << show(want, at);
 }
 
 struct Counts {

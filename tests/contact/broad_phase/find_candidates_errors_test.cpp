@@ -32,8 +32,7 @@ struct ValidInput {
 };
 
 // Runs find_candidates and returns the BroadPhaseError message ("" when nothing is thrown).
-std::string error_of(const SurfaceView& s, double inflation, Candidates* out,
-                     const CandidateFilter& filter = {}) {
+std::string error_of(const SurfaceView& s, double inflation, Candidates* out, const CandidateFilter& filter = {}) {
   try {
     find_candidates(s, inflation, out, filter);
   } catch (const BroadPhaseError& e) {
@@ -53,8 +52,7 @@ TEST(FindCandidatesErrors, BadInflationOrOutput) {
   Candidates out;
   EXPECT_NE(error_of(in.view(), -1e-9, &out).find("inflation"), std::string::npos);
   EXPECT_NE(error_of(in.view(), std::nan(""), &out).find("inflation"), std::string::npos);
-  EXPECT_NE(error_of(in.view(), std::numeric_limits<double>::infinity(), &out).find("inflation"),
-            std::string::npos);
+  EXPECT_NE(error_of(in.view(), std::numeric_limits<double>::infinity(), &out).find("inflation"), std::string::npos);
   EXPECT_NE(error_of(in.view(), 0.1, nullptr).find("output is null"), std::string::npos);
 }
 
@@ -79,24 +77,20 @@ TEST(FindCandidatesErrors, VertexIdsOutOfRangeNameThePrimitive) {
   Candidates out;
   ValidInput in;
   in.faces[5] = 4;
-  EXPECT_NE(error_of(in.view(), 0.1, &out).find("face 1 vertex 2 = 4 is outside [0, 4)"),
-            std::string::npos);
+  EXPECT_NE(error_of(in.view(), 0.1, &out).find("face 1 vertex 2 = 4 is outside [0, 4)"), std::string::npos);
   in = ValidInput{};
   in.edges[6] = -1;
-  EXPECT_NE(error_of(in.view(), 0.1, &out).find("edge 3 vertex 0 = -1 is outside [0, 4)"),
-            std::string::npos);
+  EXPECT_NE(error_of(in.view(), 0.1, &out).find("edge 3 vertex 0 = -1 is outside [0, 4)"), std::string::npos);
 }
 
 TEST(FindCandidatesErrors, NonFiniteCoordinatesNameTheVertex) {
   Candidates out;
   ValidInput in;
   in.x0[7] = std::nan("");
-  EXPECT_NE(error_of(in.view(), 0.1, &out).find("vertex 2 has a non-finite x0 coordinate 1"),
-            std::string::npos);
+  EXPECT_NE(error_of(in.view(), 0.1, &out).find("vertex 2 has a non-finite x0 coordinate 1"), std::string::npos);
   in = ValidInput{};
   in.x1[11] = -std::numeric_limits<double>::infinity();
-  EXPECT_NE(error_of(in.view(), 0.1, &out).find("vertex 3 has a non-finite x1 coordinate 2"),
-            std::string::npos);
+  EXPECT_NE(error_of(in.view(), 0.1, &out).find("vertex 3 has a non-finite x1 coordinate 2"), std::string::npos);
 }
 
 TEST(FindCandidatesErrors, GroupFilterNeedsGroups) {

@@ -67,11 +67,8 @@ TEST(FindCandidates, CubeBoundarySweptMatchesBruteForce) {
 
 TEST(FindCandidates, PointOnBoxBoundaryIsReported) {
   // A vertex exactly on a face of a separate triangle's box, inflation 0: closed boxes.
-  const TestSurface s{{1.0, 0.5, 0.5, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 1.0, 1.0},
-                      {},
-                      {1, 2, 2, 3, 1, 3},
-                      {1, 2, 3},
-                      {}};
+  const TestSurface s{
+      {1.0, 0.5, 0.5, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 1.0, 1.0}, {}, {1, 2, 2, 3, 1, 3}, {1, 2, 3}, {}};
   Candidates got;
   find_candidates(s.view(), 0.0, &got);
   ASSERT_EQ(got.vertex_face.size(), 1u);

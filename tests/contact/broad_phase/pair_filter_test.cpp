@@ -24,8 +24,8 @@ TEST(PairFilter, GroupsMayTouch) {
   EXPECT_TRUE(groups_may_touch(f, 1, 0));
   EXPECT_FALSE(groups_may_touch(f, 0, 0));
   EXPECT_TRUE(groups_may_touch(f, 1, 1));
-  EXPECT_FALSE(groups_may_touch(f, 2, 2));    // beyond the list: no self-contact
-  EXPECT_TRUE(groups_may_touch(f, -1, 0));    // obstacle and body
+  EXPECT_FALSE(groups_may_touch(f, 2, 2));  // beyond the list: no self-contact
+  EXPECT_TRUE(groups_may_touch(f, -1, 0));  // obstacle and body
   EXPECT_TRUE(groups_may_touch(f, 1, -1));
   EXPECT_FALSE(groups_may_touch(f, -1, -1));  // obstacle and obstacle
 }
@@ -49,7 +49,7 @@ TEST(PairFilter, OwnershipRules) {
   EXPECT_FALSE(keeps_edge_edge(f, 0, 1));    // gid 10 < 40: edge 1 decides, owned elsewhere
   EXPECT_TRUE(keeps_edge_edge(f, 0, 2));     // gid 20 < 40: edge 2 decides, owned here
   EXPECT_TRUE(keeps_edge_edge(f, 2, 0));
-  EXPECT_FALSE(keeps_edge_edge(f, 1, 2));    // gid 10 < 20: edge 1 decides
+  EXPECT_FALSE(keeps_edge_edge(f, 1, 2));  // gid 10 < 20: edge 1 decides
 }
 
 // Two triangles of different groups, 0.1 apart, so every vertex meets the other triangle.

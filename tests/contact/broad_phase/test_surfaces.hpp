@@ -56,8 +56,7 @@ inline std::vector<std::int32_t> edges_of_faces(const std::vector<std::int32_t>&
 // Boundary of the cube [origin, origin + size]^3 cut into n^3 cells: the lattice points with
 // an index 0 or n, two triangles per boundary quad. Lattice coordinates repeat exactly, so
 // many boxes touch without overlapping: the closed-box rule is exercised.
-inline TestSurface cube_boundary(int n, double size, const std::array<double, 3>& origin,
-                                 std::int32_t group = 0) {
+inline TestSurface cube_boundary(int n, double size, const std::array<double, 3>& origin, std::int32_t group = 0) {
   TestSurface s;
   std::vector<std::int32_t> id((n + 1) * (n + 1) * (n + 1), -1);
   auto lattice = [n](int i, int j, int k) { return i + (n + 1) * (j + (n + 1) * k); };
@@ -140,8 +139,7 @@ inline TestSurface random_soup(unsigned seed, int m, int num_local, int num_free
 }
 
 // End positions x0 + a random displacement of at most `amplitude` per coordinate.
-inline std::vector<double> randomly_moved(const std::vector<double>& x0, double amplitude,
-                                          unsigned seed) {
+inline std::vector<double> randomly_moved(const std::vector<double>& x0, double amplitude, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> d(-amplitude, amplitude);
   std::vector<double> x1 = x0;

@@ -10,8 +10,8 @@
 #include <functional>
 #include <random>
 
-#include "contact/ccd/ccd_distances.hpp"
 #include "ccd_test_support.hpp"
+#include "contact/ccd/ccd_distances.hpp"
 
 namespace {
 
@@ -75,8 +75,7 @@ double reference_point_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
 double reference_edge_edge(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
   auto f = [&](double s, double t) {
     Vec3 r;
-    for (int k = 0; k < 3; ++k)
-      r[k] = (a0[k] + s * (a1[k] - a0[k])) - (b0[k] + t * (b1[k] - b0[k]));
+    for (int k = 0; k < 3; ++k) r[k] = (a0[k] + s * (a1[k] - a0[k])) - (b0[k] + t * (b1[k] - b0[k]));
     return sq(r);
   };
   auto feasible = [](double s, double t) { return s >= 0 && s <= 1 && t >= 0 && t <= 1; };
@@ -94,16 +93,16 @@ TEST(CcdDistances, PointSegmentCases) {
 
 TEST(CcdDistances, PointTriangleEveryRegion) {
   const Vec3 t0{0, 0, 0}, t1{2, 0, 0}, t2{0, 2, 0};
-  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, 3}, t0, t1, t2), 9.0);     // face interior
-  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, -3}, t0, t1, t2), 9.0);    // face, other side
-  EXPECT_DOUBLE_EQ(pt({-1, -1, 0.5}, t0, t1, t2), 2.25);    // vertex t0
-  EXPECT_DOUBLE_EQ(pt({3, -1, 0}, t0, t1, t2), 2.0);        // vertex t1 (coplanar)
-  EXPECT_DOUBLE_EQ(pt({-1, 3, 2}, t0, t1, t2), 6.0);        // vertex t2
-  EXPECT_DOUBLE_EQ(pt({1, -2, 1}, t0, t1, t2), 5.0);        // edge t0-t1
-  EXPECT_NEAR(pt({2, 2, 0}, t0, t1, t2), 2.0, 1e-15);       // edge t1-t2 (coplanar)
-  EXPECT_DOUBLE_EQ(pt({-3, 1, 4}, t0, t1, t2), 25.0);       // edge t2-t0
-  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, 0}, t0, t1, t2), 0.0);     // on the face
-  EXPECT_DOUBLE_EQ(pt({2, 0, 0}, t0, t1, t2), 0.0);         // on a vertex
+  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, 3}, t0, t1, t2), 9.0);   // face interior
+  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, -3}, t0, t1, t2), 9.0);  // face, other side
+  EXPECT_DOUBLE_EQ(pt({-1, -1, 0.5}, t0, t1, t2), 2.25);  // vertex t0
+  EXPECT_DOUBLE_EQ(pt({3, -1, 0}, t0, t1, t2), 2.0);      // vertex t1 (coplanar)
+  EXPECT_DOUBLE_EQ(pt({-1, 3, 2}, t0, t1, t2), 6.0);      // vertex t2
+  EXPECT_DOUBLE_EQ(pt({1, -2, 1}, t0, t1, t2), 5.0);      // edge t0-t1
+  EXPECT_NEAR(pt({2, 2, 0}, t0, t1, t2), 2.0, 1e-15);     // edge t1-t2 (coplanar)
+  EXPECT_DOUBLE_EQ(pt({-3, 1, 4}, t0, t1, t2), 25.0);     // edge t2-t0
+  EXPECT_DOUBLE_EQ(pt({0.5, 0.5, 0}, t0, t1, t2), 0.0);   // on the face
+  EXPECT_DOUBLE_EQ(pt({2, 0, 0}, t0, t1, t2), 0.0);       // on a vertex
   // Degenerate triangles: collinear vertices act as the segment, coincident as the point.
   EXPECT_DOUBLE_EQ(pt({1, 1, 1}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 2.0);
   EXPECT_DOUBLE_EQ(pt({3, 1, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 2.0);
@@ -111,18 +110,18 @@ TEST(CcdDistances, PointTriangleEveryRegion) {
 }
 
 TEST(CcdDistances, EdgeEdgeEveryCase) {
-  EXPECT_DOUBLE_EQ(ee({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}), 1.0);   // skew, interior
-  EXPECT_DOUBLE_EQ(ee({-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}), 0.0);   // intersecting
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {3, 1, 0}), 1.0);     // parallel, overlap
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {3, 1, 0}, {4, 1, 0}), 5.0);     // parallel, apart
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {3, 0, 0}, {5, 0, 0}), 4.0);     // collinear
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {5, 0, 0}), 0.0);     // touching ends
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {1, 3, 0}), 1.0);     // end to interior
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {2, -1, 1}, {2, 1, 1}), 2.0);    // one side clamped
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {2, 1, 1}, {3, 2, 1}), 3.0);     // both clamped
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {0, 0, 0}, {1, -1, 1}, {1, 1, 1}), 2.0);    // degenerate edge
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {0, 0, 0}, {1, 2, 2}, {1, 2, 2}), 9.0);     // two points
-  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {2, 0, 0}, {0, 0, 0}), 0.0);     // same edge
+  EXPECT_DOUBLE_EQ(ee({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0}), 1.0);  // skew, interior
+  EXPECT_DOUBLE_EQ(ee({-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}), 0.0);  // intersecting
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {3, 1, 0}), 1.0);    // parallel, overlap
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {3, 1, 0}, {4, 1, 0}), 5.0);    // parallel, apart
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {3, 0, 0}, {5, 0, 0}), 4.0);    // collinear
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {5, 0, 0}), 0.0);    // touching ends
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {1, 1, 0}, {1, 3, 0}), 1.0);    // end to interior
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {2, -1, 1}, {2, 1, 1}), 2.0);   // one side clamped
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {1, 0, 0}, {2, 1, 1}, {3, 2, 1}), 3.0);    // both clamped
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {0, 0, 0}, {1, -1, 1}, {1, 1, 1}), 2.0);   // degenerate edge
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {0, 0, 0}, {1, 2, 2}, {1, 2, 2}), 9.0);    // two points
+  EXPECT_DOUBLE_EQ(ee({0, 0, 0}, {2, 0, 0}, {2, 0, 0}, {0, 0, 0}), 0.0);    // same edge
 }
 
 // Nearly parallel edges crossing over each other at a known gap g (closest points interior):
@@ -156,10 +155,10 @@ TEST(CcdDistances, RandomAgainstPatternSearchReference) {
   for (int trial = 0; trial < 6000; ++trial) {
     const int family = trial % 6;
     Vec3 p = rnd(), a = rnd(), b = rnd(), c = rnd();
-    if (family == 1) p[2] = a[2] = b[2] = c[2] = 0.0;            // coplanar
-    if (family == 2)                                             // degenerate triangle
+    if (family == 1) p[2] = a[2] = b[2] = c[2] = 0.0;  // coplanar
+    if (family == 2)                                   // degenerate triangle
       for (int k = 0; k < 3; ++k) c[k] = a[k] + 0.7 * (b[k] - a[k]);
-    if (family == 3) {                                           // point close to the face
+    if (family == 3) {  // point close to the face
       for (int k = 0; k < 3; ++k) p[k] = (a[k] + b[k] + c[k]) / 3.0;
       p[2] += 1e-7 * u(rng);
     }
@@ -168,17 +167,17 @@ TEST(CcdDistances, RandomAgainstPatternSearchReference) {
 
     Vec3 a0 = rnd(), a1 = rnd(), b0 = rnd(), b1 = rnd();
     const Vec3 dir{a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
-    if (family == 1)                                             // exactly parallel
+    if (family == 1)  // exactly parallel
       for (int k = 0; k < 3; ++k) b1[k] = b0[k] + 0.6 * dir[k];
-    if (family == 2) {                                           // nearly parallel, crossing
+    if (family == 2) {  // nearly parallel, crossing
       const Vec3 off = rnd();
       for (int k = 0; k < 3; ++k) {
         b0[k] = a0[k] + 1e-4 * off[k] - 0.2 * dir[k];
         b1[k] = a1[k] - 1e-4 * off[k] + 0.1 * dir[k];
       }
     }
-    if (family == 3) a0[2] = a1[2] = b0[2] = b1[2] = 0.0;        // coplanar
-    if (family == 4) b1 = b0;                                    // degenerate edge
+    if (family == 3) a0[2] = a1[2] = b0[2] = b1[2] = 0.0;  // coplanar
+    if (family == 4) b1 = b0;                              // degenerate edge
     const double mine_ee = ee(a0, a1, b0, b1), ref_ee = reference_edge_edge(a0, a1, b0, b1);
     EXPECT_NEAR(mine_ee, ref_ee, 1e-11) << "edge-edge trial " << trial << " family " << family;
   }

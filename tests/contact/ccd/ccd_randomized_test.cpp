@@ -59,8 +59,7 @@ class TrajectoryGenerator {
           b[9 + k] = 0.5 * (b[3 + k] + b[6 + k]);
         }
         break;
-      default:
-        break;
+      default: break;
     }
     const double scale = std::pow(10.0, 4.0 * u());
     const Vec3 offset{3 * u() * scale, 3 * u() * scale, 3 * u() * scale};
@@ -103,9 +102,8 @@ class TrajectoryGenerator {
     Vec3 q;  // a point on the second primitive (PT: triangle; EE: edge b)
     const double w0 = 0.5 + 0.5 * u(), w1 = 0.5 * (1 - w0);
     for (int k = 0; k < 3; ++k)
-      q[k] = kind_ == PairKind::point_triangle
-                 ? w0 * a[3 + k] + w1 * a[6 + k] + (1 - w0 - w1) * a[9 + k]
-                 : w0 * a[6 + k] + (1 - w0) * a[9 + k];
+      q[k] = kind_ == PairKind::point_triangle ? w0 * a[3 + k] + w1 * a[6 + k] + (1 - w0 - w1) * a[9 + k]
+                                               : w0 * a[6 + k] + (1 - w0) * a[9 + k];
     Vec3 dir{u(), u(), u()};
     const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int k = 0; k < 3; ++k) {
@@ -123,9 +121,8 @@ class TrajectoryGenerator {
     const double w0 = 0.5 + 0.5 * u(), w1 = 0.5 * (1 - w0);
     Vec3 q;
     for (int k = 0; k < 3; ++k)
-      q[k] = kind_ == PairKind::point_triangle
-                 ? w0 * m[3 + k] + w1 * m[6 + k] + (1 - w0 - w1) * m[9 + k]
-                 : w0 * m[6 + k] + (1 - w0) * m[9 + k];
+      q[k] = kind_ == PairKind::point_triangle ? w0 * m[3 + k] + w1 * m[6 + k] + (1 - w0 - w1) * m[9 + k]
+                                               : w0 * m[6 + k] + (1 - w0) * m[9 + k];
     const double s = kind_ == PairKind::point_triangle ? 0.0 : 0.5 + 0.5 * u();
     Vec3 on_first;  // current point of the first primitive at parameter s, time tau
     for (int k = 0; k < 3; ++k) on_first[k] = (1 - s) * m[k] + s * m[3 + k];
@@ -205,7 +202,7 @@ class TrajectoryGenerator {
 };
 
 constexpr int kFamilies = 7;
-const char* const kFamilyNames[kFamilies] = {"general", "coplanar", "parallel",   "close start",
+const char* const kFamilyNames[kFamilies] = {"general",  "coplanar",   "parallel",        "close start",
                                              "crossing", "degenerate", "grazing crossing"};
 
 struct Tally {
@@ -234,8 +231,7 @@ Tally run_random_suite(PairKind kind, std::uint64_t seed, int n, const char* nam
     EXPECT_LE(r.toi, tr.t_max);
 
     double magnitude = 0.0;
-    for (int k = 0; k < 12; ++k)
-      magnitude = std::fmax(magnitude, std::fmax(std::fabs(tr.a[k]), std::fabs(tr.b[k])));
+    for (int k = 0; k < 12; ++k) magnitude = std::fmax(magnitude, std::fmax(std::fabs(tr.a[k]), std::fabs(tr.b[k])));
     const double d0 = pair_distance(kind, tr.a);
     // Starts within rounding of contact (e.g. coplanar edges that already cross) are only
     // checked for false negatives.
@@ -247,8 +243,8 @@ Tally run_random_suite(PairKind kind, std::uint64_t seed, int n, const char* nam
     const double known = tr.known_contact * (1 + 1e-9);
     if (r.toi > sampled || r.toi > known) {
       ++tally.false_negatives;
-      ADD_FAILURE() << name << " false negative, trajectory " << i << ": t* = " << r.toi
-                    << " > sampled contact " << sampled << " or crossing " << known;
+      ADD_FAILURE() << name << " false negative, trajectory " << i << ": t* = " << r.toi << " > sampled contact "
+                    << sampled << " or crossing " << known;
     }
     const double contact = std::fmin(sampled, tr.known_contact);
     if (contact <= tr.t_max) ++tally.sampled_contacts;
@@ -269,25 +265,20 @@ Tally run_random_suite(PairKind kind, std::uint64_t seed, int n, const char* nam
       const double d = distance_at(kind, tr.a, tr.b, r.toi);
       EXPECT_GT(d, tr.xi) << name << " trajectory " << i;
       if (r.toi < tr.t_max && !r.truncated) {
-        EXPECT_GE(d - tr.xi, (1 - s) * (d0 - tr.xi) * (1 - 1e-6) - 1e-13 * magnitude)
-            << name << " trajectory " << i;
+        EXPECT_GE(d - tr.xi, (1 - s) * (d0 - tr.xi) * (1 - 1e-6) - 1e-13 * magnitude) << name << " trajectory " << i;
       }
     }
   }
-  std::printf(
-      "[%s random] trajectories %ld, contacts (sampled or built-in) %ld, false negatives %ld; "
-      "starting at distance <= xi (or within rounding of it) %ld; false positives: t* < 0.5 tau %ld, stop "
-      "without contact (min sampled gap > 1e-3 scale) %ld; near-miss stops (gap <= 1e-3 "
-      "scale, not counted) %ld; truncated %ld; mean iterations %.1f; %.0f ns per call\n",
-      name, tally.trajectories, tally.sampled_contacts, tally.false_negatives,
-      tally.starts_touching, tally.early,
-      tally.no_contact_stops, tally.near_miss_stops, tally.truncated,
-      double(tally.iterations) / tally.trajectories, 1e9 * tally.seconds / tally.trajectories);
-  std::printf("[%s random] false positives by family (t* < 0.5 tau / stop without contact):",
-              name);
+  std::printf("[%s random] trajectories %ld, contacts (sampled or built-in) %ld, false negatives %ld; "
+              "starting at distance <= xi (or within rounding of it) %ld; false positives: t* < 0.5 tau %ld, stop "
+              "without contact (min sampled gap > 1e-3 scale) %ld; near-miss stops (gap <= 1e-3 "
+              "scale, not counted) %ld; truncated %ld; mean iterations %.1f; %.0f ns per call\n",
+              name, tally.trajectories, tally.sampled_contacts, tally.false_negatives, tally.starts_touching,
+              tally.early, tally.no_contact_stops, tally.near_miss_stops, tally.truncated,
+              double(tally.iterations) / tally.trajectories, 1e9 * tally.seconds / tally.trajectories);
+  std::printf("[%s random] false positives by family (t* < 0.5 tau / stop without contact):", name);
   for (int f = 0; f < kFamilies; ++f)
-    std::printf(" %s %ld/%ld;", kFamilyNames[f], tally.early_by_family[f],
-                tally.no_contact_by_family[f]);
+    std::printf(" %s %ld/%ld;", kFamilyNames[f], tally.early_by_family[f], tally.no_contact_by_family[f]);
   std::printf("\n");
   return tally;
 }

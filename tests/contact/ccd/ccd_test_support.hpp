@@ -53,21 +53,19 @@ inline double distance_at(PairKind kind, const Stack& a, const Stack& b, double 
   return pair_distance(kind, lerp(a, b, t));
 }
 
-inline contact::ccd::AdditiveCcdResult run_ccd(
-    PairKind kind, const Stack& a, const Stack& b, double min_separation, double t_max = 1.0,
-    double s = contact::ccd_defaults::conservative_rescaling,
-    int max_iterations = contact::ccd_defaults::max_iterations) {
+inline contact::ccd::AdditiveCcdResult run_ccd(PairKind kind, const Stack& a, const Stack& b, double min_separation,
+                                               double t_max = 1.0,
+                                               double s = contact::ccd_defaults::conservative_rescaling,
+                                               int max_iterations = contact::ccd_defaults::max_iterations) {
   return kind == PairKind::point_triangle
-             ? contact::point_triangle_ccd(a.data(), b.data(), min_separation, t_max, s,
-                                           max_iterations)
-             : contact::edge_edge_ccd(a.data(), b.data(), min_separation, t_max, s,
-                                      max_iterations);
+             ? contact::point_triangle_ccd(a.data(), b.data(), min_separation, t_max, s, max_iterations)
+             : contact::edge_edge_ccd(a.data(), b.data(), min_separation, t_max, s, max_iterations);
 }
 
 // First of n + 1 uniform samples of [t_begin, t_end] at which the distance is <= xi, or
 // +infinity if none is.
-inline double first_sampled_contact(PairKind kind, const Stack& a, const Stack& b, double xi,
-                                    double t_begin, double t_end, int n) {
+inline double first_sampled_contact(PairKind kind, const Stack& a, const Stack& b, double xi, double t_begin,
+                                    double t_end, int n) {
   for (int i = 0; i <= n; ++i) {
     const double t = t_begin + (t_end - t_begin) * i / n;
     if (distance_at(kind, a, b, t) <= xi) return t;
@@ -75,25 +73,21 @@ inline double first_sampled_contact(PairKind kind, const Stack& a, const Stack& 
   return std::numeric_limits<double>::infinity();
 }
 
-inline double min_sampled_distance(PairKind kind, const Stack& a, const Stack& b,
-                                   double t_begin, double t_end, int n) {
+inline double min_sampled_distance(PairKind kind, const Stack& a, const Stack& b, double t_begin, double t_end, int n) {
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i <= n; ++i)
-    best = std::fmin(best, distance_at(kind, a, b, t_begin + (t_end - t_begin) * i / n));
+  for (int i = 0; i <= n; ++i) best = std::fmin(best, distance_at(kind, a, b, t_begin + (t_end - t_begin) * i / n));
   return best;
 }
 
 // The contract of t*: the distance stays > xi on [0, t*] (checked on n + 1 samples and at t*).
-inline ::testing::AssertionResult collision_free_until(PairKind kind, const Stack& a,
-                                                       const Stack& b, double xi, double toi,
-                                                       int n = 4000) {
+inline ::testing::AssertionResult collision_free_until(PairKind kind, const Stack& a, const Stack& b, double xi,
+                                                       double toi, int n = 4000) {
   for (int i = 0; i <= n; ++i) {
     const double t = toi * i / n;
     const double d = distance_at(kind, a, b, t);
     if (!(d > xi))
       return ::testing::AssertionFailure()
-             << "distance " << d << " <= min_separation " << xi << " at t = " << t
-             << " <= t* = " << toi;
+             << "distance " << d << " <= min_separation " << xi << " at t = " << t << " <= t* = " << toi;
   }
   return ::testing::AssertionSuccess();
 }
@@ -102,8 +96,7 @@ inline ::testing::AssertionResult collision_free_until(PairKind kind, const Stac
 // by the same factor q = 1 - s r / l_p >= 1 - s, and the iteration stops after the first k
 // steps with q^k >= 1 - s (k >= 1), so t*/tau = 1 - q^k > 1 - sqrt(1 - s): either k = 1 and
 // q < sqrt(1 - s), or q^k < (1 - s) / q <= sqrt(1 - s).
-inline double linear_approach_lower_bound(
-    double s = contact::ccd_defaults::conservative_rescaling) {
+inline double linear_approach_lower_bound(double s = contact::ccd_defaults::conservative_rescaling) {
   return 1.0 - std::sqrt(1.0 - s);
 }
 

@@ -26,15 +26,12 @@ void expect_linear_approach_bounds(const Stack& a, const Stack& b, double xi, do
 const Stack kCrossA = stack({-1, 0, 1}, {1, 0, 1}, {0, -1, 0}, {0, 1, 0});
 const Stack kCrossB = stack({-1, 0, -1}, {1, 0, -1}, {0, -1, 0}, {0, 1, 0});
 
-TEST(EdgeEdgeCcd, PerpendicularCrossing) {
-  expect_linear_approach_bounds(kCrossA, kCrossB, 0.0, 0.5);
-}
+TEST(EdgeEdgeCcd, PerpendicularCrossing) { expect_linear_approach_bounds(kCrossA, kCrossB, 0.0, 0.5); }
 
 TEST(EdgeEdgeCcd, PublicSignatureMatchesStackedForm) {
   const double* a = kCrossA.data();
   const double* b = kCrossB.data();
-  const double toi = edge_edge_time_of_impact(a, a + 3, a + 6, a + 9, b, b + 3, b + 6, b + 9,
-                                              0.0, 1.0);
+  const double toi = edge_edge_time_of_impact(a, a + 3, a + 6, a + 9, b, b + 3, b + 6, b + 9, 0.0, 1.0);
   EXPECT_EQ(toi, run_ccd(kEE, kCrossA, kCrossB, 0.0).toi);
   EXPECT_LT(toi, 0.5);
 }
@@ -103,8 +100,7 @@ TEST(EdgeEdgeCcd, ParallelEdgesApproaching) {
 TEST(EdgeEdgeCcd, CoplanarMotion) {
   // eb's end reaches the interior of ea at t = 0.5.
   expect_linear_approach_bounds(stack({0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, 2, 0}),
-                                stack({0, 0, 0}, {1, 0, 0}, {0.5, -1, 0}, {0.5, 0, 0}), 0.0,
-                                0.5);
+                                stack({0, 0, 0}, {1, 0, 0}, {0.5, -1, 0}, {0.5, 0, 0}), 0.0, 0.5);
   // Collinear, end to end: gap 1 closed at rate 2.
   expect_linear_approach_bounds(stack({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}),
                                 stack({0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {1, 0, 0}), 0.0, 0.5);
@@ -113,15 +109,13 @@ TEST(EdgeEdgeCcd, CoplanarMotion) {
 TEST(EdgeEdgeCcd, NearlyParallelCrossing) {
   // Angle 1e-3 between the edges; they cross at the origin at t = 0.5.
   expect_linear_approach_bounds(stack({-1, 0, 1}, {1, 0, 1}, {-1, -1e-3, 0}, {1, 1e-3, 0}),
-                                stack({-1, 0, -1}, {1, 0, -1}, {-1, -1e-3, 0}, {1, 1e-3, 0}),
-                                0.0, 0.5);
+                                stack({-1, 0, -1}, {1, 0, -1}, {-1, -1e-3, 0}, {1, 1e-3, 0}), 0.0, 0.5);
 }
 
 TEST(EdgeEdgeCcd, DegenerateEdgeActsAsPoint) {
   // ea collapsed to the point (0.5, 1, 1), moving onto eb's interior at t = 0.5.
   expect_linear_approach_bounds(stack({0.5, 1, 1}, {0.5, 1, 1}, {0, 0, 0}, {1, 0, 0}),
-                                stack({0.5, -1, -1}, {0.5, -1, -1}, {0, 0, 0}, {1, 0, 0}), 0.0,
-                                0.5);
+                                stack({0.5, -1, -1}, {0.5, -1, -1}, {0, 0, 0}, {1, 0, 0}), 0.0, 0.5);
 }
 
 TEST(EdgeEdgeCcd, GrazingAtOneMicron) {
@@ -143,8 +137,7 @@ TEST(EdgeEdgeCcd, NoRelativeMotionReturnsTMaxExactly) {
   EXPECT_EQ(run_ccd(kEE, kCrossA, kCrossA, 0.2, 0.61).toi, 0.61);
   EXPECT_EQ(run_ccd(kEE, kCrossA, translated(kCrossA, {-5.5, 2.25, 9.75}), 0.0).toi, 1.0);
   // Moving apart.
-  EXPECT_EQ(run_ccd(kEE, kCrossA, stack({-1, 0, 4}, {1, 0, 4}, {0, -1, 0}, {0, 1, 0}), 0.0).toi,
-            1.0);
+  EXPECT_EQ(run_ccd(kEE, kCrossA, stack({-1, 0, 4}, {1, 0, 4}, {0, -1, 0}, {0, 1, 0}), 0.0).toi, 1.0);
 }
 
 TEST(EdgeEdgeCcd, StartingInContactReturnsZero) {
@@ -189,8 +182,8 @@ TEST(EdgeEdgeCcd, UniformScalingGivesSameTime) {
        stack({-1, 0.5, -0.5}, {1, -0.5, 0.3}, {0.2, -1, 0.2}, {-0.1, 1, -0.1}), 0.0},
       {stack({-1, -2, 1e-6}, {1, -2, 1e-6}, {0, -1, 0}, {0, 1, 0}),
        stack({-1, 2, 1e-6}, {1, 2, 1e-6}, {0, -1, 0}, {0, 1, 0}), 0.0},
-      {stack({0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, 2, 0}),
-       stack({0, 0, 0}, {1, 0, 0}, {0.5, -1, 0}, {0.5, 0, 0}), 0.05},
+      {stack({0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, 2, 0}), stack({0, 0, 0}, {1, 0, 0}, {0.5, -1, 0}, {0.5, 0, 0}),
+       0.05},
   };
   for (const Case& c : cases) {
     const double reference = run_ccd(kEE, c.a, c.b, c.xi).toi;

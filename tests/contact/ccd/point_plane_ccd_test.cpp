@@ -16,8 +16,7 @@ namespace {
 using dipc::contact::point_plane_time_of_impact;
 using dipc::test::Vec3;
 
-double toi(const Vec3& p0, const Vec3& p1, const Vec3& o, const Vec3& n, double xi,
-           double t_max = 1.0) {
+double toi(const Vec3& p0, const Vec3& p1, const Vec3& o, const Vec3& n, double xi, double t_max = 1.0) {
   return point_plane_time_of_impact(p0.data(), p1.data(), o.data(), n.data(), xi, t_max);
 }
 
@@ -46,21 +45,19 @@ TEST(PointPlaneCcd, EitherSide) {
   expect_just_before(toi({0, 0, -1}, {0, 0, 1}, kO, kZ, 0.2), 0.4);
 }
 
-TEST(PointPlaneCcd, MinSeparation) {
-  expect_just_before(toi({0.3, 0.2, 1}, {0.3, 0.2, -1}, kO, kZ, 0.1), 0.45);
-}
+TEST(PointPlaneCcd, MinSeparation) { expect_just_before(toi({0.3, 0.2, 1}, {0.3, 0.2, -1}, kO, kZ, 0.1), 0.45); }
 
 TEST(PointPlaneCcd, NoApproachReturnsTMaxExactly) {
-  EXPECT_EQ(toi({0, 0, 1}, {0, 0, 1}, kO, kZ, 0.0), 1.0);         // zero motion
-  EXPECT_EQ(toi({0, 0, 1}, {7, -3, 1}, kO, kZ, 0.0), 1.0);        // parallel to the plane
-  EXPECT_EQ(toi({0, 0, 1}, {0, 0, 3}, kO, kZ, 0.0, 0.7), 0.7);    // receding
-  EXPECT_EQ(toi({0, 0, 1}, {0, 0, -1}, kO, kZ, 0.0, 0.3), 0.3);   // impact after t_max
+  EXPECT_EQ(toi({0, 0, 1}, {0, 0, 1}, kO, kZ, 0.0), 1.0);        // zero motion
+  EXPECT_EQ(toi({0, 0, 1}, {7, -3, 1}, kO, kZ, 0.0), 1.0);       // parallel to the plane
+  EXPECT_EQ(toi({0, 0, 1}, {0, 0, 3}, kO, kZ, 0.0, 0.7), 0.7);   // receding
+  EXPECT_EQ(toi({0, 0, 1}, {0, 0, -1}, kO, kZ, 0.0, 0.3), 0.3);  // impact after t_max
 }
 
 TEST(PointPlaneCcd, DegenerateInputsReturnZero) {
-  EXPECT_EQ(toi({0, 0, 0}, {0, 0, 1}, kO, kZ, 0.0), 0.0);         // on the plane
-  EXPECT_EQ(toi({0, 0, 0.05}, {0, 0, 1}, kO, kZ, 0.1), 0.0);      // within xi
-  EXPECT_EQ(toi({0, 0, 1}, {0, 0, -1}, kO, {0, 0, 0}, 0.0), 0.0); // no normal
+  EXPECT_EQ(toi({0, 0, 0}, {0, 0, 1}, kO, kZ, 0.0), 0.0);          // on the plane
+  EXPECT_EQ(toi({0, 0, 0.05}, {0, 0, 1}, kO, kZ, 0.1), 0.0);       // within xi
+  EXPECT_EQ(toi({0, 0, 1}, {0, 0, -1}, kO, {0, 0, 0}, 0.0), 0.0);  // no normal
 }
 
 TEST(PointPlaneCcd, CutStepDoesNotCollapse) {
@@ -119,8 +116,10 @@ TEST(PointPlaneCcd, RandomTrajectoriesAgainstExactAndSampling) {
     long double s0 = signed_distance(p0, o, n), s1 = signed_distance(p1, o, n);
     if (s0 < 0) s0 = -s0, s1 = -s1;
     long double tau = std::numeric_limits<long double>::infinity();
-    if (s0 <= xi) tau = 0;
-    else if (s1 < s0) tau = (s0 - xi) / (s0 - s1);
+    if (s0 <= xi)
+      tau = 0;
+    else if (s1 < s0)
+      tau = (s0 - xi) / (s0 - s1);
 
     // Dense sampling: the first sampled time with |s| <= xi.
     double sampled = std::numeric_limits<double>::infinity();
@@ -148,9 +147,8 @@ TEST(PointPlaneCcd, RandomTrajectoriesAgainstExactAndSampling) {
       ++false_positives;
     }
   }
-  std::cout << "[point-plane random] trajectories " << n_traj << ", sampled contacts "
-            << contacts << ", false negatives " << false_negatives << ", false positives "
-            << false_positives << "\n";
+  std::cout << "[point-plane random] trajectories " << n_traj << ", sampled contacts " << contacts
+            << ", false negatives " << false_negatives << ", false positives " << false_positives << "\n";
   EXPECT_GT(contacts, n_traj / 10);
   EXPECT_EQ(false_negatives, 0);
   EXPECT_EQ(false_positives, 0);

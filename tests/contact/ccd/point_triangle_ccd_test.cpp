@@ -17,9 +17,7 @@ namespace defaults = dipc::contact::ccd_defaults;
 constexpr PairKind kPT = PairKind::point_triangle;
 const Vec3 T0{0, 0, 0}, T1{1, 0, 0}, T2{0, 1, 0};
 
-Stack at(const Vec3& p, const Vec3& t0 = T0, const Vec3& t1 = T1, const Vec3& t2 = T2) {
-  return stack(p, t0, t1, t2);
-}
+Stack at(const Vec3& p, const Vec3& t0 = T0, const Vec3& t1 = T1, const Vec3& t2 = T2) { return stack(p, t0, t1, t2); }
 
 // t* for a gap that closes at a constant rate and first reaches xi at tau.
 void expect_linear_approach_bounds(const Stack& a, const Stack& b, double xi, double tau) {
@@ -38,17 +36,15 @@ TEST(PointTriangleCcd, PointTunnelsThroughFaceInOneStep) {
 
 TEST(PointTriangleCcd, PublicSignatureMatchesStackedForm) {
   const Vec3 p0{0.25, 0.25, 1}, p1{0.25, 0.25, -9};
-  const double toi = point_triangle_time_of_impact(p0.data(), T0.data(), T1.data(), T2.data(),
-                                                   p1.data(), T0.data(), T1.data(), T2.data(),
-                                                   0.0, 1.0);
+  const double toi = point_triangle_time_of_impact(p0.data(), T0.data(), T1.data(), T2.data(), p1.data(), T0.data(),
+                                                   T1.data(), T2.data(), 0.0, 1.0);
   EXPECT_EQ(toi, run_ccd(kPT, at(p0), at(p1), 0.0).toi);
   EXPECT_LT(toi, 0.1);
 }
 
 TEST(PointTriangleCcd, TriangleMovesOntoPoint) {
   const Vec3 t0b{0, 0, 2}, t1b{1, 0, 2}, t2b{0, 1, 2};
-  expect_linear_approach_bounds(at({0.25, 0.25, 1}), at({0.25, 0.25, 1}, t0b, t1b, t2b), 0.0,
-                                0.5);
+  expect_linear_approach_bounds(at({0.25, 0.25, 1}), at({0.25, 0.25, 1}, t0b, t1b, t2b), 0.0, 0.5);
   // Point and triangle both moving, the triangle also shrinking (vertices move differently):
   // checked against the first time dense sampling finds the distance <= xi = 1e-3.
   const Stack a = at({0.3, 0.2, 1.5}, {-1, -1, 0}, {2, -1, 0}, {-1, 2, 0});
@@ -139,8 +135,7 @@ TEST(PointTriangleCcd, MinSeparation) {
 TEST(PointTriangleCcd, DegenerateTriangleActsAsSegment) {
   // Collinear vertices along x; the point falls onto the segment at t = 0.5.
   const Vec3 c0{0, 0, 0}, c1{1, 0, 0}, c2{2, 0, 0};
-  expect_linear_approach_bounds(at({1.5, 1, 0}, c0, c1, c2), at({1.5, -1, 0}, c0, c1, c2), 0.0,
-                                0.5);
+  expect_linear_approach_bounds(at({1.5, 1, 0}, c0, c1, c2), at({1.5, -1, 0}, c0, c1, c2), 0.0, 0.5);
 }
 
 TEST(PointTriangleCcd, CutStepDoesNotCollapse) {

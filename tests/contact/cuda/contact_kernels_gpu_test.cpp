@@ -15,10 +15,10 @@
 #include <random>
 #include <vector>
 
-#include "device/device_runtime.hpp"
 #include "contact/contact_pair_terms.hpp"
 #include "contact/cuda/contact_kernels.hpp"
 #include "contact/obstacle_nodes.hpp"
+#include "device/device_runtime.hpp"
 
 namespace dipc {
 namespace {
@@ -305,8 +305,8 @@ TEST(ContactKernelsGpu, InadmissiblePairsFailAsOnHost) {
     r.gather(i, X);
     bool active;
     ContactPairTerms t;
-    if (contact_pair_terms(r.pairs.kind[i], X, r.plane_point(i), r.plane_normal(i), c.dhat2, c.kappa,
-                           r.pairs.weight[i], r.pairs.eps_x[i], false, false, c.project, &active, &t))
+    if (contact_pair_terms(r.pairs.kind[i], X, r.plane_point(i), r.plane_normal(i), c.dhat2, c.kappa, r.pairs.weight[i],
+                           r.pairs.eps_x[i], false, false, c.project, &active, &t))
       energy += t.energy;
     else
       host_ok = false;
@@ -412,8 +412,7 @@ void expect_same_times_of_impact(PairKind kind) {
       const int count = t.r.gather(i, X0);
       for (int k = 0; k < count; ++k)
         for (int c = 0; c < 3; ++c) X1[3 * k + c] = X0[3 * k + c] + t.p[3 * t.r.pairs.nodes[4 * i + k] + c];
-      const double host =
-          contact_pair_time_of_impact(kind, X0, X1, t.r.plane_point(i), t.r.plane_normal(i), t_max);
+      const double host = contact_pair_time_of_impact(kind, X0, X1, t.r.plane_point(i), t.r.plane_normal(i), t_max);
       host_min = std::min(host_min, host);
       if (host < t_max) ++early;
       if (host == 0.0) ++zero;
@@ -428,8 +427,7 @@ void expect_same_times_of_impact(PairKind kind) {
       EXPECT_GT(early, kCount / 3) << "too few trajectories come close";
     }
     EXPECT_GT(zero, 0) << "no pair starts within the CCD resolution";
-    EXPECT_EQ(device::contact_min_time_of_impact(d.pairs, d.planes, d.x.data(), dp.data(), t_max, d.reducer),
-              host_min);
+    EXPECT_EQ(device::contact_min_time_of_impact(d.pairs, d.planes, d.x.data(), dp.data(), t_max, d.reducer), host_min);
   }
 }
 
@@ -455,8 +453,8 @@ constexpr double kNoPlane[3] = {0, 0, 1};
 
 struct ObstaclePairs {
   RandomPairs r;
-  std::vector<double> start, end;  // obstacle vertex positions, 3 per vertex
-  std::vector<int> slot_mask;      // per pair
+  std::vector<double> start, end;         // obstacle vertex positions, 3 per vertex
+  std::vector<int> slot_mask;             // per pair
   std::vector<std::int32_t> former_rows;  // the rows of x that obstacle vertices left
 
   explicit ObstaclePairs(unsigned seed) : r(seed) {}

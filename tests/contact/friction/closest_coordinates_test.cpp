@@ -27,8 +27,8 @@ void expect_point_triangle_optimal(const Vec3& p, const Vec3& t0, const Vec3& t1
 }
 
 // (alpha, beta) minimises |ca - cb|^2 over [0,1]^2 iff grad . (z - z*) >= 0 at the 4 corners z.
-void expect_edge_edge_optimal(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, double alpha,
-                              double beta, double tolerance = 1e-12) {
+void expect_edge_edge_optimal(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, double alpha, double beta,
+                              double tolerance = 1e-12) {
   EXPECT_GE(alpha, 0.0);
   EXPECT_LE(alpha, 1.0);
   EXPECT_GE(beta, 0.0);
@@ -63,27 +63,13 @@ TEST(PointTriangleClosestCoordinates, RandomConfigurationsAreOptimalAndMatchRefe
     // The feature agrees with the coordinates.
     const double b0 = 1 - beta[0] - beta[1];
     switch (f) {
-      case TriangleFeature::kFace:
-        EXPECT_TRUE(beta[0] > 0 && beta[1] > 0 && b0 > 0);
-        break;
-      case TriangleFeature::kEdge01:
-        EXPECT_EQ(beta[1], 0.0);
-        break;
-      case TriangleFeature::kEdge12:
-        EXPECT_NEAR(b0, 0.0, 1e-15);
-        break;
-      case TriangleFeature::kEdge20:
-        EXPECT_EQ(beta[0], 0.0);
-        break;
-      case TriangleFeature::kVertex0:
-        EXPECT_TRUE(beta[0] == 0 && beta[1] == 0);
-        break;
-      case TriangleFeature::kVertex1:
-        EXPECT_TRUE(beta[0] == 1 && beta[1] == 0);
-        break;
-      case TriangleFeature::kVertex2:
-        EXPECT_TRUE(beta[0] == 0 && beta[1] == 1);
-        break;
+      case TriangleFeature::kFace: EXPECT_TRUE(beta[0] > 0 && beta[1] > 0 && b0 > 0); break;
+      case TriangleFeature::kEdge01: EXPECT_EQ(beta[1], 0.0); break;
+      case TriangleFeature::kEdge12: EXPECT_NEAR(b0, 0.0, 1e-15); break;
+      case TriangleFeature::kEdge20: EXPECT_EQ(beta[0], 0.0); break;
+      case TriangleFeature::kVertex0: EXPECT_TRUE(beta[0] == 0 && beta[1] == 0); break;
+      case TriangleFeature::kVertex1: EXPECT_TRUE(beta[0] == 1 && beta[1] == 0); break;
+      case TriangleFeature::kVertex2: EXPECT_TRUE(beta[0] == 0 && beta[1] == 1); break;
     }
   }
   for (int r = 0; r < 7; ++r) EXPECT_GT(counts[r], 50) << "region " << r << " not exercised";
@@ -105,7 +91,7 @@ TEST(PointTriangleClosestCoordinates, HandMadeRegions) {
       {{-0.2, -0.1, 0.3}, TriangleFeature::kVertex0, 0.0, 0.0},
       {{1.5, -0.1, 0.3}, TriangleFeature::kVertex1, 1.0, 0.0},
       {{-0.1, 1.5, -0.3}, TriangleFeature::kVertex2, 0.0, 1.0},
-      {{0.5, 0.0, 1e-7}, TriangleFeature::kEdge01, 0.5, 0.0},  // point over an edge
+      {{0.5, 0.0, 1e-7}, TriangleFeature::kEdge01, 0.5, 0.0},   // point over an edge
       {{0.0, 0.0, 1e-7}, TriangleFeature::kVertex0, 0.0, 0.0},  // point over a vertex
   };
   for (const Case& c : cases) {

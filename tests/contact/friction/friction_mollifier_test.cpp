@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "math/symmetric_eigen.hpp"
 #include "contact/friction/friction_mollifier.hpp"
 #include "contact/friction/symmetric_2x2_psd.hpp"
+#include "math/symmetric_eigen.hpp"
 
 namespace dipc::contact {
 namespace {

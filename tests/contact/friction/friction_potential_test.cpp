@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "math/symmetric_eigen.hpp"
 #include "contact/friction/friction_potential.hpp"
 #include "friction_test_support.hpp"
+#include "math/symmetric_eigen.hpp"
 
 namespace dipc::contact {
 namespace {
@@ -336,8 +336,8 @@ TEST(PointPlaneFriction, ZeroDisplacementContinuityDirectionAndZeroMu) {
     // mu lambda (2/eps) P P^T: the normal direction has no stiffness.
     const Vec3 c0{s.f.basis[0], s.f.basis[2], s.f.basis[4]}, c1{s.f.basis[1], s.f.basis[3], s.f.basis[5]};
     const Vec3 n = test::cross(c0, c1);
-    for (int a = 0; a < 3; ++a) EXPECT_NEAR(H[3 * a] * n[0] + H[3 * a + 1] * n[1] + H[3 * a + 2] * n[2], 0.0,
-                                            1e-14 * kMu * kLambda / eps);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_NEAR(H[3 * a] * n[0] + H[3 * a + 1] * n[1] + H[3 * a + 2] * n[2], 0.0, 1e-14 * kMu * kLambda / eps);
     EXPECT_NEAR(H[0] + H[4] + H[8], 2 * kMu * kLambda * 2 / eps, 1e-12 * kMu * kLambda / eps);
     // Continuity across |u| = eps_u.
     std::array<double, 3> above;

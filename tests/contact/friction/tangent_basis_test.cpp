@@ -211,8 +211,8 @@ TEST(RelativeVelocity, TransposeIsAdjointAndTranslationsCancel) {
   std::mt19937_64 rng(33);
   const Vec3 a0{0, 0, 0}, a1{1, 0, 0}, b0{0.3, -1, 0.2}, b1{0.4, 1, 0.25};
   const auto x = test::stack(a0, a1, b0, b1);
-  for (const LaggedPairFriction& f : {edge_edge_lagged_friction(x.data(), 0.1, 1, 1e-3),
-                                      point_triangle_lagged_friction(x.data(), 0.1, 1, 1e-3)}) {
+  for (const LaggedPairFriction& f :
+       {edge_edge_lagged_friction(x.data(), 0.1, 1, 1e-3), point_triangle_lagged_friction(x.data(), 0.1, 1, 1e-3)}) {
     const Vec3 t = test::random_vec3(rng), force = test::random_vec3(rng);
     const auto translation = test::stack(t, t, t, t);
     double r[3], g[12];

@@ -54,9 +54,10 @@ TEST(Barrier, DerivativesMatchFiniteDifferences) {
       const double d = ratio * dhat;
       // The step stays inside (0, d_hat) and resolves both ends' length scales.
       const double h = 1e-4 * std::min(d, dhat - d);
-      const double fd1 = dipc::test::central_difference_gradient([&](const double* t) { return barrier(*t, dhat); }, &d, 1, h)[0];
-      const double fd2 =
-          dipc::test::central_difference_gradient([&](const double* t) { return barrier_first_derivative(*t, dhat); }, &d, 1, h)[0];
+      const double fd1 = dipc::test::central_difference_gradient([&](const double* t) { return barrier(*t, dhat); }, &d,
+                                                                 1, h)[0];
+      const double fd2 = dipc::test::central_difference_gradient(
+          [&](const double* t) { return barrier_first_derivative(*t, dhat); }, &d, 1, h)[0];
       const double b1 = barrier_first_derivative(d, dhat), b2 = barrier_second_derivative(d, dhat);
       EXPECT_NEAR(fd1, b1, 1e-6 * std::abs(b1)) << "dhat " << dhat << " d/dhat " << ratio;
       EXPECT_NEAR(fd2, b2, 1e-6 * std::abs(b2)) << "dhat " << dhat << " d/dhat " << ratio;

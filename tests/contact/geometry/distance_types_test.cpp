@@ -93,8 +93,8 @@ TEST(EdgeEdgeType, HandMadeCasesOfEveryType) {
 
 TEST(EdgeEdgeType, ParallelEdgesNeverUseTheLineLineCase) {
   // Overlapping parallel edges, same and opposite direction, and collinear ones.
-  const Vec3 cases[][2] = {{{0.5, 1, 0}, {1.5, 1, 0}}, {{1.5, 1, 0}, {0.5, 1, 0}}, {{0.2, 0, 1}, {0.7, 0, 1}},
-                           {{-0.5, 0, 0}, {0.5, 0, 0}}, {{2, 0, 0}, {3, 0, 0}},    {{-3, 1, 1}, {-2, 1, 1}}};
+  const Vec3 cases[][2] = {{{0.5, 1, 0}, {1.5, 1, 0}},  {{1.5, 1, 0}, {0.5, 1, 0}}, {{0.2, 0, 1}, {0.7, 0, 1}},
+                           {{-0.5, 0, 0}, {0.5, 0, 0}}, {{2, 0, 0}, {3, 0, 0}},     {{-3, 1, 1}, {-2, 1, 1}}};
   for (const auto& b : cases) {
     const EE type = classify(O, X, b[0], b[1], 0);
     EXPECT_NE(type, EE::EA_EB) << b[0][0] << " " << b[1][0];

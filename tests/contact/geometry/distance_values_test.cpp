@@ -26,15 +26,15 @@ const double kScales[] = {1e-4, 1e-2, 1.0, 1e2, 1e4};
 TEST(DistanceValues, ClosedFormCases) {
   const Vec3 O = {0, 0, 0}, X = {1, 0, 0}, Y = {0, 1, 0};
   EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{0.25, 0.25, -0.7}, O, X, Y}}), 0.49);
-  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{0.5, -2, 1}, O, X, Y}}), 5.0);   // edge E0
-  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{1, 1, 0}, O, X, Y}}), 0.5);      // edge E1
-  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{-1, -2, 2}, O, X, Y}}), 9.0);    // vertex t0
-  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{0.2, 0.3, 0}, O, X, Y}}), 0.0);  // coplanar, inside
-  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.5, -1, 3}, Vec3{0.5, 1, 3}}}), 9.0);   // line-line
-  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{-1, -1, 1}, Vec3{-1, 1, 1}}}), 2.0);     // ea0-EB
-  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.5, 2, 0}, Vec3{0.5, 3, 0}}}), 4.0);    // eb0-EA
-  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{3, 0, 0}, Vec3{4, 0, 0}}}), 4.0);        // ea1-eb0
-  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.2, 1, 1}, Vec3{0.9, 1, 1}}}), 2.0);    // parallel
+  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{0.5, -2, 1}, O, X, Y}}), 5.0);                // edge E0
+  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{1, 1, 0}, O, X, Y}}), 0.5);                   // edge E1
+  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{-1, -2, 2}, O, X, Y}}), 9.0);                 // vertex t0
+  EXPECT_DOUBLE_EQ(pt_distance(Stencil{{Vec3{0.2, 0.3, 0}, O, X, Y}}), 0.0);               // coplanar, inside
+  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.5, -1, 3}, Vec3{0.5, 1, 3}}}), 9.0);  // line-line
+  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{-1, -1, 1}, Vec3{-1, 1, 1}}}), 2.0);    // ea0-EB
+  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.5, 2, 0}, Vec3{0.5, 3, 0}}}), 4.0);   // eb0-EA
+  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{3, 0, 0}, Vec3{4, 0, 0}}}), 4.0);       // ea1-eb0
+  EXPECT_DOUBLE_EQ(ee_distance(Stencil{{O, X, Vec3{0.2, 1, 1}, Vec3{0.9, 1, 1}}}), 2.0);   // parallel
 }
 
 TEST(DistanceValues, EdgeEdgeConfigurationsHaveTheirBuiltInSeparation) {

@@ -182,8 +182,8 @@ inline double max_abs(const double* a, int n) {
 }
 
 struct FiniteDifferenceErrors {
-  double gradient;  // relative max-norm error of the gradient
-  double hessian;   // relative max-norm error of the Hessian
+  double gradient;   // relative max-norm error of the gradient
+  double hessian;    // relative max-norm error of the Hessian
   double asymmetry;  // max |H - H^T| relative to max |H|
 };
 
@@ -247,8 +247,8 @@ inline bool interior_critical_point(const Vec3& r_, const Vec3& ea_, const Vec3&
 
 inline double reference_point_triangle(const Stencil& s) {
   const Vec3 &p = s.x[0], &t0 = s.x[1], &t1 = s.x[2], &t2 = s.x[3];
-  long double best = std::min({point_segment_squared(p, t0, t1), point_segment_squared(p, t1, t2),
-                               point_segment_squared(p, t2, t0)});
+  long double best = std::min(
+      {point_segment_squared(p, t0, t1), point_segment_squared(p, t1, t2), point_segment_squared(p, t2, t0)});
   // Minimise |t0 + alpha (t1 - t0) + beta (t2 - t0) - p|^2 over the plane, keep it if inside.
   long double alpha, beta;
   if (interior_critical_point(t0 - p, t1 - t0, t2 - t0, &alpha, &beta) && alpha >= 0 && beta >= 0 &&

@@ -59,8 +59,8 @@ struct SurfaceData {
 // leaves in Morton order; a lone leaf is node 0, the root.
 struct TreeView {
   int n;
-  const Aabb* box;            // 2n − 1 node boxes
-  const std::int32_t* left;   // children of the inner nodes
+  const Aabb* box;           // 2n − 1 node boxes
+  const std::int32_t* left;  // children of the inner nodes
   const std::int32_t* right;
   const std::int32_t* leaf_id;  // the primitive of leaf j (node n − 1 + j)
 };
@@ -387,7 +387,7 @@ struct DeviceBroadPhase::Impl {
     DIPC_CUDA_CHECK_LAUNCH();
     if (n > 1) {
       hierarchy_kernel<<<blocks_for(count - 1, kThreads), kThreads>>>(sorted_codes.data(), n, left.data(), right.data(),
-                                                                     parent.data());
+                                                                      parent.data());
       DIPC_CUDA_CHECK_LAUNCH();
       visits.set_zero();
       refit_kernel<<<blocks, kThreads>>>(n, left.data(), right.data(), parent.data(), visits.data(), node_box.data());
@@ -413,8 +413,8 @@ struct DeviceBroadPhase::Impl {
     int first_bits = 0;
     while ((1LL << first_bits) < n) ++first_bits;
     std::size_t bytes = 0;
-    DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, bytes, keys.data(), sorted_keys.data(), pairs, 0,
-                                                   32 + first_bits));
+    DIPC_CUDA_CHECK(
+        cub::DeviceRadixSort::SortKeys(nullptr, bytes, keys.data(), sorted_keys.data(), pairs, 0, 32 + first_bits));
     DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(scratch(temp, bytes), bytes, keys.data(), sorted_keys.data(), pairs,
                                                    0, 32 + first_bits));
     // The unsorted keys are no longer needed: their storage takes the pairs.
@@ -550,7 +550,7 @@ void DeviceBroadPhase::find_candidates(const double* x0, const double* x1, doubl
   if (m.num_vertices > 0 && m.num_faces > 0) {
     m.boxes.resize(static_cast<std::size_t>(m.num_faces));
     boxes_kernel<<<blocks_for(m.boxes.size(), kThreads), kThreads>>>(x0, x1, m.faces.data(), 3, m.num_faces, inflation,
-                                                                    m.boxes.data());
+                                                                     m.boxes.data());
     DIPC_CUDA_CHECK_LAUNCH();
     const VertexFaceQuery q{m.build_tree(m.boxes.data(), m.num_faces), s, x0, x1, inflation};
     m.collect(q, m.num_vertices, &out->vertex_face);
@@ -558,7 +558,7 @@ void DeviceBroadPhase::find_candidates(const double* x0, const double* x1, doubl
   if (m.num_edges > 1) {
     m.boxes.resize(static_cast<std::size_t>(m.num_edges));
     boxes_kernel<<<blocks_for(m.boxes.size(), kThreads), kThreads>>>(x0, x1, m.edges.data(), 2, m.num_edges, inflation,
-                                                                    m.boxes.data());
+                                                                     m.boxes.data());
     DIPC_CUDA_CHECK_LAUNCH();
     const EdgeEdgeQuery q{m.build_tree(m.boxes.data(), m.num_edges), s, m.boxes.data()};
     m.collect(q, m.num_edges, &out->edge_edge);
