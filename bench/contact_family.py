@@ -60,6 +60,8 @@ import tempfile
 import threading
 import time
 
+from bench_csv import earlier_rows
+from pyplot import pyplot_or_none
 from run_dipc import run_dipc
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -169,15 +171,20 @@ def parse(text):
     for name, column in TABLE_ROWS:
         m = re.search(r"^%s\s+([0-9.]+)\s*$" % re.escape(name), text, re.M)
         row[column] = float(m.group(1)) if m else 0.0  # a row dipc leaves out is a phase the run did not have
-    m = re.search(r"\((\d+) new matrix pattern\(s\) after setup\)", text)
-    row["new_patterns"] = int(m.group(1)) if m else 0
-    m = re.search(r"at end ([0-9.]+)/([0-9.]+)", text)
-    if m:
-        row["host_rss_max_mib"] = float(m.group(1))
-    m = re.search(r"setup used ([0-9.]+) MiB on the fullest rank", text)
-    if m:
-        row["gpu_setup_mib"] = float(m.group(1))
+    row["new_patterns"] = int(first_number(r"\((\d+) new matrix pattern\(s\) after setup\)", text) or 0)
+    # Reported only by some runs (host memory at the end; device memory of a GPU run's setup).
+    for column, pattern in (("host_rss_max_mib", r"at end ([0-9.]+)/([0-9.]+)"),
+                            ("gpu_setup_mib", r"setup used ([0-9.]+) MiB on the fullest rank")):
+        value = first_number(pattern, text)
+        if value is not None:
+            row[column] = value
     return row
+
+
+def first_number(pattern, text):
+    """The first group of pattern's first match in text as a float, or None without a match."""
+    m = re.search(pattern, text)
+    return float(m.group(1)) if m else None
 
 
 def run_one(args, member, size_kind, size, workdir):
@@ -225,13 +232,9 @@ def print_row(row, header=False):
 
 
 def plot(rows, path):
-    try:
-        import matplotlib
-    except ImportError:
-        print("no plot: matplotlib is not installed (the CSV has every number)")
+    plt = pyplot_or_none()
+    if plt is None:
         return
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     members = [m for m in MEMBERS if any(r["member"] == m for r in rows)]
     fig, axes = plt.subplots(1, len(members), figsize=(5.5 * len(members), 4.6), squeeze=False)
     colours = ["tab:blue", "tab:orange", "tab:red", "tab:purple", "tab:green"]
@@ -284,12 +287,7 @@ def main():
         if m not in MEMBERS:
             ap.error("unknown member %s (members: %s)" % (m, ", ".join(MEMBERS)))
     size_kind, size_list = ("elements", args.elements) if args.elements else ("refine", args.refine or "1")
-    os.makedirs(args.out, exist_ok=True)
-    csv_path = os.path.join(args.out, "contact_family_%s.csv" % args.tag)
-    rows = []
-    if os.path.exists(csv_path):
-        with open(csv_path) as f:
-            rows = list(csv.DictReader(f))
+    csv_path, rows = earlier_rows(args.out, "contact_family_%s.csv" % args.tag)
     first, failures = True, 0
     with tempfile.TemporaryDirectory() as workdir:
         for member in members:

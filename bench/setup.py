@@ -36,6 +36,8 @@ import sys
 import tempfile
 import time
 
+from bench_csv import earlier_rows
+from pyplot import pyplot_or_none
 from run_dipc import run_dipc
 
 FIELDS = ["elements", "ranks", "partitioner", "source", "setup_threads", "first_iteration_s", "partition_s", "setup_s", "slices_s",
@@ -130,13 +132,9 @@ def run_one(args, n, ranks, partitioner, source, workdir):
 
 
 def plot(rows, path):
-    try:
-        import matplotlib
-    except ImportError:
-        print("no plot: python3-matplotlib is not installed (the CSV has every number)")
+    plt = pyplot_or_none()
+    if plt is None:
         return
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
     # Rows read back from the CSV hold strings, rows of this run numbers: group by (int, str, str).
     def group(r):
@@ -185,12 +183,7 @@ def main():
                     help="bind each rank to this many cores (mpirun --map-by slot:PE=K) for the setup threads")
     ap.add_argument("extra", nargs="*", help="after --: more dipc options")
     args = ap.parse_args()
-    os.makedirs(args.out, exist_ok=True)
-    csv_path = os.path.join(args.out, "setup_%s.csv" % args.tag)
-    rows = []
-    if os.path.exists(csv_path):
-        with open(csv_path) as f:
-            rows = list(csv.DictReader(f))
+    csv_path, rows = earlier_rows(args.out, "setup_%s.csv" % args.tag)
     with tempfile.TemporaryDirectory() as workdir:
         for e in [int(v) for v in args.elements.split(",")]:
             n = max(1, round(e ** (1.0 / 3.0)))
