@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "app/options_files.hpp"
 #include "io/collective_error.hpp"
 
 namespace dipc {
@@ -76,6 +77,14 @@ std::vector<std::pair<std::string, const char*>> unused_options(std::vector<std:
 }
 
 bool is_dipc_option(const std::string& name) { return name.rfind("-dipc_", 0) == 0; }
+
+// The program's arguments after its name, as PetscInitialize received them.
+std::vector<std::string> command_line() {
+  int argc = 0;
+  char** argv = nullptr;
+  if (PetscGetArgs(&argc, &argv) || !argv) return {};
+  return {argv + 1, argv + argc};
+}
 
 }  // namespace
 
@@ -144,6 +153,8 @@ void check_no_unknown_options(MPI_Comm comm) {
     const std::string& name = entry.first;
     if (!is_dipc_option(name)) continue;
     message += (message.empty() ? "unknown option " : "; unknown option ") + name;
+    const std::string file = options_file_holding(name, command_line(), std::getenv("PETSC_OPTIONS"));
+    if (!file.empty()) message += " in options file " + file;
     const std::string suggestion = closest_option(name);
     if (!suggestion.empty()) message += " (did you mean " + suggestion + "?)";
   }

@@ -44,7 +44,38 @@ std::string check_tokens(const std::vector<std::string>& tokens, const std::stri
   return "";
 }
 
+// The options file among those that `tokens` name, and those these name in turn, whose own
+// tokens hold `option` (compared without regard to case, as PETSc does); "" when none does.
+// Files that cannot be read are passed over: options_file_problem() has reported them.
+std::string file_holding(const std::vector<std::string>& tokens, const std::string& option, int depth) {
+  if (depth >= 16) return "";
+  for (std::size_t i = 0; i + 1 < tokens.size(); ++i) {
+    if (!is_options_file_key(tokens[i])) continue;
+    const std::string& name = tokens[++i];
+    std::ifstream in(name);
+    if (!in) continue;
+    const std::vector<std::string> inner = file_tokens(in);
+    for (const std::string& t : inner)
+      if (strcasecmp(t.c_str(), option.c_str()) == 0) return name;
+    const std::string nested = file_holding(inner, option, depth + 1);
+    if (!nested.empty()) return nested;
+  }
+  return "";
+}
+
 }  // namespace
+
+std::string options_file_holding(const std::string& option, const std::vector<std::string>& args,
+                                 const char* petsc_options) {
+  if (petsc_options) {
+    std::istringstream words(petsc_options);
+    std::vector<std::string> tokens;
+    for (std::string w; words >> w;) tokens.push_back(w);
+    const std::string file = file_holding(tokens, option, 0);
+    if (!file.empty()) return file;
+  }
+  return file_holding(args, option, 0);
+}
 
 std::string options_file_problem(const std::vector<std::string>& args, const char* petsc_options) {
   if (petsc_options) {

@@ -15,4 +15,10 @@ namespace dipc {
 //   "-options_file solver.opts (named in base.opts): no such file"
 std::string options_file_problem(const std::vector<std::string>& args, const char* petsc_options);
 
+// The options file, among those `args` and `petsc_options` name (followed as above), that
+// gives `option` (e.g. "-dipc_stepz"), so that a message about the option can name the file;
+// "" when it came from the command line or PETSC_OPTIONS.
+std::string options_file_holding(const std::string& option, const std::vector<std::string>& args,
+                                 const char* petsc_options);
+
 }  // namespace dipc
