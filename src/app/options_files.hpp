@@ -16,7 +16,7 @@ namespace dipc {
 std::string options_file_problem(const std::vector<std::string>& args, const char* petsc_options);
 
 // The options file, among those `args` and `petsc_options` name (followed as above), that
-// gives `option` (e.g. "-dipc_stepz"), so that a message about the option can name the file;
+// gives `option` (a name as PETSc lists it, with its dash), so that a message about the option can name the file;
 // "" when it came from the command line or PETSC_OPTIONS.
 std::string options_file_holding(const std::string& option, const std::vector<std::string>& args,
                                  const char* petsc_options);
