@@ -3,31 +3,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "app/node_place.hpp"
 #include "assembly/element_loops.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {
-
-namespace {
-
-struct NodePlace {
-  int rank = 0;   // among the ranks of this node
-  int ranks = 1;  // ranks on this node
-};
-
-NodePlace node_place(MPI_Comm comm) {
-  MPI_Comm node;
-  int rank;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
-  NodePlace place;
-  MPI_Comm_rank(node, &place.rank);
-  MPI_Comm_size(node, &place.ranks);
-  MPI_Comm_free(&node);
-  return place;
-}
-
-}  // namespace
 
 BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long elements, long auto_min_elements) {
   if (requested != "cpu" && requested != "cuda" && requested != "auto")

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/node_place.hpp"
+
 namespace dipc {
 
 namespace {
@@ -29,12 +31,7 @@ double available_bytes() {
 
 // MemAvailable summed over the nodes of `comm` (read by one rank per node).
 double available_on_all_nodes(MPI_Comm comm) {
-  MPI_Comm node;
-  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-  int node_rank = 0;
-  MPI_Comm_rank(node, &node_rank);
-  MPI_Comm_free(&node);
-  double bytes = node_rank == 0 ? available_bytes() : 0;
+  double bytes = node_place(comm).rank == 0 ? available_bytes() : 0;
   MPI_Allreduce(MPI_IN_PLACE, &bytes, 1, MPI_DOUBLE, MPI_SUM, comm);
   return bytes;
 }
