@@ -71,7 +71,7 @@ MEMBERS = ["stack", "squeeze", "press"]
 # dipc's timing table rows (src/app/simulation.cpp) and the CSV columns they fill.
 TABLE_ROWS = [("partition", "partition_s"), ("setup", "setup_s"), ("assembly (gradient, Hessian)", "assembly_s"),
               ("  of which COO insertion", "coo_insert_s"), ("line search (energy, validity, segments)", "line_search_s"),
-              ("contact: ghost surfaces, broad phase, CCD", "contact_s"), ("new matrix patterns (contact)", "patterns_s"),
+              ("contact: ghost surfaces, broad phase, CCD", "contact_s"), ("contact patterns: active sets, new matrices", "patterns_s"),
               ("linear solve (KSP + AMG) and rest", "linear_solve_s"), ("output", "output_s"),
               ("other (step reports, energies, checks)", "other_s"), ("total", "total_s")]
 # The phases of a Newton iteration, in the order they are stacked.
@@ -81,7 +81,7 @@ FIELDS = (["member", "backend", "ranks", "refine", "elements", "dofs", "steps", 
            "max_contact_pairs", "per_newton_s", "per_step_s"] +
           ["per_newton_" + p for p in SOLVE_PHASES] +
           [c for _, c in TABLE_ROWS] +
-          ["new_patterns", "host_rss_max_mib", "gpu_setup_mib", "gpu_peak_mib", "wall_s", "status"])
+          ["new_patterns", "pattern_remaps", "host_rss_max_mib", "gpu_setup_mib", "gpu_peak_mib", "wall_s", "status"])
 
 
 def base_elements(scene):
@@ -171,7 +171,8 @@ def parse(text):
     for name, column in TABLE_ROWS:
         m = re.search(r"^%s\s+([0-9.]+)\s*$" % re.escape(name), text, re.M)
         row[column] = float(m.group(1)) if m else 0.0  # a row dipc leaves out is a phase the run did not have
-    row["new_patterns"] = int(first_number(r"\((\d+) new matrix pattern\(s\) after setup\)", text) or 0)
+    row["new_patterns"] = int(first_number(r"\((\d+) new matrix pattern\(s\) after setup", text) or 0)
+    row["pattern_remaps"] = int(first_number(r"(\d+) active-set change\(s\) within the matrix", text) or 0)
     # Reported only by some runs (host memory at the end; device memory of a GPU run's setup).
     for column, pattern in (("host_rss_max_mib", r"at end ([0-9.]+)/([0-9.]+)"),
                             ("gpu_setup_mib", r"setup used ([0-9.]+) MiB on the fullest rank")):

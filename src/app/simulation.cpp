@@ -731,6 +731,7 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
   pt.preallocation = worst[patterns], pt.linear_solve = worst[linear_row], pt.output = worst[output_row];
   pt.other = worst[other_row], pt.total = worst[total_row];
   result->new_matrix_patterns = ev.preallocations;  // the same on every rank (collective)
+  result->pattern_remaps = ev.remaps;
   const bool solved = integrator.solve_seconds() > 0;
   const struct {
     Row row;
@@ -742,7 +743,7 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
                {coo, "  of which COO insertion", solved},
                {line_search_row, "line search (energy, validity, segments)", solved},
                {contact, "contact: ghost surfaces, broad phase, CCD", solved && contact_row},
-               {patterns, "new matrix patterns (contact)", ev.preallocations > 0},
+               {patterns, "contact patterns: active sets, new matrices", solved && contact_row},
                {linear_row, "linear solve (KSP + AMG) and rest", solved},
                {output_row, "output", with_output},
                {other_row, "other (step reports, energies, checks)", true},
@@ -754,8 +755,10 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
     PetscCall(PetscPrintf(comm, "\n%-42s %10s\n", "phase (max over ranks)", "seconds"));
     for (const auto& r : table)
       if (r.shown) PetscCall(PetscPrintf(comm, "%-42s %10.3f\n", r.name, worst[r.row]));
-    if (ev.preallocations > 0)
-      PetscCall(PetscPrintf(comm, "(%ld new matrix pattern(s) after setup)\n", ev.preallocations));
+    if (ev.preallocations > 0 || ev.remaps > 0)
+      PetscCall(PetscPrintf(comm,
+                            "(%ld new matrix pattern(s) after setup, %ld active-set change(s) within the matrix)\n",
+                            ev.preallocations, ev.remaps));
     PetscCall(print_peak_memory(comm, measured));
   }
   PetscFunctionReturn(0);

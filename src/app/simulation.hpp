@@ -47,6 +47,7 @@ struct RunResult {
   int openmp_threads = 0;                // per rank, as set for the libraries (openmp_threads.hpp; 0: unknown)
   long max_contact_pairs = 0;            // over the steps (contact runs)
   long new_matrix_patterns = 0;          // matrices made after setup because a pattern changed (contact)
+  long pattern_remaps = 0;               // changed patterns that fitted the matrix (no new matrix)
   std::vector<std::string> timing_rows;  // the timing table's rows: the phases this run has
 };
 

@@ -1,5 +1,6 @@
 #include "assembly/hessian_assembler.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -57,12 +58,27 @@ bool HessianAssembler::pattern_changed() const {
   return false;
 }
 
-PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* changed) {
+PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matrix) {
   PetscFunctionBeginUser;
   for (auto& term : terms_) term.pattern->update_pattern(x);
   int local = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, dofs_.comm));
-  *changed = any != 0;
+  *new_matrix = false;
+  if (!any) PetscFunctionReturn(0);
+  // Only the changing terms' patterns change: map them onto the matrix's entries where they fit
+  // on every rank, else the caller makes a new matrix (whose pattern maps them again).
+  PetscCall(PetscLogEventBegin(log_events().pattern_remap, 0, 0, 0, 0));
+  bool fits = true;
+  if (local) PetscCall(map_changing_part(&fits));
+  int all_fit = fits ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &all_fit, 1, MPI_INT, MPI_MIN, dofs_.comm));
+  *new_matrix = all_fit == 0;
+  awaiting_rebuild_ = *new_matrix;
+  if (!*new_matrix) {
+    size_raw_values();
+    ++remaps_;
+  }
+  PetscCall(PetscLogEventEnd(log_events().pattern_remap, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -98,33 +114,35 @@ PetscErrorCode HessianAssembler::build_element_part() {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HessianAssembler::build_coo_part() {
+namespace {
+// The COO patterns of the terms t with pick(t) (the others get none), in term order, into
+// (rows, cols) from their end; each term's start in the raw values is raw_begin + its offset.
+template <class Pick>
+void gather_coo_patterns(const std::vector<HessianAssembler::Term>& terms, Pick&& pick, std::size_t raw_begin,
+                         std::vector<std::size_t>* term_begin, std::vector<std::size_t>* term_size,
+                         std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  std::vector<PetscInt> term_rows, term_cols;
+  for (std::size_t t = 0; t < terms.size(); ++t) {
+    if (!pick(t)) continue;
+    terms[t].pattern->coo_pattern(&term_rows, &term_cols);
+    (*term_begin)[t] = raw_begin + rows->size();
+    (*term_size)[t] = term_rows.size();
+    rows->insert(rows->end(), term_rows.begin(), term_rows.end());
+    cols->insert(cols->end(), term_cols.begin(), term_cols.end());
+  }
+}
+}  // namespace
+
+PetscErrorCode HessianAssembler::build_fixed_part() {
   PetscFunctionBeginUser;
-  // The other terms' raw COO lists (contact, friction, the lumped mass: small, or changing with
-  // the active set) after the element terms' values, then the Dirichlet diagonal.
+  // The COO terms whose pattern never changes (the lumped mass) after the element terms' values,
+  // then the Dirichlet diagonal.
   const std::vector<char>& prescribed = *dofs_.prescribed;
   const PetscInt num_owned_dofs = 3 * dofs_.num_owned_nodes;
   std::vector<PetscInt> rows, cols;
-  {
-    std::vector<std::vector<PetscInt>> term_rows(terms_.size()), term_cols(terms_.size());
-    std::size_t total = 0;
-    for (std::size_t t = 0; t < terms_.size(); ++t)
-      if (element_map_[t] < 0) {
-        terms_[t].pattern->coo_pattern(&term_rows[t], &term_cols[t]);
-        total += term_rows[t].size();
-      }
-    for (PetscInt k = 0; k < num_owned_dofs; ++k) total += prescribed[k] ? 1 : 0;
-    rows.reserve(total), cols.reserve(total);
-    pattern_versions_.clear();
-    for (std::size_t t = 0; t < terms_.size(); ++t) {
-      pattern_versions_.push_back(terms_[t].pattern->pattern_version());
-      if (element_map_[t] >= 0) continue;
-      term_begin_[t] = num_element_raw_ + rows.size();
-      term_size_[t] = term_rows[t].size();
-      rows.insert(rows.end(), term_rows[t].begin(), term_rows[t].end());
-      cols.insert(cols.end(), term_cols[t].begin(), term_cols[t].end());
-    }
-  }
+  gather_coo_patterns(
+      terms_, [&](std::size_t t) { return element_map_[t] < 0 && !changing(t); }, num_element_raw_, &term_begin_,
+      &term_size_, &rows, &cols);
   // Diagonal entries of the owned prescribed dofs: in the pattern, so that kinematic nodes
   // (no element of theirs is assembled) get one; their value is set by the elimination.
   dirichlet_raw_begin_ = num_element_raw_ + rows.size();
@@ -134,9 +152,89 @@ PetscErrorCode HessianAssembler::build_coo_part() {
       rows.push_back(owned_begin + k);
       cols.push_back(owned_begin + k);
     }
-  num_raw_entries_ = num_element_raw_ + rows.size();
-  PetscCall(others_.build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs));
+  changing_raw_begin_ = num_element_raw_ + rows.size();
+  PetscCall(fixed_.build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + num_owned_dofs));
+  const NodeBlockReduction& blocks = elements_.blocks();
+  fixed_extra_rows_.clear(), fixed_extra_cols_.clear();
+  fixed_.place([&](PetscInt row, PetscInt col, std::size_t* hint) { return blocks.find(row, col, hint); },
+               blocks.num_entries(), &fixed_extra_rows_, &fixed_extra_cols_);
   PetscFunctionReturn(0);
+}
+
+std::int64_t HessianAssembler::find_fixed_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const {
+  const NodeBlockReduction& blocks = elements_.blocks();
+  const std::int64_t k = blocks.find(row, col, row_hint);
+  if (k >= 0) return k;
+  // The fixed part's extra entries ascend by (row, col).
+  std::size_t lo = 0, hi = fixed_extra_rows_.size();
+  while (lo < hi) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (fixed_extra_rows_[mid] < row || (fixed_extra_rows_[mid] == row && fixed_extra_cols_[mid] < col))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  if (lo < fixed_extra_rows_.size() && fixed_extra_rows_[lo] == row && fixed_extra_cols_[lo] == col)
+    return static_cast<std::int64_t>(blocks.num_entries() + lo);
+  return -1;
+}
+
+std::int64_t HessianAssembler::find_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const {
+  const std::int64_t k = find_fixed_entry(row, col, row_hint);
+  return k >= 0 ? k : reserve_.find(row, col);
+}
+
+void HessianAssembler::build_reserve() {
+  // The changing terms' current entries and their reserved blocks, as node pairs.
+  std::vector<ReservedBlocks::NodePair> node_pairs;
+  std::vector<PetscInt> rows, cols;
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    if (!changing(t) || element_map_[t] >= 0) continue;
+    terms_[t].pattern->reserved_blocks(&node_pairs);
+    terms_[t].pattern->coo_pattern(&rows, &cols);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      if (rows[k] >= 0 && cols[k] >= 0) node_pairs.push_back({rows[k] / 3, cols[k] / 3});
+  }
+  const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
+  reserve_.build(
+      node_pairs, elements_.blocks(),
+      [&](PetscInt row, PetscInt col) { return find_fixed_entry(row, col, nullptr) >= 0; }, first);
+}
+
+PetscErrorCode HessianAssembler::map_changing_part(bool* fits) {
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> rows, cols;
+  gather_coo_patterns(
+      terms_, [&](std::size_t t) { return element_map_[t] < 0 && changing(t); }, changing_raw_begin_, &term_begin_,
+      &term_size_, &rows, &cols);
+  for (std::size_t t = 0; t < terms_.size(); ++t) pattern_versions_[t] = terms_[t].pattern->pattern_version();
+  const PetscInt owned_begin = static_cast<PetscInt>(3 * dofs_.node_offset);
+  PetscCall(
+      changing_.build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + 3 * dofs_.num_owned_nodes));
+  const std::size_t missing = changing_.place([&](PetscInt row, PetscInt col,
+                                                  std::size_t* hint) { return find_entry(row, col, hint); },
+                                              0, nullptr, nullptr);
+  *fits = missing == 0;
+  num_raw_entries_ = changing_raw_begin_ + rows.size();
+  PetscFunctionReturn(0);
+}
+
+void HessianAssembler::size_raw_values() {
+  if (device_matrix_)
+    LargePageVector<PetscScalar>().swap(values_);
+  else
+    values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
+  if (any_device_) {
+    d_values_.resize(num_raw_entries_);
+    // The Dirichlet diagonal's raw values are summed, then overwritten by the elimination:
+    // zeroed, so that no uninitialised memory is read.
+    if (changing_raw_begin_ > dirichlet_raw_begin_)
+      device::zero(d_values_.data() + dirichlet_raw_begin_,
+                   (changing_raw_begin_ - dirichlet_raw_begin_) * sizeof(double));
+  }
+  // The maps go to the device where the values are summed there (device terms and a device
+  // matrix), and then leave the host.
+  if (device_matrix_) changing_.keep_on_device();
 }
 
 PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
@@ -153,12 +251,17 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
     PetscCall(build_element_part());
     PetscCall(PetscLogEventEnd(log_events().node_blocks, 0, 0, 0, 0));
   }
-  PetscCall(build_coo_part());
+  PetscCall(build_fixed_part());
+  build_reserve();
+  awaiting_rebuild_ = false;
+  bool fits;
+  PetscCall(map_changing_part(&fits));
+  PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the changing Hessian terms' entries are not all in their reserve");
 
-  // The matrix's entries: the element blocks', then those of the COO part that no block holds.
+  // The matrix's entries: the element blocks', the fixed part's that no block holds, the reserve.
   const NodeBlockReduction& blocks = elements_.blocks();
-  std::vector<PetscInt> extra_rows, extra_cols;
-  others_.place(blocks, &extra_rows, &extra_cols);
+  std::vector<PetscInt> extra_rows = fixed_extra_rows_, extra_cols = fixed_extra_cols_;
+  reserve_.entries(&extra_rows, &extra_cols);
   num_unique_ = blocks.num_entries() + extra_rows.size();
   // PETSc's AIJ matrices count a rank's nonzeros in PetscInt (row offsets).
   PetscCheck(num_unique_ <= static_cast<std::size_t>(PETSC_MAX_INT), PETSC_COMM_SELF, PETSC_ERR_SUP,
@@ -169,22 +272,11 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
   dirichlet_.find(blocks, extra_rows, extra_cols, *dofs_.local_to_global, *dofs_.prescribed, owned_begin,
                   owned_begin + 3 * dofs_.num_owned_nodes);
 
-  if (device_matrix_)
-    LargePageVector<PetscScalar>().swap(values_);
-  else
-    values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
-  if (any_device_) {
-    d_values_.resize(num_raw_entries_);
-    // The Dirichlet diagonal's raw values are summed, then overwritten by the elimination:
-    // zeroed once, so that no uninitialised memory is read.
-    if (num_raw_entries_ > dirichlet_raw_begin_)
-      device::zero(d_values_.data() + dirichlet_raw_begin_, (num_raw_entries_ - dirichlet_raw_begin_) * sizeof(double));
-  }
-  // The maps go to the device where the values are summed there (device terms and a device
-  // matrix), and then leave the host; the blocks' layout stays for the next pattern change.
+  size_raw_values();
+  // The other maps go to the device too; the blocks' layout stays for the next pattern change.
   if (device_matrix_) {
     elements_.keep_on_device();
-    others_.keep_on_device();
+    fixed_.keep_on_device();
     dirichlet_.keep_on_device();
   }
   PetscCall(PetscLogEventEnd(log_events().coo_reduction, 0, 0, 0, 0));
@@ -231,6 +323,8 @@ PetscErrorCode HessianAssembler::begin_values() {
   const bool on_device = matrix_on_device(J_) && any_device_;
   PetscCheck(on_device == device_matrix_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "Hessian requested into a matrix in another memory space than the pattern's");
+  PetscCheck(!awaiting_rebuild_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Hessian requested before the new matrix that update_patterns() asked for");
   if (elements_.chunked()) unique_values_.assign(num_unique_, 0.0);
   PetscFunctionReturn(0);
 }
@@ -273,21 +367,27 @@ PetscErrorCode HessianAssembler::insert_values() {
 }
 
 double* HessianAssembler::sum_values() {
-  // Per entry: the element part's sum, plus the COO part's sum (entries of their own start from
-  // 0), then the Dirichlet elimination; the same order on the host and on the device.
+  // Per entry: the element part's sum, then the fixed part's, then the changing part's (the
+  // entries after the blocks start from 0), then the Dirichlet elimination; the same order on
+  // the host and on the device.
   const std::size_t num_block_entries = elements_.blocks().num_entries();
+  const std::size_t num_extra = num_unique_ - num_block_entries;
   if (device_matrix_) {
     d_unique_values_.resize(num_unique_);
     double* unique = d_unique_values_.data();
     elements_.reduce_on_device(d_values_.data(), unique);
-    others_.add_on_device(d_values_.data() + num_element_raw_, unique, num_block_entries);
+    if (num_extra > 0) device::zero(unique + num_block_entries, num_extra * sizeof(double));
+    fixed_.add_on_device(d_values_.data() + num_element_raw_, unique);
+    changing_.add_on_device(d_values_.data() + changing_raw_begin_, unique);
     dirichlet_.apply_on_device(unique);
     return unique;
   }
   unique_values_.resize(num_unique_);
   double* unique = unique_values_.data();
   elements_.reduce(values_.data(), unique);  // nothing when chunked: add_element_chunks summed them
-  others_.add(values_.data() + (num_element_raw_ - host_raw_offset()), unique, num_block_entries);
+  if (!elements_.chunked()) std::fill(unique + num_block_entries, unique + num_unique_, 0.0);
+  fixed_.add(values_.data() + (num_element_raw_ - host_raw_offset()), unique);
+  changing_.add(values_.data() + (changing_raw_begin_ - host_raw_offset()), unique);
   dirichlet_.apply(unique);
   return unique;
 }

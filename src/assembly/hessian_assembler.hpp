@@ -1,23 +1,29 @@
 // HessianAssembler: the Hessian as a distributed PETSc matrix, its pattern made from the terms'
 // patterns (HessianPattern) and its values summed from the raw values the terms write.
 //
-// The matrix is preallocated again only when a term's pattern changes (the contact active set),
-// never per iteration otherwise. The terms (the potential's forms, in their order) write their
-// raw values into one array made of parts, each with its own reduction into the matrix's
-// distinct entries, so that a part can be rebuilt without the others (the element part is
-// never rebuilt) and a further part could be given its own home:
-//   element part  the element forms' values (elastic, consistent mass), element by element in
-//                 their layouts, first, so that their offsets stay put when the other terms'
-//                 patterns change; summed into the distinct node blocks (ElementBlockPart,
-//                 built once: their patterns never change, and are never expanded to 576
-//                 scalar entries per hex), the matrix's first entries;
-//   COO part      the other terms' values in their COO patterns' order, then the owned
-//                 Dirichlet diagonal (in the pattern only: the elimination sets its value);
-//                 summed over their small lists (CooPart) onto the blocks, or onto entries of
-//                 their own after the blocks'.
-// The Dirichlet elimination (DirichletElimination) then sets the prescribed rows and columns.
-// PETSc is given only the distinct entries: through MatSetValuesCOO, or written straight into
-// the matrix's arrays for the types DirectMatrix serves.
+// The matrix is made at setup and again only when a term's changed pattern (the contact active
+// set) needs entries it lacks, never per iteration otherwise. Its entries: the element forms'
+// node blocks, the fixed COO terms' entries that no block holds, and a reserve for the terms
+// whose pattern changes (ReservedBlocks: their candidate pairs' blocks), so that an active set
+// changing within the reserve only remaps that term's values (O(its entries)), keeps the matrix
+// and lets the preconditioner be reused. The terms (the potential's forms) write their raw
+// values into one array made of parts, each with its own reduction into the matrix's entries:
+//   element part   the element forms' values (elastic, consistent mass), element by element in
+//                  their layouts, first, so that their offsets stay put; summed into the
+//                  distinct node blocks (ElementBlockPart, built once: their patterns never
+//                  change, and are never expanded to 576 scalar entries per hex), the matrix's
+//                  first entries;
+//   fixed part     the COO terms whose pattern never changes (the lumped mass) in their order,
+//                  then the owned Dirichlet diagonal (in the pattern only: the elimination sets
+//                  its value); summed over their small lists (CooPart) onto the blocks, or onto
+//                  entries of their own after the blocks';
+//   changing part  the terms whose pattern changes (contact, friction), last, so that a new
+//                  active set resizes only it; summed (CooPart) onto the blocks, the fixed
+//                  part's entries or the reserve.
+// Entries after the blocks are zeroed before the parts add onto them; the Dirichlet
+// elimination (DirichletElimination) then sets the prescribed rows and columns. PETSc is given
+// only the distinct entries: through MatSetValuesCOO, or written straight into the matrix's
+// arrays for the types DirectMatrix serves.
 //
 // Values are summed where the matrix lives: on the device for a device matrix
 // (device_matrix.hpp) when device terms exist, else on the host. A term writes its raw values
@@ -35,6 +41,7 @@
 #include "assembly/element_block_part.hpp"
 #include "assembly/hessian_pattern.hpp"
 #include "assembly/large_page_vector.hpp"
+#include "assembly/reserved_blocks.hpp"
 #include "device/device_runtime.hpp"
 #include "device/memory_space.hpp"
 
@@ -75,9 +82,11 @@ class HessianAssembler {
   // The caller replaces the matrix: the next create_matrix() rebuilds the pattern.
   void forget_matrix() { J_ = nullptr; }
 
-  // Collective. Lets the terms fix their patterns at x (host array); *changed on every rank
-  // when the combined pattern differs from the matrix's.
-  PetscErrorCode update_patterns(const double* x, bool* changed);
+  // Collective. Lets the terms fix their patterns at x (host array). Where a pattern changed
+  // and the matrix holds all its entries, the term's values are mapped onto them; *new_matrix
+  // on every rank when some rank's do not fit, and then rebuild_pattern() (or a new matrix)
+  // must follow before the next assembly.
+  PetscErrorCode update_patterns(const double* x, bool* new_matrix);
   // Collective. The matrix in use takes the terms' current pattern (its handle stays).
   PetscErrorCode rebuild_pattern() { return rebuild_pattern(false); }
 
@@ -99,6 +108,11 @@ class HessianAssembler {
   // Raw Hessian values per assembly (576 per hex for the elastic form), the Dirichlet diagonal
   // included.
   std::size_t num_raw_entries() const { return num_raw_entries_; }
+  // The matrix's entries on this rank, and those of them reserved for changing patterns.
+  std::size_t num_entries() const { return num_unique_; }
+  std::size_t num_reserved_entries() const { return reserve_.num_entries(); }
+  // Pattern changes that fitted the matrix (no new matrix), since setup.
+  long remaps() const { return remaps_; }
 
  private:
   // template_matrix: J_ is create_matrix()'s unpreallocated matrix (a direct matrix replaces
@@ -106,8 +120,21 @@ class HessianAssembler {
   PetscErrorCode rebuild_pattern(bool template_matrix);
   // The element terms' node blocks and their place in the raw values (once).
   PetscErrorCode build_element_part();
-  // The other terms' COO lists and the Dirichlet diagonal, and their place in the raw values.
-  PetscErrorCode build_coo_part();
+  // The fixed COO terms' lists and the Dirichlet diagonal, their place in the raw values, and
+  // the entries of theirs that no block holds (fixed_extra_rows_, fixed_extra_cols_).
+  PetscErrorCode build_fixed_part();
+  // The reserve for the changing terms: their current patterns' and reserved_blocks()' blocks.
+  void build_reserve();
+  // The changing terms' lists and their place in the raw values and among the matrix's entries;
+  // *fits false where an entry has no place.
+  PetscErrorCode map_changing_part(bool* fits);
+  // The raw value arrays sized for the parts, the maps on the device where values are summed there.
+  void size_raw_values();
+  // The matrix entry of the dof pair (row, col) among the blocks' and the fixed part's, or -1.
+  std::int64_t find_fixed_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const;
+  // The same among all the matrix's entries (the reserve's too).
+  std::int64_t find_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const;
+  bool changing(std::size_t t) const { return terms_[t].pattern->pattern_may_change(); }
   // The matrix J_ from the entries: the blocks', then (extra_rows[v], extra_cols[v]).
   PetscErrorCode make_matrix(bool template_matrix, const std::vector<PetscInt>& extra_rows,
                              const std::vector<PetscInt>& extra_cols);
@@ -128,8 +155,9 @@ class HessianAssembler {
   std::vector<std::size_t> term_begin_, term_size_;
   std::vector<int> element_map_;         // per term: its index among the node blocks' forms, or -1
   std::size_t num_element_raw_ = 0;      // raw values of the element part (the array's start)
-  std::size_t dirichlet_raw_begin_ = 0;  // the Dirichlet diagonal's raw values, to the end
-  std::size_t num_raw_entries_ = 0;      // element part, COO part (with the Dirichlet diagonal)
+  std::size_t dirichlet_raw_begin_ = 0;  // the Dirichlet diagonal's raw values
+  std::size_t changing_raw_begin_ = 0;   // the changing part's raw values, to the end
+  std::size_t num_raw_entries_ = 0;      // element, fixed (with the Dirichlet diagonal), changing part
   // The raw values on the host: only for a host matrix, and without the element part's when it
   // is summed chunk by chunk (values_ then starts at the COO part). With a device matrix the host
   // keeps neither these nor the maps, only the block of the largest host term (friction) in
@@ -138,7 +166,13 @@ class HessianAssembler {
   std::vector<PetscScalar> host_block_;
   device::Array<double> d_values_{"Hessian COO values"};
   ElementBlockPart elements_;
-  CooPart others_;
+  CooPart fixed_, changing_;
+  // The fixed part's entries that no block holds (entries from blocks.num_entries() on), by row
+  // then column; the reserve's follow them.
+  std::vector<PetscInt> fixed_extra_rows_, fixed_extra_cols_;
+  ReservedBlocks reserve_;
+  long remaps_ = 0;
+  bool awaiting_rebuild_ = false;  // update_patterns() asked for a new matrix, not yet made
   DirichletElimination dirichlet_;
   std::size_t num_unique_ = 0;  // the matrix's entries on this rank
   LargePageVector<PetscScalar> unique_values_;

@@ -8,6 +8,8 @@
 #pragma once
 #include <petscsys.h>
 
+#include <array>
+#include <cstdint>
 #include <vector>
 
 #include "assembly/element_pattern.hpp"
@@ -43,6 +45,11 @@ class HessianPattern {
   // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
   // made at setup is the only one.
   virtual bool pattern_may_change() const { return false; }
+  // Terms whose pattern may change: node blocks, as (global row node, global column node), for
+  // which the matrix keeps entries beyond coo_pattern()'s, so that the pattern can change
+  // within them without a new matrix (reserved_blocks.hpp). Contact gives its candidate pairs'
+  // blocks; repeats are allowed. Asked when the assembler makes a matrix.
+  virtual void reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const {}
 };
 
 }  // namespace dipc

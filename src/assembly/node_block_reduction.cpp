@@ -216,23 +216,29 @@ void NodeBlockReduction::entries(std::vector<PetscInt>* rows, std::vector<PetscI
   }
 }
 
-std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col, std::size_t* row_hint) const {
-  if (row < 0 || col < 0 || row_nodes.empty()) return -1;
-  const std::int64_t node = row / 3;
+std::int64_t NodeBlockReduction::find_block(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint) const {
+  if (row_node < 0 || col_node < 0 || row_nodes.empty()) return -1;
   auto from = row_nodes.begin();
-  if (row_hint && *row_hint < row_nodes.size() && row_nodes[*row_hint] <= node) {
+  if (row_hint && *row_hint < row_nodes.size() && row_nodes[*row_hint] <= row_node) {
     from += static_cast<std::ptrdiff_t>(*row_hint);
-    if (*from != node && from + 1 != row_nodes.end() && from[1] == node) ++from;  // the next row
+    if (*from != row_node && from + 1 != row_nodes.end() && from[1] == row_node) ++from;  // the next row
   }
-  const auto r = *from == node ? from : std::lower_bound(from, row_nodes.end(), node);
+  const auto r = *from == row_node ? from : std::lower_bound(from, row_nodes.end(), row_node);
   if (row_hint) *row_hint = static_cast<std::size_t>(std::min(r, row_nodes.end() - 1) - row_nodes.begin());
-  if (r == row_nodes.end() || *r != node) return -1;
+  if (r == row_nodes.end() || *r != row_node) return -1;
   const std::size_t s = static_cast<std::size_t>(r - row_nodes.begin());
   const auto first = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s]);
   const auto last = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s + 1]);
-  const auto c = std::lower_bound(first, last, col / 3);
-  if (c == last || *c != col / 3) return -1;
-  const std::size_t k = static_cast<std::size_t>(c - block_col.begin());
+  const auto c = std::lower_bound(first, last, col_node);
+  if (c == last || *c != col_node) return -1;
+  return static_cast<std::int64_t>(c - block_col.begin());
+}
+
+std::int64_t NodeBlockReduction::find(std::int64_t row, std::int64_t col, std::size_t* row_hint) const {
+  if (row < 0 || col < 0) return -1;
+  const std::int64_t b = find_block(row / 3, col / 3, row_hint);
+  if (b < 0) return -1;
+  const std::size_t k = static_cast<std::size_t>(b);
   const int bit = static_cast<int>(3 * (row % 3) + col % 3);
   if (!(block_mask[k] >> bit & 1u)) return -1;
   return static_cast<std::int64_t>(block_start[k]) + entry_in_block(block_mask[k], bit);

@@ -82,6 +82,8 @@ class NodeBlockReduction {
   // at: a pass over pairs sorted by row (start with 0) then finds each row in a step or two
   // instead of a binary search (3M lumped-mass diagonal entries at 1M hexes took 0.25 s so).
   std::int64_t find(std::int64_t row, std::int64_t col, std::size_t* row_hint = nullptr) const;
+  // The block of the node pair (row_node, col_node), or -1; row_hint as for find().
+  std::int64_t find_block(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint = nullptr) const;
   // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).
   void reduce(const double* raw, double* unique) const;
 

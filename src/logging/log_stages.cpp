@@ -26,6 +26,7 @@ const LogEvents& log_events() {
     PetscLogEventRegister("dipcValidity", id, &r.validity);
     PetscLogEventRegister("dipcCooReduction", id, &r.coo_reduction);
     PetscLogEventRegister("dipcNodeBlocks", id, &r.node_blocks);
+    PetscLogEventRegister("dipcPatternRemap", id, &r.pattern_remap);
     PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
     PetscLogEventRegister("dipcMatrixRows", id, &r.matrix_rows);
     PetscLogEventRegister("dipcMatrixMake", id, &r.matrix_make);

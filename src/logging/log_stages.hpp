@@ -13,7 +13,7 @@ const LogStages& log_stages();
 // Events: the potential's evaluations and matrix pattern (IncrementalPotential), and one per
 // phase of the time integrator's setup (TimeIntegrator::setup).
 struct LogEvents {
-  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix;
+  PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix, pattern_remap;
   PetscLogEvent matrix_rows, matrix_make;  // direct_matrix's parts: its rows' pattern, the Mat from it
   PetscLogEvent setup_elements, setup_masses, setup_forms, setup_state, setup_solver, contact_check;
 };

@@ -32,6 +32,7 @@ EvaluationTimes operator-(const EvaluationTimes& a, const EvaluationTimes& b) {
   d.energy = a.energy - b.energy, d.gradient = a.gradient - b.gradient, d.hessian = a.hessian - b.hessian;
   d.validity = a.validity - b.validity, d.coo_insert = a.coo_insert - b.coo_insert;
   d.preallocation = a.preallocation - b.preallocation, d.preallocations = a.preallocations - b.preallocations;
+  d.remaps = a.remaps - b.remaps;
   d.segment = a.segment - b.segment, d.neighbourhood = a.neighbourhood - b.neighbourhood;
   d.max_step = a.max_step - b.max_step;
   return d;
@@ -40,6 +41,7 @@ EvaluationTimes operator-(const EvaluationTimes& a, const EvaluationTimes& b) {
 EvaluationTimes& operator+=(EvaluationTimes& s, const EvaluationTimes& a) {
   s.energy += a.energy, s.gradient += a.gradient, s.hessian += a.hessian, s.validity += a.validity;
   s.coo_insert += a.coo_insert, s.preallocation += a.preallocation, s.preallocations += a.preallocations;
+  s.remaps += a.remaps;
   s.segment += a.segment, s.neighbourhood += a.neighbourhood, s.max_step += a.max_step;
   return s;
 }
@@ -264,9 +266,9 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   if (any_pattern_change_) {
-    bool changed;
-    PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), &changed));
-    if (changed) {
+    bool new_matrix;
+    PetscCall(update_patterns(&new_matrix));
+    if (new_matrix) {
       const double start = MPI_Wtime();
       PetscCall(assembler_.rebuild_pattern());
       times_.preallocation += MPI_Wtime() - start;
@@ -297,17 +299,27 @@ bool IncrementalPotential::assemble_values(LocalViews& x) {
   return ok;
 }
 
+PetscErrorCode IncrementalPotential::update_patterns(bool* new_matrix) {
+  PetscFunctionBeginUser;
+  const double start = MPI_Wtime();
+  const long remaps_before = assembler_.remaps();
+  PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), new_matrix));
+  times_.remaps += assembler_.remaps() - remaps_before;
+  times_.preallocation += MPI_Wtime() - start;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {
   PetscFunctionBeginUser;
   *changed = PETSC_FALSE;
   if (!any_pattern_change_) PetscFunctionReturn(0);  // the matrix made at setup serves the whole run
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
-  bool any;
-  PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), &any));
+  bool new_matrix;
+  PetscCall(update_patterns(&new_matrix));
   PetscCall(x_views_.end());
-  *changed = any ? PETSC_TRUE : PETSC_FALSE;
-  if (any) assembler_.forget_matrix();  // the caller replaces the matrix: create_matrix() rebuilds the pattern
+  *changed = new_matrix ? PETSC_TRUE : PETSC_FALSE;
+  if (new_matrix) assembler_.forget_matrix();  // the caller replaces the matrix: create_matrix() rebuilds the pattern
   PetscFunctionReturn(0);
 }
 

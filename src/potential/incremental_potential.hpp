@@ -41,9 +41,12 @@ namespace dipc {
 // subtract them all from a wall time that encloses them (the timing table's remainder).
 struct EvaluationTimes {
   double energy = 0, gradient = 0, hessian = 0, validity = 0;
-  double coo_insert = 0;     // summing duplicates and MatSetValuesCOO (part of hessian)
-  double preallocation = 0;  // making the matrix: CooReduction::build, MatSetPreallocationCOO
-  long preallocations = 0;   // how many times the pattern was set (1 at setup, then pattern changes)
+  double coo_insert = 0;  // summing duplicates and MatSetValuesCOO (part of hessian)
+  // The matrix's pattern: the terms' active sets, changed patterns mapped onto the matrix's
+  // entries (remaps), and new matrices (CooReduction::build, the matrix's creation).
+  double preallocation = 0;
+  long preallocations = 0;   // how many times a matrix was made (1 at setup, then patterns that did not fit)
+  long remaps = 0;           // changed patterns that fitted the matrix
   double segment = 0;        // gathering a line-search segment's x and p where the forms evaluate
   double neighbourhood = 0;  // forms' update_extra_nodes + prepare_segment (ghost surfaces, broad phase)
   double max_step = 0;       // forms' max_step (CCD); zero without a form that limits the step
@@ -83,9 +86,9 @@ class IncrementalPotential {
   PetscErrorCode partial_gradient(Vec x, Vec g, const std::function<bool(const Form&)>& include,
                                   bool keep_prescribed = false);
   PetscErrorCode hessian(Vec x, Mat J);
-  // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when the combined
-  // pattern differs from the current matrix's, which the caller must then replace with
-  // create_matrix().
+  // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when a changed
+  // pattern does not fit the current matrix, which the caller must then replace with
+  // create_matrix() (a change that fits keeps the matrix: HessianAssembler).
   PetscErrorCode refresh_pattern(Vec x, PetscBool* changed);
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
@@ -123,7 +126,9 @@ class IncrementalPotential {
   const EvaluationTimes& times() const { return times_; }
 
  private:
-  PetscErrorCode gather(Vec x);                   // x -> x_local_
+  PetscErrorCode gather(Vec x);  // x -> x_local_
+  // The assembler's update_patterns at the gathered x (x_views_ begun), timed as preallocation.
+  PetscErrorCode update_patterns(bool* new_matrix);
   PetscErrorCode assemble_hessian(Vec x, Mat J);  // hessian() without its timer
   bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
   // Sums the forms' values at the local arrays x (one per space); false if any rejects x.

@@ -232,4 +232,20 @@ void ContactSet::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>*
   }
 }
 
+void ContactSet::reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const {
+  for_each_pair([&](CandidateKind kind, std::size_t i) {
+    if (kind == CandidateKind::vertex_plane) return true;
+    const PairInfo info = describe(kind, i);
+    std::int64_t node[4];
+    int n = 0;
+    for (int k = 0; k < info.count; ++k) {
+      const std::int64_t g = global_node(info.nodes[k]);
+      if (!is_obstacle_node(g)) node[n++] = g;  // obstacle nodes have no unknowns
+    }
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) blocks->push_back({node[a], node[b]});
+    return true;
+  });
+}
+
 }  // namespace dipc

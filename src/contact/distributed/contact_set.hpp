@@ -168,6 +168,10 @@ class ContactSet {
   long pattern_version() const { return pattern_version_; }
   // Global dof indices of the pattern's body-node blocks, pair by pair.
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  // The body-node blocks (global row node, global column node) of every candidate pair but the
+  // vertex–plane ones (always in the pattern): room in the matrix for the active set to change
+  // within the candidates of the last broad phase (assembly/reserved_blocks.hpp). Appends.
+  void reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const;
 
   // ---- diagnostics ----
   // Edge–triangle crossings at x between this rank's owned edges and every triangle known

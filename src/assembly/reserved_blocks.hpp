@@ -1,0 +1,58 @@
+// ReservedBlocks: matrix entries kept for the Hessian terms whose pattern changes (contact's
+// active set, friction's lagged pairs), beyond those the element blocks and the fixed COO
+// terms already hold, so that the active set can change within them without a new matrix.
+//
+// A change of the contact active set used to make a new matrix: the whole COO part reduced
+// again, a new hypre matrix of every entry, and a fresh BoomerAMG setup, once per Newton
+// iteration on contact-rich steps (0.54 s of 1.56 s per iteration at 1M hexes on one H200,
+// docs/performance.md, "Contact-rich family"). The assembler instead gives the matrix the node
+// blocks of every contact *candidate* pair (the broad phase's pairs, a superset of the active
+// ones along the current Newton segment) and maps the active pairs' values into them; their
+// other entries hold zeros. Only an active pair outside the reserve (bodies that moved further
+// than the candidates' inflation) makes a new matrix, which reserves the candidates of that
+// moment.
+//
+// The reserve is a list of node blocks (row node, column node), sorted, each with the mask of
+// its entries that no element block or fixed entry holds (bit 3i + j); entries are numbered
+// block by block from `first_entry` on, bits ascending.
+#pragma once
+#include <petscsys.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "assembly/node_block_reduction.hpp"
+
+namespace dipc {
+
+class ReservedBlocks {
+ public:
+  using NodePair = std::array<std::int64_t, 2>;
+  // held(row, col): whether an entry already exists (element blocks, fixed entries).
+  using Held = std::function<bool(PetscInt row, PetscInt col)>;
+
+  // The reserve of the node pairs (row node, column node) given, in any order and repeated:
+  // their blocks' entries that `blocks` and `held` do not hold, numbered from first_entry.
+  // Sorts node_pairs in place.
+  void build(std::vector<NodePair>& node_pairs, const NodeBlockReduction& blocks, const Held& held,
+             std::size_t first_entry);
+  void clear() { *this = ReservedBlocks(); }
+
+  std::size_t num_blocks() const { return pairs_.size(); }
+  std::size_t num_entries() const { return num_entries_; }
+  // The matrix entry of the dof pair (row, col), or -1 where the reserve has none.
+  std::int64_t find(PetscInt row, PetscInt col) const;
+  // Appends the global dof ids of every entry, in entry order.
+  void entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+
+ private:
+  std::vector<NodePair> pairs_;      // ascending
+  std::vector<std::uint16_t> mask_;  // the block's reserved entries
+  std::vector<std::size_t> start_;   // the block's first entry
+  std::size_t num_entries_ = 0;
+};
+
+}  // namespace dipc

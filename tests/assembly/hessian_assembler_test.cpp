@@ -1,0 +1,209 @@
+// HessianAssembler with a term whose pattern changes (as contact's active set does): a change
+// within the reserved blocks keeps the matrix and maps the term's values onto its entries, and
+// the matrix then equals the one a fresh assembler makes for the new pattern (the reserve's
+// other entries hold zeros); a change outside the reserve on any rank asks every rank for a new
+// matrix, after which the matrix again equals a fresh one. Pairs reach other ranks' nodes, so
+// entries of other ranks' rows take part; both the host AIJ made from the entries and PETSc's
+// COO path are checked.
+#include <gtest/gtest.h>
+#include <petscmat.h>
+
+#include <array>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "assembly/hessian_assembler.hpp"
+
+namespace dipc {
+namespace {
+
+constexpr int kNodesPerRank = 12;
+using NodePairs = std::vector<std::array<std::int64_t, 2>>;
+
+// A fixed diagonal (a lumped mass) over the owned dofs.
+class DiagonalTerm : public HessianPattern {
+ public:
+  DiagonalTerm(std::int64_t first_dof, int num_dofs) : first_(first_dof), n_(num_dofs) {}
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override {
+    rows->clear(), cols->clear();
+    for (int k = 0; k < n_; ++k) rows->push_back(static_cast<PetscInt>(first_ + k)), cols->push_back(rows->back());
+  }
+  void values(double* v) const {
+    for (int k = 0; k < n_; ++k) v[k] = 10.0 + static_cast<double>(first_ + k);
+  }
+
+ private:
+  std::int64_t first_;
+  int n_;
+};
+
+// Node pairs whose full 3x3 blocks (both orientations) are the pattern, with values a function
+// of (row, col) and of the pair, so that repeated entries sum; reserves `reserve`'s blocks.
+class PairTerm : public HessianPattern {
+ public:
+  void set(NodePairs active, NodePairs reserve) {
+    active_ = std::move(active), reserve_ = std::move(reserve);
+    ++version_;
+  }
+  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override {
+    rows->clear(), cols->clear();
+    for_each_entry([&](std::size_t, PetscInt r, PetscInt c) { rows->push_back(r), cols->push_back(c); });
+  }
+  void values(double* v) const {
+    for_each_entry([&](std::size_t k, PetscInt r, PetscInt c) { v[k] = 0.5 + 0.01 * r + 0.003 * c + 1e-4 * k; });
+  }
+  long pattern_version() const override { return version_; }
+  bool pattern_may_change() const override { return true; }
+  void reserved_blocks(NodePairs* blocks) const override {
+    for (const auto& p : reserve_)
+      for (const std::int64_t a : {p[0], p[1]})
+        for (const std::int64_t b : {p[0], p[1]}) blocks->push_back({a, b});
+  }
+
+ private:
+  template <class F>
+  void for_each_entry(F&& f) const {
+    std::size_t k = 0;
+    for (const auto& p : active_)
+      for (const std::int64_t a : {p[0], p[1]})
+        for (const std::int64_t b : {p[0], p[1]})
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) f(k++, static_cast<PetscInt>(3 * a + i), static_cast<PetscInt>(3 * b + j));
+  }
+  NodePairs active_, reserve_;
+  long version_ = 0;
+};
+
+// One rank's assembler over its kNodesPerRank owned nodes, with the two terms.
+struct Assembly {
+  std::vector<std::int64_t> local_to_global;
+  std::vector<char> prescribed;
+  DiagonalTerm diagonal;
+  PairTerm pairs;
+  HessianAssembler assembler;
+  Mat J = nullptr;
+
+  explicit Assembly(int rank) : diagonal(3 * kNodesPerRank * rank, 3 * kNodesPerRank) {
+    for (int n = 0; n < kNodesPerRank; ++n) local_to_global.push_back(kNodesPerRank * rank + n);
+    prescribed.assign(3 * local_to_global.size(), 0);
+  }
+  ~Assembly() { MatDestroy(&J); }
+  void setup(int rank) {
+    HessianAssembler::Dofs dofs{PETSC_COMM_WORLD, kNodesPerRank * rank, kNodesPerRank, &local_to_global, &prescribed};
+    ASSERT_EQ(assembler.setup(dofs, {{&diagonal, MemorySpace::host, "diagonal"}, {&pairs, MemorySpace::host, "pairs"}}),
+              0);
+    ASSERT_EQ(assembler.create_matrix(&J), 0);
+  }
+  void assemble() {
+    ASSERT_EQ(assembler.begin_values(), 0);
+    diagonal.values(assembler.values_for(0));
+    assembler.values_written(0);
+    pairs.values(assembler.values_for(1));
+    assembler.values_written(1);
+    ASSERT_EQ(assembler.insert_values(), 0);
+  }
+};
+
+// Pairs of this rank's nodes with nodes of this and the next rank, drawn with `seed`.
+NodePairs draw_pairs(int rank, int size, unsigned seed, int count) {
+  std::mt19937 rng(seed + 17u * static_cast<unsigned>(rank));
+  std::uniform_int_distribution<int> own(0, kNodesPerRank - 1), other(0, 2 * kNodesPerRank - 1);
+  NodePairs p;
+  for (int k = 0; k < count; ++k) {
+    const std::int64_t a = kNodesPerRank * rank + own(rng);
+    const std::int64_t b = (kNodesPerRank * rank + other(rng)) % (kNodesPerRank * size);
+    if (a != b) p.push_back({a, b});
+  }
+  return p;
+}
+
+// max |A v - B v| / max |B v| over a few random vectors.
+double relative_difference(Mat A, Mat B) {
+  Vec v, a, b;
+  MatCreateVecs(A, &v, &a);
+  VecDuplicate(a, &b);
+  PetscRandom rnd;
+  PetscRandomCreate(PETSC_COMM_WORLD, &rnd);
+  double worst = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    VecSetRandom(v, rnd);
+    MatMult(A, v, a);
+    MatMult(B, v, b);
+    PetscReal scale;
+    VecNorm(b, NORM_INFINITY, &scale);
+    VecAXPY(a, -1.0, b);
+    PetscReal diff;
+    VecNorm(a, NORM_INFINITY, &diff);
+    worst = std::max(worst, diff / scale);
+  }
+  PetscRandomDestroy(&rnd);
+  VecDestroy(&v), VecDestroy(&a), VecDestroy(&b);
+  return worst;
+}
+
+NodePairs joined(NodePairs a, const NodePairs& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+void check_changes(const char* mat_type) {
+  int rank, size;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  PetscOptionsSetValue(nullptr, "-mat_type", mat_type);
+  const NodePairs first = draw_pairs(rank, size, 1, 10), second = draw_pairs(rank, size, 2, 10);
+  // Pairs outside the reserve on rank 0 only (rank 0's owned nodes with their neighbours: no
+  // earlier draw took them all).
+  NodePairs outside;
+  for (int n = 0; n + 1 < kNodesPerRank; ++n) outside.push_back({n, n + 1});
+
+  Assembly changing(rank);
+  changing.pairs.set(first, joined(first, second));
+  changing.setup(rank);
+  changing.assemble();
+  const Mat original = changing.J;
+
+  // Within the reserve: the same matrix, the new values.
+  changing.pairs.set(second, {});
+  bool new_matrix = true;
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_FALSE(new_matrix);
+  EXPECT_EQ(changing.assembler.remaps(), 1);
+  changing.assemble();
+  EXPECT_EQ(changing.J, original);
+  {
+    Assembly fresh(rank);
+    fresh.pairs.set(second, {});
+    fresh.setup(rank);
+    fresh.assemble();
+    EXPECT_LT(relative_difference(changing.J, fresh.J), 1e-14);
+    EXPECT_GT(changing.assembler.num_entries(), fresh.assembler.num_entries());  // the reserve's zeros
+  }
+
+  // Outside the reserve on rank 0: every rank is asked for a new matrix.
+  changing.pairs.set(rank == 0 ? joined(second, outside) : second, {});
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_TRUE(new_matrix);
+  ASSERT_EQ(changing.assembler.rebuild_pattern(), 0);
+  changing.assemble();
+  {
+    Assembly fresh(rank);
+    fresh.pairs.set(rank == 0 ? joined(second, outside) : second, {});
+    fresh.setup(rank);
+    fresh.assemble();
+    EXPECT_LT(relative_difference(changing.J, fresh.J), 1e-14);
+  }
+  PetscOptionsClearValue(nullptr, "-mat_type");
+}
+
+TEST(HessianAssembler, PatternChangesWithinTheReserveKeepTheMatrix) { check_changes("aij"); }
+
+TEST(HessianAssembler, PatternChangesOnPetscCooPath) {
+  PetscOptionsSetValue(nullptr, "-dipc_direct_matrix", "0");
+  check_changes("aij");
+  PetscOptionsClearValue(nullptr, "-dipc_direct_matrix");
+}
+
+}  // namespace
+}  // namespace dipc
