@@ -1,7 +1,9 @@
 // PolyFEM scene → dipc Scene. Meanings and defaults follow PolyFEM's specification
 // (json-specs/input-spec.json, material-parameters.json, selection.json) and its readers:
 //  - transformation: x = R·diag(scale)·X + translation (mesh/GeometryReader.cpp: scale first,
-//    then rotate about the origin, then translate); rotation in degrees, rotation_mode "xyz"
+//    then rotate about the origin, then translate); a list `dimensions` replaces `scale` by the
+//    factors that give the mesh's bounding box those sizes (io/bounding_box_scale.hpp), a
+//    number there is ignored as PolyFEM ignores it; rotation in degrees, rotation_mode "xyz"
 //    (default; any sequence of x, y, z applied left to right, each angle read from the entry of
 //    its axis), "axis_angle" [deg, ax, ay, az], "quaternion" [x, y, z, w] or
 //    "rotation_vector" (degrees) (utils/JSONUtils.cpp, to_rotation_matrix).
@@ -183,13 +185,25 @@ struct Translator {
   }
 
   // ---- geometry -----------------------------------------------------------------------------
-  // x = linear·X + translation from PolyFEM's transformation.
-  void transformation(const SceneJsonNode& node, std::array<double, 9>& linear, std::array<double, 3>& translation) {
+  // x = linear·diag(f)·X + translation from PolyFEM's transformation, f the factors that give
+  // the mesh's bounding box the sizes `dimensions` (computed by the app, which reads the mesh).
+  void transformation(const SceneJsonNode& node, bool obstacle, std::array<double, 9>& linear,
+                      std::array<double, 3>& translation, std::optional<std::array<double, 3>>& dimensions) {
     node.expect_object({"translation", "rotation", "rotation_mode", "scale", "dimensions"});
-    if (auto d = node.find("dimensions"))
-      d->fail(std::string(kNotModelled) + "scaling to bounding-box dimensions is not read; give \"scale\"");
     std::array<double, 3> s{1, 1, 1};
-    if (auto scale = node.find("scale")) {
+    if (auto d = node.find("dimensions")) {
+      if (d->json().is_number()) {
+        // The specification's default for an absent key is the number 1, so PolyFEM scales to
+        // a bounding box only for a list and ignores a number.
+        d->number();
+        note(*d, "a number: ignored, as PolyFEM ignores it (only a list of 3 sizes scales the mesh)");
+      } else {
+        dimensions = bounding_box_sizes(*d, obstacle);
+        if (auto scale = node.find("scale"))
+          note(*scale, "ignored: dimensions is given, which replaces scale (PolyFEM's rule)");
+      }
+    }
+    if (auto scale = node.find("scale"); scale && !dimensions) {
       if (scale->json().is_number()) {
         s = {scale->number(), scale->number(), scale->number()};
       } else if (!scale->json().empty()) {
@@ -209,6 +223,24 @@ struct Translator {
     if (auto t = node.find("translation")) {
       if (!t->json().empty()) translation = t->vec3();
     }
+  }
+
+  // transformation.dimensions as a list: 3 finite sizes >= 0, not all 0; > 0 for a body, whose
+  // hexahedra a zero size would flatten. A 0 for an obstacle is checked against its mesh where
+  // the mesh is read (allowed only along an axis where the mesh is flat, as a plane.obj is).
+  std::array<double, 3> bounding_box_sizes(const SceneJsonNode& node, bool obstacle) {
+    if (!node.json().is_array()) node.fail("expected a list of 3 bounding-box sizes (x, y, z)");
+    if (node.json().size() != 3)
+      node.fail("expected 3 bounding-box sizes (x, y, z), got " + std::to_string(node.json().size()) +
+                " (PolyFEM would take a missing size as 0 and flatten the mesh)");
+    const std::array<double, 3> d = node.vec3();
+    for (int c = 0; c < 3; ++c)
+      if (d[c] < 0) node.elements()[c].fail_value("must be >= 0 (a negative size would mirror the mesh)");
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) node.fail("all sizes are 0: the mesh would shrink to a point");
+    if (!obstacle)
+      for (int c = 0; c < 3; ++c)
+        if (d[c] == 0) node.elements()[c].fail_value("a body's sizes must be > 0 (a size of 0 flattens its hexahedra)");
+    return d;
   }
 
   static std::array<double, 9> axis_angle(std::array<double, 3> a, double angle) {
@@ -354,7 +386,8 @@ struct Translator {
       const std::string extension = lower(std::filesystem::path(file).extension().string());
       std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
       std::array<double, 3> translation{0, 0, 0};
-      if (auto t = item.find("transformation")) transformation(*t, linear, translation);
+      std::optional<std::array<double, 3>> dimensions;
+      if (auto t = item.find("transformation")) transformation(*t, obstacle, linear, translation, dimensions);
       if (obstacle) {
         if (!contact_enabled) item.fail("an obstacle needs contact (contact.enabled = true)");
         if (extension != ".obj" && extension != ".stl")
@@ -365,6 +398,7 @@ struct Translator {
         o.mesh_file = file;
         o.linear = linear;
         o.translation = translation;
+        o.dimensions = dimensions;
         std::optional<int> id;
         if (auto s = item.find("surface_selection")) {
           if (!s->json().is_number_integer())
@@ -388,6 +422,7 @@ struct Translator {
       b.mesh_file = file;
       b.linear = linear;
       b.translation = translation;
+      b.dimensions = dimensions;
       int volume = 0;
       if (auto v = item.find("volume_selection")) {
         if (v->json().is_number_integer()) {
