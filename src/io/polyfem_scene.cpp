@@ -33,6 +33,7 @@
 #include <map>
 #include <set>
 
+#include "io/polyfem_common.hpp"
 #include "io/polyfem_expression.hpp"
 #include "io/scene_json_node.hpp"
 #include "math/number_text.hpp"
@@ -822,8 +823,8 @@ std::string polyfem_marker(const nlohmann::json& d) {
   return "";
 }
 
-Scene translate_polyfem_scene(const nlohmann::json& document, const std::string& source,
-                              const std::string& base_directory) {
+// The scene with its common files merged in, translated.
+static Scene translate(const nlohmann::json& document, const std::string& source, const std::string& base_directory) {
   Translator t;
   t.source = source;
   t.base_directory = base_directory;
@@ -831,16 +832,11 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
   t.scene.lumped_mass = false;  // PolyFEM's default: the consistent mass matrix
   const SceneJsonNode root(document, "", t.source);
   root.expect_object({"geometry", "materials", "boundary_conditions", "initial_conditions", "time", "contact", "solver",
-                      "output", "space", "units", "root_path", "common", "tests", "preset_problem", "input"});
-  for (const char* key : {"common", "preset_problem", "input"})
+                      "output", "space", "units", "root_path", "tests", "preset_problem", "input"});
+  for (const char* key : {"preset_problem", "input"})
     if (auto n = root.find(key))
-      n->fail(std::string(kNotModelled) +
-              "write the scene out in full (patches, preset problems and restarts are not read)");
-  if (auto r = root.find("root_path")) {
-    std::filesystem::path path(r->string());
-    if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
-    t.base_directory = path.string();
-  }
+      n->fail(std::string(kNotModelled) + "write the scene out in full (preset problems and restarts are not read)");
+  if (auto r = root.find("root_path")) t.base_directory = polyfem_root_directory(r->string(), base_directory);
   if (auto u = root.find("units")) t.units(*u);
   if (auto s = root.find("space")) t.space(*s);
   t.time(root.required("time"));
@@ -854,6 +850,23 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
     t.note(*o, "ignored (dipc writes XDMF + HDF5 to its output directory, -dipc_output)");
   if (auto tests = root.find("tests")) t.note(*tests, "ignored (PolyFEM's regression-test data)");
   return t.scene;
+}
+
+Scene translate_polyfem_scene(const nlohmann::json& scene_document, const std::string& source,
+                              const std::string& base_directory) {
+  std::vector<std::string> common_files;
+  const nlohmann::json document = merge_polyfem_common(scene_document, source, base_directory, &common_files);
+  if (common_files.empty()) return translate(document, source, base_directory);
+  // A key path in a message may name a key that came from the common file.
+  std::string files;
+  for (const std::string& f : common_files) files += (files.empty() ? "" : ", ") + f;
+  try {
+    Scene scene = translate(document, source, base_directory);
+    scene.notes.insert(scene.notes.begin(), source + ": common: merged: the scene's keys over " + files);
+    return scene;
+  } catch (const SceneError& e) {
+    throw SceneError(std::string(e.what()) + " (in the scene merged over its common file " + files + ")");
+  }
 }
 
 }  // namespace dipc

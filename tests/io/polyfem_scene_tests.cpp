@@ -377,7 +377,9 @@ INSTANTIATE_TEST_SUITE_P(
                 {"solver.rayleigh_damping", "Rayleigh"}},
         Refused{"quadratic", scene(mesh, R"("space": {"discr_order": 2})"), {"space.discr_order", "linear"}},
         Refused{"units", scene(mesh, R"("units": {"length": "mm"})"), {"units.length", "m, kg, s"}},
-        Refused{"common", scene(mesh, R"("common": "base.json")"), {"common", "in full"}},
+        Refused{"common_missing",
+                scene(mesh, R"("common": "base.json")"),
+                {"common = \"base.json\": /base/base.json: cannot open"}},
         Refused{"unknown_root_key", scene(mesh, R"("lagrange": 1)"), {"lagrange: unknown key"}}),
     [](const auto& info) { return std::string(info.param.name); });
 
