@@ -865,7 +865,8 @@ Scene translate_polyfem_scene(const nlohmann::json& scene_document, const std::s
     scene.notes.insert(scene.notes.begin(), source + ": common: merged: the scene's keys over " + files);
     return scene;
   } catch (const SceneError& e) {
-    throw SceneError(std::string(e.what()) + " (in the scene merged over its common file " + files + ")");
+    const std::string file = common_files.size() == 1 ? "file " : "files ";
+    throw SceneError(std::string(e.what()) + " (in the scene merged over its common " + file + files + ")");
   }
 }
 
