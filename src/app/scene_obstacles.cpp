@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/problem_builder.hpp"
+#include "io/bounding_box_scale.hpp"
 #include "mesh/triangle_surface_reader.hpp"
 
 namespace dipc {
@@ -23,8 +24,15 @@ void read_obstacle(const Scene& scene, const Obstacle& o, ContactParameters::Obs
   }
   if (surface.vertices.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 2))
     throw SceneError(where + o.mesh_file + ": too many vertices (" + std::to_string(surface.vertices.size()) + ")");
+  std::array<double, 3> f;  // PolyFEM's transformation.dimensions; 1 (exact) without
+  try {
+    f = dimension_factors(o.dimensions, surface.vertices);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(scene.source + ": " + o.key_path + ".transformation.dimensions: " + e.what());
+  }
   for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
-    const std::array<double, 3>& F = surface.vertices[v];
+    const std::array<double, 3> F{f[0] * surface.vertices[v][0], f[1] * surface.vertices[v][1],
+                                  f[2] * surface.vertices[v][2]};
     std::array<double, 3> X;
     for (int c = 0; c < 3; ++c)
       X[c] = o.scale * (o.linear[3 * c] * F[0] + o.linear[3 * c + 1] * F[1] + o.linear[3 * c + 2] * F[2]) +

@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "io/bounding_box_scale.hpp"
 #include "io/collective_error.hpp"
 #include "io/mesh_file.hpp"
 #include "mesh/boundary_faces.hpp"
@@ -54,7 +55,8 @@ void add_face_selection_sets(const Body& body, const std::string& source, HexMes
 }
 
 // A body built whole on rank 0 (a Gmsh file, or a box with PolyFEM surface selections, which
-// need the body's boundary faces): placed (x = scale·(linear·X) + translation for a file), its
+// need the body's boundary faces): placed (x = scale·(linear·diag(f)·X) + translation for a file,
+// f from Body::dimensions and the file's bounding box, known only here), its
 // node sets named "<body>.<set>", "<body>" for all its nodes, and the surface selections.
 HexMesh whole_body(const Scene& scene, std::size_t b) {
   const Body& body = scene.bodies[b];
@@ -65,9 +67,15 @@ HexMesh whole_body(const Scene& scene, std::size_t b) {
     return part;
   }
   HexMesh part = read_gmsh(body.mesh_file, id);
+  std::array<double, 3> f;  // PolyFEM's transformation.dimensions; 1 (exact) without
+  try {
+    f = dimension_factors(body.dimensions, part.nodes);
+  } catch (const std::invalid_argument& e) {
+    throw MeshError(scene.source + ": body \"" + body.name + "\": transformation.dimensions: " + e.what());
+  }
   const std::array<double, 9>& L = body.linear;
   for (Vec3& X : part.nodes) {
-    const Vec3 Y = X;
+    const Vec3 Y{f[0] * X[0], f[1] * X[1], f[2] * X[2]};
     for (int c = 0; c < 3; ++c)
       X[c] = body.scale * (L[3 * c] * Y[0] + L[3 * c + 1] * Y[1] + L[3 * c + 2] * Y[2]) + body.translation[c];
   }
@@ -224,6 +232,11 @@ void size_body_rows(const Scene& scene, std::size_t b, MPI_Comm comm, int rank, 
     if (!body.face_selections.empty())
       error = scene.source + ": body \"" + body.name +
               "\": PolyFEM surface selections need a Gmsh mesh or a box, not " + body.mesh_file;
+    // Each rank places only its own rows of an HDF5 body, so the file's bounding box is not at
+    // hand; PolyFEM scenes, the only ones with Body::dimensions, take Gmsh bodies only anyway.
+    if (body.dimensions)
+      error = scene.source + ": body \"" + body.name + "\": transformation.dimensions needs a Gmsh mesh, not " +
+              body.mesh_file;
     throw_if_failed_anywhere(comm, error);
     r.hdf5 = std::make_unique<MeshFileReader>(comm, body.mesh_file);
     r.num_nodes = r.hdf5->num_nodes();

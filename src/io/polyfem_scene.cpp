@@ -1,7 +1,9 @@
 // PolyFEM scene → dipc Scene. Meanings and defaults follow PolyFEM's specification
 // (json-specs/input-spec.json, material-parameters.json, selection.json) and its readers:
 //  - transformation: x = R·diag(scale)·X + translation (mesh/GeometryReader.cpp: scale first,
-//    then rotate about the origin, then translate); rotation in degrees, rotation_mode "xyz"
+//    then rotate about the origin, then translate); a list `dimensions` replaces `scale` by the
+//    factors that give the mesh's bounding box those sizes (io/bounding_box_scale.hpp), a
+//    number there is ignored as PolyFEM ignores it; rotation in degrees, rotation_mode "xyz"
 //    (default; any sequence of x, y, z applied left to right, each angle read from the entry of
 //    its axis), "axis_angle" [deg, ax, ay, az], "quaternion" [x, y, z, w] or
 //    "rotation_vector" (degrees) (utils/JSONUtils.cpp, to_rotation_matrix).
@@ -31,6 +33,7 @@
 #include <map>
 #include <set>
 
+#include "io/polyfem_common.hpp"
 #include "io/polyfem_expression.hpp"
 #include "io/scene_json_node.hpp"
 #include "math/number_text.hpp"
@@ -183,13 +186,25 @@ struct Translator {
   }
 
   // ---- geometry -----------------------------------------------------------------------------
-  // x = linear·X + translation from PolyFEM's transformation.
-  void transformation(const SceneJsonNode& node, std::array<double, 9>& linear, std::array<double, 3>& translation) {
+  // x = linear·diag(f)·X + translation from PolyFEM's transformation, f the factors that give
+  // the mesh's bounding box the sizes `dimensions` (computed by the app, which reads the mesh).
+  void transformation(const SceneJsonNode& node, bool obstacle, std::array<double, 9>& linear,
+                      std::array<double, 3>& translation, std::optional<std::array<double, 3>>& dimensions) {
     node.expect_object({"translation", "rotation", "rotation_mode", "scale", "dimensions"});
-    if (auto d = node.find("dimensions"))
-      d->fail(std::string(kNotModelled) + "scaling to bounding-box dimensions is not read; give \"scale\"");
     std::array<double, 3> s{1, 1, 1};
-    if (auto scale = node.find("scale")) {
+    if (auto d = node.find("dimensions")) {
+      if (d->json().is_number()) {
+        // The specification's default for an absent key is the number 1, so PolyFEM scales to
+        // a bounding box only for a list and ignores a number.
+        d->number();
+        note(*d, "a number: ignored, as PolyFEM ignores it (only a list of 3 sizes scales the mesh)");
+      } else {
+        dimensions = bounding_box_sizes(*d, obstacle);
+        if (auto scale = node.find("scale"))
+          note(*scale, "ignored: dimensions is given, which replaces scale (PolyFEM's rule)");
+      }
+    }
+    if (auto scale = node.find("scale"); scale && !dimensions) {
       if (scale->json().is_number()) {
         s = {scale->number(), scale->number(), scale->number()};
       } else if (!scale->json().empty()) {
@@ -209,6 +224,24 @@ struct Translator {
     if (auto t = node.find("translation")) {
       if (!t->json().empty()) translation = t->vec3();
     }
+  }
+
+  // transformation.dimensions as a list: 3 finite sizes >= 0, not all 0; > 0 for a body, whose
+  // hexahedra a zero size would flatten. A 0 for an obstacle is checked against its mesh where
+  // the mesh is read (allowed only along an axis where the mesh is flat, as a plane.obj is).
+  std::array<double, 3> bounding_box_sizes(const SceneJsonNode& node, bool obstacle) {
+    if (!node.json().is_array()) node.fail("expected a list of 3 bounding-box sizes (x, y, z)");
+    if (node.json().size() != 3)
+      node.fail("expected 3 bounding-box sizes (x, y, z), got " + std::to_string(node.json().size()) +
+                " (PolyFEM would take a missing size as 0 and flatten the mesh)");
+    const std::array<double, 3> d = node.vec3();
+    for (int c = 0; c < 3; ++c)
+      if (d[c] < 0) node.elements()[c].fail_value("must be >= 0 (a negative size would mirror the mesh)");
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) node.fail("all sizes are 0: the mesh would shrink to a point");
+    if (!obstacle)
+      for (int c = 0; c < 3; ++c)
+        if (d[c] == 0) node.elements()[c].fail_value("a body's sizes must be > 0 (a size of 0 flattens its hexahedra)");
+    return d;
   }
 
   static std::array<double, 9> axis_angle(std::array<double, 3> a, double angle) {
@@ -354,7 +387,8 @@ struct Translator {
       const std::string extension = lower(std::filesystem::path(file).extension().string());
       std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
       std::array<double, 3> translation{0, 0, 0};
-      if (auto t = item.find("transformation")) transformation(*t, linear, translation);
+      std::optional<std::array<double, 3>> dimensions;
+      if (auto t = item.find("transformation")) transformation(*t, obstacle, linear, translation, dimensions);
       if (obstacle) {
         if (!contact_enabled) item.fail("an obstacle needs contact (contact.enabled = true)");
         if (extension != ".obj" && extension != ".stl")
@@ -365,6 +399,7 @@ struct Translator {
         o.mesh_file = file;
         o.linear = linear;
         o.translation = translation;
+        o.dimensions = dimensions;
         std::optional<int> id;
         if (auto s = item.find("surface_selection")) {
           if (!s->json().is_number_integer())
@@ -388,6 +423,7 @@ struct Translator {
       b.mesh_file = file;
       b.linear = linear;
       b.translation = translation;
+      b.dimensions = dimensions;
       int volume = 0;
       if (auto v = item.find("volume_selection")) {
         if (v->json().is_number_integer()) {
@@ -787,8 +823,8 @@ std::string polyfem_marker(const nlohmann::json& d) {
   return "";
 }
 
-Scene translate_polyfem_scene(const nlohmann::json& document, const std::string& source,
-                              const std::string& base_directory) {
+// The scene with its common files merged in, translated.
+static Scene translate(const nlohmann::json& document, const std::string& source, const std::string& base_directory) {
   Translator t;
   t.source = source;
   t.base_directory = base_directory;
@@ -796,16 +832,11 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
   t.scene.lumped_mass = false;  // PolyFEM's default: the consistent mass matrix
   const SceneJsonNode root(document, "", t.source);
   root.expect_object({"geometry", "materials", "boundary_conditions", "initial_conditions", "time", "contact", "solver",
-                      "output", "space", "units", "root_path", "common", "tests", "preset_problem", "input"});
-  for (const char* key : {"common", "preset_problem", "input"})
+                      "output", "space", "units", "root_path", "tests", "preset_problem", "input"});
+  for (const char* key : {"preset_problem", "input"})
     if (auto n = root.find(key))
-      n->fail(std::string(kNotModelled) +
-              "write the scene out in full (patches, preset problems and restarts are not read)");
-  if (auto r = root.find("root_path")) {
-    std::filesystem::path path(r->string());
-    if (path.is_relative()) path = std::filesystem::path(base_directory) / path;
-    t.base_directory = path.string();
-  }
+      n->fail(std::string(kNotModelled) + "write the scene out in full (preset problems and restarts are not read)");
+  if (auto r = root.find("root_path")) t.base_directory = polyfem_root_directory(r->string(), base_directory);
   if (auto u = root.find("units")) t.units(*u);
   if (auto s = root.find("space")) t.space(*s);
   t.time(root.required("time"));
@@ -819,6 +850,24 @@ Scene translate_polyfem_scene(const nlohmann::json& document, const std::string&
     t.note(*o, "ignored (dipc writes XDMF + HDF5 to its output directory, -dipc_output)");
   if (auto tests = root.find("tests")) t.note(*tests, "ignored (PolyFEM's regression-test data)");
   return t.scene;
+}
+
+Scene translate_polyfem_scene(const nlohmann::json& scene_document, const std::string& source,
+                              const std::string& base_directory) {
+  std::vector<std::string> common_files;
+  const nlohmann::json document = merge_polyfem_common(scene_document, source, base_directory, &common_files);
+  if (common_files.empty()) return translate(document, source, base_directory);
+  // A key path in a message may name a key that came from the common file.
+  std::string files;
+  for (const std::string& f : common_files) files += (files.empty() ? "" : ", ") + f;
+  try {
+    Scene scene = translate(document, source, base_directory);
+    scene.notes.insert(scene.notes.begin(), source + ": common: merged: the scene's keys over " + files);
+    return scene;
+  } catch (const SceneError& e) {
+    const std::string file = common_files.size() == 1 ? "file " : "files ";
+    throw SceneError(std::string(e.what()) + " (in the scene merged over its common " + file + files + ")");
+  }
 }
 
 }  // namespace dipc

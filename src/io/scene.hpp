@@ -50,6 +50,9 @@ struct Body {
   // A linear map applied first (row-major): x = scale·(linear·X) + translation. The identity
   // in dipc's own format; PolyFEM's `transformation` gives rotation · diag(scale).
   std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  // PolyFEM's transformation.dimensions (Gmsh bodies only): bounding-box sizes that scale the
+  // file's points axis by axis before `linear` (io/bounding_box_scale.hpp).
+  std::optional<std::array<double, 3>> dimensions;
   std::vector<FaceSelection> face_selections;  // PolyFEM surface selections, in priority order
   std::size_t material = 0;                    // index into Scene::materials
   std::array<double, 3> initial_velocity{0, 0, 0};
@@ -95,14 +98,17 @@ struct Plane {
 };
 
 // A triangle-mesh obstacle (OBJ or STL, open or closed): a contact surface whose positions are
-// prescribed functions of time, never unknowns. Vertices are placed as x = scale·X_file +
-// translation at t = 0 and then follow `motion`.
+// prescribed functions of time, never unknowns. Vertices are placed as
+// x = scale·(linear·diag(f)·X_file) + translation at t = 0 (f from `dimensions`, else 1) and
+// then follow `motion`.
 struct Obstacle {
   std::string name;       // for messages; defaults to "obstacle<i>"
   std::string mesh_file;  // resolved relative to the scene file
   double scale = 1.0;
   std::array<double, 3> translation{0, 0, 0};
   std::array<double, 9> linear{1, 0, 0, 0, 1, 0, 0, 0, 1};  // x = scale·(linear·X) + translation
+  // PolyFEM's transformation.dimensions, as Body::dimensions; 0 only along a flat axis.
+  std::optional<std::array<double, 3>> dimensions;
   Motion motion;
   std::string key_path;  // "contact.obstacles[0]"
 };

@@ -256,6 +256,7 @@ void GmshReader::read_mesh_format() {
              " is not supported (dipc reads 4.1 and 2.2): re-export it as MSH 4.1 (gmsh -format "
              "msh41, or Mesh.MshFileVersion = 4.1)");
   }
+  in_.declare_version(version);
   const std::int64_t file_type = in_.integer("the file type (0 = ASCII, 1 = binary)");
   if (file_type != 0 && file_type != 1)
     in_.fail("$MeshFormat section is malformed: file type " + std::to_string(file_type) +

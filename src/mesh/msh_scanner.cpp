@@ -11,7 +11,14 @@ namespace dipc {
 
 MshScanner::MshScanner(std::string text, std::string path) : text_(std::move(text)), path_(std::move(path)) {}
 
-void MshScanner::fail_at(std::int64_t location, const std::string& what) const {
+void MshScanner::fail_at(std::int64_t location, const std::string& message) const {
+  std::string what = message;
+  // Only a section's layout failing ("malformed", "truncated") can come from another version;
+  // a non-finite coordinate or a tetrahedron says what it is.
+  const bool layout = message.find(" is malformed") != std::string::npos ||
+                      message.find(" is truncated") != std::string::npos;
+  if (layout && !version_.empty() && (section_ == "$Entities" || section_ == "$Nodes" || section_ == "$Elements"))
+    what += " (read as MSH " + version_ + ", the version its $MeshFormat declares: is the file another version?)";
   if (byte_offsets_) throw MeshError(path_ + ": byte " + std::to_string(location) + ": " + what);
   throw MeshError(path_ + ":" + std::to_string(location) + ": " + what);
 }

@@ -59,6 +59,13 @@ class MshScanner {
   std::size_t remaining() const { return text_.size() - pos_; }
   const std::string& path() const { return path_; }
 
+  // The version that $MeshFormat declares ("2.2", "4.1"). $Entities, $Nodes and $Elements are
+  // laid out differently in 2.2 and 4.1, and a body of the other version mostly parses as
+  // numbers of the wrong meaning until a count or flag fails far from the cause; so a
+  // "malformed" or "truncated" error in those sections ends with the declared version and asks
+  // whether the file is another.
+  void declare_version(std::string version) { version_ = std::move(version); }
+
   [[noreturn]] void fail(const std::string& what) const { fail_at(location(), what); }
   [[noreturn]] void fail_at(std::int64_t location, const std::string& what) const;
 
@@ -71,6 +78,7 @@ class MshScanner {
   std::string text_;
   std::string path_;
   std::string section_;
+  std::string version_;  // declared by $MeshFormat; empty before it is read
   std::size_t pos_ = 0;
   std::int64_t line_ = 1;         // line of text_[pos_]
   std::int64_t token_line_ = 1;   // line of the last token

@@ -168,6 +168,14 @@ class GeneratedInputs : public ::testing::Environment {
     write_text(generated_dir + "flat_box.json",
                one_body_scene(R"("box": {"size": [0.2, 0.1, 1e-30], "resolution": [2, 1, 1]})", "0.01",
                               R"(, "contact": {"enabled": true})"));
+    // PolyFEM's transformation.dimensions with a size 0 along an axis where the obstacle is not
+    // flat (floor_y.obj spans 0.5 m along z): PolyFEM would flatten it into zero-area triangles.
+    const std::string polyfem = data_dir + "polyfem/";
+    write_text(generated_dir + "polyfem_flattened_obstacle.json", R"({"geometry": [{"mesh": ")" + polyfem +
+                                                                      R"(block.msh"},
+  {"mesh": ")" + polyfem + R"(floor_y.obj", "is_obstacle": true, "transformation": {"dimensions": [3, 3, 0]}}],
+  "materials": [{"type": "NeoHookean", "E": 1e6, "nu": 0.4}], "time": {"dt": 0.01, "time_steps": 2},
+  "contact": {"enabled": true, "dhat": 0.001}})");
   }
 };
 
@@ -229,6 +237,11 @@ INSTANTIATE_TEST_SUITE_P(
                      {"huge_box.json: geometry[0].box.resolution [100000, 100000, 100000] gives 1000000000000000 "
                       "elements, needing about",
                       "GB available"}},
+            BadInput{"polyfem_flattened_obstacle",
+                     generated_dir + "polyfem_flattened_obstacle.json",
+                     "",
+                     {"polyfem_flattened_obstacle.json: geometry[1].transformation.dimensions: 0 along z, where the "
+                      "mesh extends 0.5"}},
             BadInput{"big_box",
                      generated_dir + "big_box.json",
                      "",

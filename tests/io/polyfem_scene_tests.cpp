@@ -1,13 +1,15 @@
 // PolyFEM's JSON format read into dipc's Scene (io/polyfem_scene.cpp): the expressions, each
 // key's meaning and default (transformation order and rotation modes, rhs sign, absolute dhat,
 // rho = 1, consistent mass, ceil(tend / dt) steps, materials by volume id, motions from
-// displacement expressions), and a table of scenes dipc cannot model, each refused with a
-// message naming the key path. Nothing here reads a mesh: the translation does not.
+// displacement expressions, transformation.dimensions and its factors), and a table of scenes
+// dipc cannot model, each refused with a message naming the key path. Nothing here reads a
+// mesh: the translation does not.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "io/bounding_box_scale.hpp"
 #include "io/polyfem_expression.hpp"
 #include "io/polyfem_scene.hpp"
 #include "io/scene.hpp"
@@ -109,6 +111,60 @@ TEST(PolyfemScene, TransformationScalesThenRotatesThenTranslates) {
   const Scene s = read(scene(R"({"mesh": "a.msh", "transformation": {"rotation": [90, 90, 0]}})"));
   const std::array<double, 9> expected{0, 1, 0, 0, 0, -1, -1, 0, 0};  // R_y(90°) R_x(90°)
   for (int k = 0; k < 9; ++k) EXPECT_NEAR(s.bodies[0].linear[k], expected[k], 1e-15) << k;
+}
+
+// transformation.dimensions: a list replaces `scale` (noted) and is kept for the app, which
+// knows the mesh's bounding box; the rotation and translation still apply after it. A number
+// there is ignored, as PolyFEM ignores it, and `scale` applies.
+TEST(PolyfemScene, DimensionsReplaceScale) {
+  const Scene s = read(scene(
+      R"({"mesh": "a.msh", "transformation": {"dimensions": [2, 3, 4], "scale": 7, "rotation": [0, 0, 90],
+          "translation": [1, 2, 3]}},
+        {"mesh": "plane.obj", "is_obstacle": true, "transformation": {"dimensions": [3, 0, 3]}})",
+      R"("contact": {"enabled": true, "dhat": 0.001})"));
+  ASSERT_EQ(s.bodies.size(), 1u);
+  ASSERT_TRUE(s.bodies[0].dimensions);
+  EXPECT_EQ(*s.bodies[0].dimensions, (std::array<double, 3>{2, 3, 4}));
+  const std::array<double, 9> rotation{0, -1, 0, 1, 0, 0, 0, 0, 1};  // R_z(90°), no scale
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(s.bodies[0].linear[k], rotation[k], 1e-15) << k;
+  EXPECT_EQ(s.bodies[0].scale, 1);
+  EXPECT_EQ(s.bodies[0].translation, (std::array<double, 3>{1, 2, 3}));
+  ASSERT_EQ(s.contact.obstacles.size(), 1u);
+  ASSERT_TRUE(s.contact.obstacles[0].dimensions);
+  EXPECT_EQ(*s.contact.obstacles[0].dimensions, (std::array<double, 3>{3, 0, 3}));
+  EXPECT_EQ(s.contact.obstacles[0].linear, (std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
+  ASSERT_EQ(s.notes.size(), 1u);
+  EXPECT_NE(s.notes[0].find("geometry[0].transformation.scale: ignored: dimensions is given"), std::string::npos)
+      << s.notes[0];
+
+  const Scene n = read(scene(R"({"mesh": "a.msh", "transformation": {"dimensions": 5, "scale": 2}})"));
+  EXPECT_FALSE(n.bodies[0].dimensions);
+  EXPECT_EQ(n.bodies[0].linear, (std::array<double, 9>{2, 0, 0, 0, 2, 0, 0, 0, 2}));
+  ASSERT_EQ(n.notes.size(), 1u);
+  EXPECT_NE(n.notes[0].find("geometry[0].transformation.dimensions: a number: ignored"), std::string::npos)
+      << n.notes[0];
+}
+
+// The factors of `dimensions` (PolyFEM's construct_affine_transformation): size / extent per
+// axis, an axis of zero extent counting as extent 1, so a flat plane given 0 there keeps its
+// points at coordinate 0 on it.
+TEST(BoundingBoxScale, FactorsGiveTheBoxTheSizes) {
+  const std::vector<std::array<double, 3>> box{{-1, 2, 0}, {3, 2.5, 0.25}, {0, 4, 0.5}};  // extents 4, 2, 0.5
+  EXPECT_EQ(bounding_box_extent(box), (std::array<double, 3>{4, 2, 0.5}));
+  EXPECT_EQ(dimension_factors(std::nullopt, box), (std::array<double, 3>{1, 1, 1}));
+  EXPECT_EQ(dimension_factors(std::array<double, 3>{2, 1, 2}, box), (std::array<double, 3>{0.5, 0.5, 4}));
+  // PolyFEM's plane.obj (10 × 0 × 10 at y = 0) with "dimensions": [3, 0, 3]: 3 × 3, still flat.
+  const std::vector<std::array<double, 3>> plane{{-5, 0, 5}, {5, 0, 5}, {-5, 0, -5}, {5, 0, -5}};
+  EXPECT_EQ(dimension_factors(std::array<double, 3>{3, 0, 3}, plane), (std::array<double, 3>{0.3, 0, 0.3}));
+  // A flat axis given a non-zero size takes it as the factor (extent counted as 1).
+  EXPECT_EQ(dimension_factors(std::array<double, 3>{3, 2, 3}, plane), (std::array<double, 3>{0.3, 2, 0.3}));
+  // 0 along an axis where the points extend would flatten the mesh: refused, naming the axis.
+  try {
+    dimension_factors(std::array<double, 3>{3, 0, 3}, box);
+    FAIL() << "flattening accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("0 along y, where the mesh extends 2"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PolyfemScene, MaterialsByVolumeId) {
@@ -242,9 +298,25 @@ INSTANTIATE_TEST_SUITE_P(
             scene(
                 R"({"mesh": "a.msh", "surface_selection": [{"id": 1, "box": [[0, 0, 0], [1, 1, 1]], "relative": true}]})"),
             {"geometry[0].surface_selection[0].relative", "absolute"}},
-        Refused{"dimensions",
-                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, 1, 1]}})"),
-                {"geometry[0].transformation.dimensions"}},
+        Refused{"dimensions_two",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, 1]}})"),
+                {"geometry[0].transformation.dimensions: expected 3 bounding-box sizes", "got 2"}},
+        Refused{"dimensions_negative",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, -1, 1]}})"),
+                {"geometry[0].transformation.dimensions[1] = -1", ">= 0", "mirror"}},
+        Refused{"dimensions_zero_body",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [3, 0, 3]}})"),
+                {"geometry[0].transformation.dimensions[1] = 0", "a body's sizes must be > 0"}},
+        Refused{"dimensions_all_zero",
+                scene(mesh + R"(, {"mesh": "p.obj", "is_obstacle": true, "transformation": {"dimensions": [0, 0, 0]}})",
+                      R"("contact": {"enabled": true})"),
+                {"geometry[1].transformation.dimensions: all sizes are 0"}},
+        Refused{"dimensions_text",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": "1 1 1"}})"),
+                {"geometry[0].transformation.dimensions: expected a list"}},
+        Refused{"dimensions_huge",
+                scene(R"({"mesh": "a.msh", "transformation": {"dimensions": [1, 1e400, 1]}})"),
+                {"geometry[0].transformation.dimensions[1]"}},
         Refused{"point_selection",
                 scene(R"({"mesh": "a.msh", "point_selection": 3})"),
                 {"geometry[0].point_selection"}},
@@ -305,7 +377,9 @@ INSTANTIATE_TEST_SUITE_P(
                 {"solver.rayleigh_damping", "Rayleigh"}},
         Refused{"quadratic", scene(mesh, R"("space": {"discr_order": 2})"), {"space.discr_order", "linear"}},
         Refused{"units", scene(mesh, R"("units": {"length": "mm"})"), {"units.length", "m, kg, s"}},
-        Refused{"common", scene(mesh, R"("common": "base.json")"), {"common", "in full"}},
+        Refused{"common_missing",
+                scene(mesh, R"("common": "base.json")"),
+                {"common = \"base.json\": /base/base.json: cannot open"}},
         Refused{"unknown_root_key", scene(mesh, R"("lagrange": 1)"), {"lagrange: unknown key"}}),
     [](const auto& info) { return std::string(info.param.name); });
 

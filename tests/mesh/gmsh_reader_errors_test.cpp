@@ -53,7 +53,11 @@ INSTANTIATE_TEST_SUITE_P(
                               "$Elements section is malformed: expected an element node tag, found 'four'"},
                       BadFile{"partitioned.msh", 4, "partitioned meshes are not supported"},
                       BadFile{"ambiguous_groups.msh", 6, "would both be node set 'physical_1'"},
-                      BadFile{"does_not_exist.msh", 0, "cannot open the file"}));
+                      BadFile{"does_not_exist.msh", 0, "cannot open the file"},
+                      // A $MeshFormat header that does not match the body (issue 32, item 8): the
+                      // message names the version the header declares.
+                      BadFile{"version_22_header_41_body.msh", 23, "MSH 2.2, the version its $MeshFormat declares"},
+                      BadFile{"version_41_header_22_body.msh", 14, "MSH 4.1, the version its $MeshFormat declares"}));
 
 TEST(GmshReader, RejectsNegativeBodyId) {
   const std::string path = test::mesh_data("block_2x1x1.msh");

@@ -49,3 +49,12 @@ for name, points in [("floor.obj", corners), ("floor_y.obj", [(0.5 * x, 0.0, 0.5
         for p in points:
             f.write("v %.17g %.17g %.17g\n" % p)
         f.write("f 1 2 3\nf 1 3 4\n")
+
+# PolyFEM's example obstacle plane.obj is a 10 x 10 m square in the plane y = 0, which its
+# scenes scale with "dimensions": [s, 0, s]. This one lies at y = 0.25 instead: the size 0 of
+# its flat axis must send it to y = 0 (factor 0, PolyFEM's rule), not keep it at 0.25.
+with open("plane_raised.obj", "w") as f:
+    f.write("# written by write_blocks.py\n")
+    for p in [(-5, 0.25, 5), (5, 0.25, 5), (-5, 0.25, -5), (5, 0.25, -5)]:
+        f.write("v %.17g %.17g %.17g\n" % p)
+    f.write("f 2 3 1\nf 2 4 3\n")
