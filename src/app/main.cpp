@@ -82,12 +82,13 @@ int main(int argc, char** argv) {
       PetscCall(PetscPrintf(comm, "dipc: error: %s\n", result.failure.c_str()));
       status = result.fatal ? 3 : 2;
     }
-    // 4: stopped on a signal at a step boundary, with a checkpoint to resume from.
+    // 4: stopped on a signal, with a checkpoint of the last completed step to resume from.
     if (result.stop_signal) {
       PetscCall(PetscPrintf(comm,
-                            "dipc: stopped on signal %d after step %d; checkpoint written to %s; resume with "
-                            "-dipc_restart auto (same -dipc_output)\n",
-                            result.stop_signal, result.steps_taken, result.checkpoint_path.c_str()));
+                            "dipc: stopped on signal %d after step %d; checkpoint written to %s %.2f s after the "
+                            "signal; resume with -dipc_restart auto (same -dipc_output)\n",
+                            result.stop_signal, result.steps_taken, result.checkpoint_path.c_str(),
+                            result.stop_seconds));
       status = 4;
     }
     if (!result.xdmf_path.empty())

@@ -481,6 +481,9 @@ PetscErrorCode set_up_integrator(const DistributedMesh& mesh, const ProblemSetup
   control.velocity_tol = velocity_tol;
   control.alpha_floor = options.alpha_floor;
   control.check_invariants = options.check_invariants;
+  // A stop signal is agreed on at every Newton iteration as well as at step boundaries, so
+  // that a long step does not outlast the grace time before SIGKILL (issue 32).
+  control.stop_requested = [comm = mesh.comm] { return agree_on_signal(comm) != 0; };
   PetscCall(integrator.setup(mesh, problem, control, space));
   PetscFunctionReturn(0);
 }
@@ -551,18 +554,21 @@ class Checkpoints {
   }
   bool due(int s, const StopDecision& stop, bool at_end) const {
     const bool every_due = options_.checkpoint_every > 0 && s > 0 && s % options_.checkpoint_every == 0;
-    return (stop.signal || stop.checkpoint_due || every_due || (at_end && checkpointing_)) && s != last_step_ &&
-           !options_.setup_only;
+    // A stop writes one even when the run restarted from step s: its message names this file.
+    return (stop.signal || stop.checkpoint_due || every_due || (at_end && checkpointing_)) &&
+           (s != last_step_ || (stop.signal && !written_)) && !options_.setup_only;
   }
 
-  // Collective: a checkpoint of the current state; its time counts as output (*t_output).
-  PetscErrorCode write(const RunOutput* output, RunResult* result, double* t_output) {
+  // Collective: a checkpoint of the current state, whose output holds `output_steps` steps;
+  // its time counts as output (*t_output).
+  PetscErrorCode write(std::size_t output_steps, RunResult* result, double* t_output) {
     PetscFunctionBeginUser;
     const double t0 = MPI_Wtime();
-    run_.output_steps = output ? static_cast<long>(output->steps_written()) : 0;
+    run_.output_steps = static_cast<long>(output_steps);
     result->checkpoint_path = checkpoint_path(output_dir_, name_, recovery_.steps_taken());
     PetscCall(write_checkpoint(comm_, result->checkpoint_path, order_, integrator_, recovery_, run_, name_));
     last_step_ = recovery_.steps_taken();
+    written_ = true;
     last_wall_ = MPI_Wtime();
     result->checkpoint_seconds += last_wall_ - t0;
     *t_output += last_wall_ - t0;
@@ -572,6 +578,14 @@ class Checkpoints {
       PetscCall(PetscPrintf(comm_, "checkpoint: step %d written to %s (%.2f MB, %.3f s)\n", recovery_.steps_taken(),
                             result->checkpoint_path.c_str(), ec ? 0.0 : bytes / 1e6, last_wall_ - t0));
     }
+    PetscFunctionReturn(0);
+  }
+
+  // Collective: after a stop request abandoned a step, the checkpoint of the current state (put
+  // back to the last completed step), unless this run already wrote that step's.
+  PetscErrorCode write_unless_current(std::size_t output_steps, RunResult* result, double* t_output) {
+    PetscFunctionBeginUser;
+    if (recovery_.steps_taken() != last_step_ || !written_) PetscCall(write(output_steps, result, t_output));
     PetscFunctionReturn(0);
   }
 
@@ -586,7 +600,8 @@ class Checkpoints {
   CheckpointRun& run_;
   const bool checkpointing_ = options_.checkpoint_every > 0 || options_.checkpoint_minutes > 0;
   double last_wall_ = MPI_Wtime();
-  int last_step_;
+  int last_step_;         // of the last checkpoint written or restarted from (-1: none)
+  bool written_ = false;  // by this run
 };
 
 // A step's totals added to the run's.
@@ -639,7 +654,10 @@ PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions&
     // Step boundary: a stop signal, and a checkpoint when one is due.
     const StopDecision stop = checkpoints.decide_stop();
     const bool at_end = s >= steps;
-    if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output, result, t_output));
+    // The output's extent at this boundary: what a checkpoint of this step records, also when
+    // the next step is abandoned after writing sub-steps (-dipc_output_substeps).
+    const std::size_t output_steps = output ? output->steps_written() : 0;
+    if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output_steps, result, t_output));
     if (stop.signal) {
       result->stop_signal = stop.signal;
       break;
@@ -648,6 +666,18 @@ PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions&
     StepReport r;
     PetscCall(recovery.step(&r, on_substep));
     add_step_counts(r, result);
+    if (r.stopped) {
+      // A stop signal came during the step: recovery put the state back to step s, whose
+      // checkpoint is written now rather than after a step that may take minutes.
+      result->stop_signal = agree_on_signal(comm);
+      if (!options.quiet)
+        PetscCall(PetscPrintf(comm,
+                              "step %5d  abandoned after %d Newton iterations: signal %d; the state of step %d "
+                              "is kept\n",
+                              r.step, (int)r.newton.iterations, result->stop_signal, s));
+      PetscCall(checkpoints.write_unless_current(output_steps, result, t_output));
+      break;
+    }
     if (!options.quiet)
       for (const std::string& cut : r.cuts)
         PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
@@ -839,6 +869,11 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   Checkpoints checkpoints(comm, options, output_dir, scene.output_name, order, integrator, recovery, run, restarted);
   PetscCall(step_in_time(comm, scene, options, problem, integrator, recovery, output.get(), checkpoints, result,
                          &measured.output));
+  if (result->stop_signal) {
+    // How long the stop took, for choosing the grace time before SIGKILL (jobs/README.md).
+    const double since = seconds_since_stop_signal();
+    MPI_Allreduce(&since, &result->stop_seconds, 1, MPI_DOUBLE, MPI_MAX, comm);
+  }
   result->steps_taken = recovery.steps_taken();
   PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
   PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));

@@ -37,7 +37,8 @@ struct RunResult {
   // input mesh (input numbering, independent of the partition).
   std::vector<double> positions, velocities;
   std::string xdmf_path;          // empty without output
-  int stop_signal = 0;            // the signal that stopped the run at a step boundary (0: none)
+  int stop_signal = 0;            // the signal that stopped the run (0: none)
+  double stop_seconds = 0;        // from the signal to its checkpoint written (max over ranks)
   std::string checkpoint_path;    // the last checkpoint written (empty: none)
   double checkpoint_seconds = 0;  // writing checkpoints (part of the output time)
   PhaseTimes times;

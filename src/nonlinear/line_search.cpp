@@ -88,6 +88,16 @@ PetscErrorCode velocity_convergence_test(SNES snes, PetscInt it, PetscReal xnorm
   auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
   PetscFunctionBeginUser;
   *reason = SNES_CONVERGED_ITERATING;
+  // A stop request first: SNES calls this test on every rank once before the first Newton
+  // iteration and after each line search, so a collective check here costs one small
+  // reduction per iteration and bounds the wait for a stop by one iteration, however many a
+  // step takes (issue 32).
+  if (ctx->stop_requested && ctx->stop_requested()) {
+    *reason = kStopRequestedReason;
+    ctx->stopped = true;
+    ctx->ended_by = "stop requested";
+    PetscFunctionReturn(0);
+  }
   if (ctx->petsc_tests) {
     PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
     if (*reason != SNES_CONVERGED_ITERATING) {

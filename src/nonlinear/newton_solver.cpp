@@ -343,6 +343,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   ls_.min_alpha_ccd = 1.0;
   ls_.direction_inf_norm = 0.0;
   ls_.small_steps_in_a_row = 0;
+  ls_.stopped = false;
   ls_.ended_by.clear();
   const PetscInt rebuilds_before = pc_reuse_.rebuilds();
   const PetscInt mixed_before = mixed_iterations_;
@@ -359,6 +360,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   report->min_alpha = ls_.min_alpha;
   report->min_alpha_ccd = ls_.min_alpha_ccd;
   report->step_inf_norm = ls_.direction_inf_norm;
+  report->stopped = ls_.stopped;
   // Failures SNES detects itself (line search, linear solve) bypass the convergence test.
   if (!ls_.ended_by.empty())
     report->ended_by = ls_.ended_by;

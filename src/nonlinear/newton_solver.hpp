@@ -17,9 +17,12 @@
 //    shell operator (A + Bsᵀ Bs), A as the preconditioning matrix, and a KSPPREONLY whose PCSHELL
 //    runs that solve; the report counts its Krylov iterations as the linear iterations;
 //    -dipc_pc_reuse does not apply to it.
+//  - a stop request (set_stop_check) is asked once per Newton iteration and ends the solve at
+//    once, reported as NewtonReport::stopped rather than as a failure.
 #pragma once
 #include <petscsnes.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,7 +43,12 @@ struct NewtonReport {
   double step_inf_norm = 0.0;            // ‖p‖∞ of the last Newton direction
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   std::string ended_by;  // which test ended the solve, in words ("velocity", "max_it", ...)
+  bool stopped = false;  // a stop request ended it (reason < 0, but the step did not fail)
 };
+
+// The reason a stop request gives SNES. PETSc (3.18 to 3.22) has no reason for a user's stop;
+// any negative one ends SNESSolve, and NewtonReport::stopped, not the reason, tells it apart.
+constexpr SNESConvergedReason kStopRequestedReason = SNES_DIVERGED_FUNCTION_COUNT;
 
 // Newton iterations in a row whose accepted line-search step stays below the floor before a
 // solve is declared stalled: a few such steps happen when surfaces first come close (the CCD
@@ -60,6 +68,9 @@ class NewtonSolver {
                        double velocity_tol, double alpha_floor);
   // The time step h of the next solves (step recovery changes it).
   void set_step_length(double h) { ls_.step_length = h; }
+  // Collective check, asked at the start of every Newton iteration (before the Hessian and the
+  // linear solve) on every rank; true on all ranks ends the solve as stopped. Empty: never.
+  void set_stop_check(std::function<bool()> check) { ls_.stop_requested = std::move(check); }
   // The -snes_* options the user gave (command line or options file), "-name value" each: they
   // are honoured, and the run header names them.
   const std::vector<std::string>& user_snes_options() const { return user_snes_options_; }
@@ -85,6 +96,8 @@ class NewtonSolver {
     double last_alpha = 1, last_alpha_ccd = 1;  // of the latest line search (stall message)
     int last_invalid_trials = 0;                // its halvings forced by an inverted element
     bool petsc_tests = false;                   // the user asked for PETSc's -snes_rtol/atol/stol tests
+    std::function<bool()> stop_requested;       // set_stop_check
+    bool stopped = false;                       // the solve was ended by stop_requested
     std::string ended_by;
   };
 

@@ -60,6 +60,8 @@ PetscErrorCode StepRecovery::step(StepReport* report,
   // Position within the step: `done` sub-steps of dt/2^level_ taken. The end of sub-step j is
   // (k·2^L + j)·(dt/2^L): an exact integer times an exact power-of-two scaling of dt.
   const double k = steps_taken_;
+  PetscCall(step_start_.save(integrator_));
+  const State recovery_start = state();
   long done = 0;
   for (;;) {
     const double scale = std::ldexp(1.0, level_);
@@ -68,6 +70,12 @@ PetscErrorCode StepRecovery::step(StepReport* report,
     StepReport sub;
     PetscCall(integrator_.advance(t_end, &sub));
     accumulate(sub, report);
+    if (sub.stopped) {
+      PetscCall(step_start_.restore(integrator_));
+      resume(recovery_start);
+      report->stopped = true;
+      break;
+    }
     if (sub.failure.empty()) {
       ++report->substeps;
       ++done;
@@ -100,7 +108,7 @@ PetscErrorCode StepRecovery::step(StepReport* report,
     successes_at_level_ = 0;
   }
   report->wall_seconds = MPI_Wtime() - start;
-  if (report->failure.empty()) ++steps_taken_;
+  if (report->failure.empty() && !report->stopped) ++steps_taken_;
   PetscFunctionReturn(0);
 }
 

@@ -7,9 +7,14 @@
 //
 // Every decision follows from collective results (SNES reasons, global reductions), so all
 // ranks cut and grow alike.
+//
+// An attempt that a stop request ended (StepReport::stopped) abandons the whole scene step:
+// the integrator and recovery are put back to the step's start (StepSnapshot), the state of
+// the last completed step, which a checkpoint then stores (issue 32).
 #pragma once
 #include <functional>
 
+#include "nonlinear/step_snapshot.hpp"
 #include "nonlinear/time_integrator.hpp"
 
 namespace dipc {
@@ -23,6 +28,8 @@ class StepRecovery {
   // on_substep (may be empty) sees each accepted sub-step that ends before the scene step does.
   // When recovery runs out, report->failure says at what time, with what step and why, and the
   // state is that of the last accepted sub-step.
+  // When a stop request ends an attempt, report->stopped is set, steps_taken() stays and the
+  // state is the one before the step.
   PetscErrorCode step(StepReport* report, const std::function<PetscErrorCode(const StepReport&)>& on_substep = {});
 
   int steps_taken() const { return steps_taken_; }
@@ -41,6 +48,7 @@ class StepRecovery {
 
  private:
   TimeIntegrator& integrator_;
+  StepSnapshot step_start_;  // the integrator at the start of the scene step in progress
   double dt_, dt_min_;
   int steps_taken_ = 0;
   int level_ = 0;               // sub-steps are dt / 2^level_

@@ -95,6 +95,7 @@ PetscErrorCode TimeIntegrator::setup(const DistributedMesh& mesh, const ProblemS
   PetscCall(potential_.setup(mesh, std::move(forms), std::move(prescribed), &exchange_));
   PetscCall(newton_.setup(mesh.comm, &potential_, x_, problem.is_static ? 1.0 : problem.dt, control.velocity_tol,
                           control.alpha_floor));
+  newton_.set_stop_check(control.stop_requested);
   phase.emplace(events.contact_check);
   if (contact_) PetscCall(refuse_intersecting_start());
   PetscFunctionReturn(0);
@@ -294,6 +295,9 @@ PetscErrorCode TimeIntegrator::resume(const ResumeState& s) {
   if (contact_) contact_->set_kappa(s.kappa);
   previous_min_distance2_ = s.previous_min_distance2;
   // Friction's pairs as the last step left them: frozen at x_lag_ from x_n_ with this κ and h.
+  // Not lagged (a state before the first step, put back by StepSnapshot): the flag says so,
+  // and a checkpoint then stores no lag positions.
+  friction_lagged_ = s.friction_lagged;
   if (friction_ && s.friction_lagged) PetscCall(update_friction_lag(x_lag_));
   PetscFunctionReturn(0);
 }
@@ -344,7 +348,8 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
     report->newton.step_inf_norm = solve.step_inf_norm;
     report->newton.reason = solve.reason;
     report->newton.ended_by = solve.ended_by;
-    if (solve.reason < 0) report->failure = "Newton failed: " + solve.ended_by;
+    report->stopped = solve.stopped;
+    if (solve.reason < 0) report->failure = solve.stopped ? "stopped on request" : "Newton failed: " + solve.ended_by;
   }
   const double solve_wall = MPI_Wtime() - solve_start;
   solve_seconds_ += solve_wall;
@@ -362,7 +367,8 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
     // barrier stiffness, as IPC doubles κ when distances keep shrinking; otherwise κ is as
     // before the attempt. min_alpha_ccd is a global minimum, so every rank decides alike.
     if (contact_) {
-      const bool held_back = report->newton.min_alpha_ccd < 1.0;
+      // (A stopped attempt is not retried: nothing to learn from it.)
+      const bool held_back = report->newton.min_alpha_ccd < 1.0 && !report->stopped;
       contact_->set_kappa(held_back ? std::min(contact_->kappa_max(), 2 * contact_->kappa()) : kappa_before);
     }
     previous_min_distance2_ = previous_min_distance2_before;
@@ -440,7 +446,9 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
       report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, partial.min_alpha_ccd);
       ++report->dirichlet_substeps;
       if (partial.reason < 0) {
-        report->failure = "Newton failed on a part of the prescribed motion: " + partial.ended_by;
+        report->stopped = partial.stopped;
+        report->failure = partial.stopped ? "stopped on request"
+                                          : "Newton failed on a part of the prescribed motion: " + partial.ended_by;
         break;
       }
       PetscCall(VecCopy(x_, accepted));

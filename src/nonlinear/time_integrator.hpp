@@ -3,6 +3,7 @@
 // the distributed state and advances it step by step.
 #pragma once
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,9 @@ struct StepReport {
   double linear_solve_seconds = 0;
   std::string failure;  // empty when the step succeeded; otherwise why it did not
   bool fatal = false;   // the failure is a violated invariant: retrying with a smaller step is no cure
+  // A stop request ended the attempt (StepControl::stop_requested): the step was abandoned,
+  // not failed, so it is neither retried nor reported as a failure.
+  bool stopped = false;
   // Step recovery (scene steps): sub-steps taken, failed attempts retried with a halved step,
   // and one line per failed attempt (time, step length, reason).
   int substeps = 1;
@@ -60,6 +64,9 @@ struct StepControl {
   // After every step verify det J > 0 everywhere and, with contact, no intersection and a
   // positive minimum distance (a violated invariant fails the run).
   bool check_invariants = false;
+  // Collective: true on every rank when the run is to stop now (a stop signal). Asked at every
+  // Newton iteration; an attempt it ends is reported as StepReport::stopped. Empty: never.
+  std::function<bool()> stop_requested;
 };
 
 class TimeIntegrator {
