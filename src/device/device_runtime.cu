@@ -1,4 +1,7 @@
 // device_runtime.hpp on the CUDA runtime.
+#include <cub/device/device_radix_sort.cuh>
+
+#include <algorithm>
 #include <cstdio>
 
 #include "device/cuda_check.cuh"
@@ -145,6 +148,24 @@ __global__ void reduce_coo_kernel(const double* raw, const std::uint32_t* offset
   unique[u] = sum;
 }
 
+__global__ void iota_kernel(std::uint32_t* v, std::size_t n) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k < n) v[k] = static_cast<std::uint32_t>(k);
+}
+
+// One thread per run of equal keys (started by its first element): the run's values in order.
+// Runs are short (the contributions to one matrix entry), so the serial loop costs little.
+__global__ void add_by_target_kernel(double* values, const std::uint32_t* keys, const std::uint32_t* sources,
+                                     const double* raw, std::size_t n) {
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i >= n) return;
+  const std::uint32_t key = keys[i];
+  if (key == 0xffffffffu || (i > 0 && keys[i - 1] == key)) return;
+  double sum = values[key];
+  for (std::size_t j = i; j < n && keys[j] == key; ++j) sum += raw[sources[j]];
+  values[key] = sum;
+}
+
 }  // namespace
 
 // Two passes: at most 1024 blocks of partials, then one block over those.
@@ -236,6 +257,30 @@ void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, co
 void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from) {
   if (!n) return;
   add_at_kernel<<<blocks_for(n, 256), 256>>>(values, index, add, n, fresh_from);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void sort_by_target(std::uint32_t* keys, std::uint32_t* sources, std::size_t n) {
+  if (!n) return;
+  Array<std::uint32_t> items("sort items"), sorted_keys("sorted keys");
+  items.resize(n), sorted_keys.resize(n);
+  iota_kernel<<<blocks_for(n, 256), 256>>>(items.data(), n);
+  DIPC_CUDA_CHECK_LAUNCH();
+  // CUB's radix sort is stable: equal keys keep their sources ascending.
+  std::size_t bytes = 0;
+  DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, sorted_keys.data(), items.data(), sources,
+                                                  static_cast<int>(n)));
+  Array<unsigned char> scratch("sort scratch");
+  scratch.resize(std::max<std::size_t>(bytes, 1));
+  DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(scratch.data(), bytes, keys, sorted_keys.data(), items.data(),
+                                                  sources, static_cast<int>(n)));
+  copy_on_device(keys, sorted_keys.data(), n * sizeof(std::uint32_t));
+}
+
+void add_by_target(double* values, const std::uint32_t* keys, const std::uint32_t* sources, const double* raw,
+                   std::size_t n) {
+  if (!n) return;
+  add_by_target_kernel<<<blocks_for(n, 256), 256>>>(values, keys, sources, raw, n);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

@@ -144,5 +144,12 @@ void add_split(const double* add, const std::uint32_t* pos, const std::uint8_t* 
 // order: CooReduction::reduce on device arrays, bit for bit the same.
 void reduce_coo(const double* raw, const std::uint32_t* offsets, const std::uint32_t* sources, std::size_t num_unique,
                 double* unique);
+// keys[k] (n values, in place) sorted ascending, stably, and sources[k] set to the position each
+// had before: the values of each key in their original order.
+void sort_by_target(std::uint32_t* keys, std::uint32_t* sources, std::size_t n);
+// For the n (keys, sources) of sort_by_target: values[key] += raw[source] for each, in the
+// sorted order (the original order within a key), keys 0xffffffff skipped.
+void add_by_target(double* values, const std::uint32_t* keys, const std::uint32_t* sources, const double* raw,
+                   std::size_t n);
 
 }  // namespace dipc::device

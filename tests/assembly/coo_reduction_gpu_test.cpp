@@ -2,8 +2,8 @@
 // device::reduce_element_blocks against NodeBlockReduction::reduce on random elements of an
 // elastic and a consistent-mass layout: the same sums in the same order, so the same bits; the
 // node-block pattern built on the device against the host build, array for array; the
-// Hessian's other device steps (add_at, eliminate) against their host loops. Skips where no GPU
-// is present.
+// Hessian's other device steps (add_at, eliminate) against their host loops; TargetPart's
+// device sums (values sorted by target) against its host loop. Skips where no GPU is present.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,10 +16,44 @@
 #include "assembly/coo_reduction.hpp"
 #include "assembly/cuda/element_kernels.hpp"
 #include "assembly/node_block_reduction.hpp"
+#include "assembly/target_part.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {
 namespace {
+
+TEST(TargetPartGpu, DeviceSumsEqualHostSumsBitForBit) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  // Raw entries onto 5000 matrix entries, many on each, some dropped (negative column), some
+  // entries starting non-zero; values over many magnitudes, so that another order would show.
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<PetscInt> entry(0, 4999);
+  std::uniform_int_distribution<int> pick(0, 49);
+  std::uniform_real_distribution<double> mantissa(-1, 1), exponent(-12, 12);
+  const std::size_t n = 200000;
+  std::vector<PetscInt> rows(n), cols(n);
+  std::vector<double> raw(n), start(5000);
+  for (std::size_t k = 0; k < n; ++k) {
+    rows[k] = entry(rng);
+    cols[k] = pick(rng) == 0 ? -1 : rows[k];
+    raw[k] = mantissa(rng) * std::pow(10.0, exponent(rng));
+  }
+  for (double& v : start) v = mantissa(rng);
+  TargetPart part;
+  ASSERT_EQ(part.build(rows.data(), cols.data(), n,
+                       [](PetscInt row, PetscInt, std::size_t*) { return std::int64_t{row}; }),
+            0u);
+  std::vector<double> host = start;
+  part.add(raw.data(), host.data());
+  device::Array<double> d_raw("raw"), d_values("values");
+  d_raw.upload(raw);
+  d_values.upload(start);
+  part.keep_on_device();
+  part.add_on_device(d_raw.data(), d_values.data());
+  std::vector<double> device_values(start.size());
+  d_values.download(device_values.data());
+  EXPECT_EQ(std::memcmp(host.data(), device_values.data(), host.size() * sizeof(double)), 0);
+}
 
 TEST(CooReductionGpu, DeviceSumsEqualHostSumsBitForBit) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
