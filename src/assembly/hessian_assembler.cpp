@@ -13,14 +13,29 @@ namespace dipc {
 namespace {
 // -dipc_direct_matrix (default on): matrices of the types DirectMatrix serves are made from the
 // entries; off, every matrix goes through PETSc's COO preallocation (for comparison).
-PetscErrorCode read_direct_matrix(MPI_Comm comm, bool* direct) {
+// -dipc_pattern_remap (default off): whether a changed pattern that fits the matrix keeps it
+// (hessian_assembler.hpp; docs/performance.md measures the three).
+PetscErrorCode read_options(MPI_Comm comm, bool* direct, HessianAssembler::Remap* remap) {
   PetscFunctionBeginUser;
   PetscBool flag = PETSC_TRUE;
+  constexpr const OptionSpec& direct_option = dipc_option("-dipc_direct_matrix");
+  constexpr const OptionSpec& remap_option = dipc_option("-dipc_pattern_remap");
+  // PetscOptionsEnum's list: the choices in the order of the enum, its name, its prefix, null.
+  static_assert(remap_option.choices.count == 3, "the choices are the enum's values");
+  const char* const remap_names[] = {remap_option.choices.words[0],
+                                     remap_option.choices.words[1],
+                                     remap_option.choices.words[2],
+                                     "PatternRemap",
+                                     "",
+                                     nullptr};
+  PetscEnum choice = static_cast<PetscEnum>(HessianAssembler::Remap::off);
   PetscOptionsBegin(comm, nullptr, "dipc Hessian matrix", "Mat");
-  constexpr const OptionSpec& option = dipc_option("-dipc_direct_matrix");
-  PetscCall(PetscOptionsBool(option.name, option.help, option.manual, flag, &flag, nullptr));
+  PetscCall(PetscOptionsBool(direct_option.name, direct_option.help, direct_option.manual, flag, &flag, nullptr));
+  PetscCall(PetscOptionsEnum(remap_option.name, remap_option.help, remap_option.manual, remap_names, choice, &choice,
+                             nullptr));
   PetscOptionsEnd();
   *direct = flag == PETSC_TRUE;
+  *remap = static_cast<HessianAssembler::Remap>(choice);
   PetscFunctionReturn(0);
 }
 }  // namespace
@@ -33,7 +48,7 @@ PetscErrorCode HessianAssembler::setup(const Dofs& dofs, std::vector<Term> terms
     any_device_ = any_device_ || term.space == MemorySpace::device;
     pattern_versions_.push_back(term.pattern->pattern_version());
   }
-  PetscCall(read_direct_matrix(dofs_.comm, &direct_matrix_allowed_));
+  PetscCall(read_options(dofs_.comm, &direct_matrix_allowed_, &remap_));
   PetscFunctionReturn(0);
 }
 
@@ -63,13 +78,20 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matr
   for (auto& term : terms_) term.pattern->update_pattern(x);
   int local = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, dofs_.comm));
-  *new_matrix = false;
-  if (!any) PetscFunctionReturn(0);
+  *new_matrix = any != 0 && remap_ == Remap::off;
+  if (!any || *new_matrix) {
+    awaiting_rebuild_ = *new_matrix;
+    PetscFunctionReturn(0);
+  }
   // Only the changing terms' patterns change: map them onto the matrix's entries where they fit
   // on every rank, else the caller makes a new matrix (whose pattern maps them again).
   PetscCall(PetscLogEventBegin(log_events().pattern_remap, 0, 0, 0, 0));
   bool fits = true;
-  if (local) PetscCall(map_changing_part(&fits));
+  if (local) {
+    std::vector<PetscInt> rows, cols;
+    gather_changing_part(&rows, &cols);
+    PetscCall(map_changing_part(rows, cols, &fits));
+  }
   int all_fit = fits ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &all_fit, 1, MPI_INT, MPI_MIN, dofs_.comm));
   *new_matrix = all_fit == 0;
@@ -184,16 +206,34 @@ std::int64_t HessianAssembler::find_entry(PetscInt row, PetscInt col, std::size_
   return k >= 0 ? k : reserve_.find(row, col);
 }
 
-void HessianAssembler::build_reserve() {
-  // The changing terms' current entries and their reserved blocks, as node pairs.
+void HessianAssembler::gather_changing_part(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  gather_coo_patterns(
+      terms_, [&](std::size_t t) { return element_map_[t] < 0 && changing(t); }, changing_raw_begin_, &term_begin_,
+      &term_size_, rows, cols);
+  for (std::size_t t = 0; t < terms_.size(); ++t) pattern_versions_[t] = terms_[t].pattern->pattern_version();
+  num_raw_entries_ = changing_raw_begin_ + rows->size();
+}
+
+void HessianAssembler::build_reserve(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols) {
+  // The changing terms' current entries (rows, cols) and, with -dipc_pattern_remap candidates,
+  // their reserved blocks, as node pairs. A contact pair's 144 entries fall on 16 node pairs,
+  // each seen 9 times in a row of its layout: a node pair among the last 16 taken is not taken
+  // again, so that the sort in ReservedBlocks::build sees each about once.
   std::vector<ReservedBlocks::NodePair> node_pairs;
-  std::vector<PetscInt> rows, cols;
-  for (std::size_t t = 0; t < terms_.size(); ++t) {
-    if (!changing(t) || element_map_[t] >= 0) continue;
-    terms_[t].pattern->reserved_blocks(&node_pairs);
-    terms_[t].pattern->coo_pattern(&rows, &cols);
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      if (rows[k] >= 0 && cols[k] >= 0) node_pairs.push_back({rows[k] / 3, cols[k] / 3});
+  if (remap_ == Remap::candidates)
+    for (std::size_t t = 0; t < terms_.size(); ++t)
+      if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
+  constexpr int kRecent = 16;
+  ReservedBlocks::NodePair recent[kRecent];
+  int taken = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k] < 0 || cols[k] < 0) continue;
+    const ReservedBlocks::NodePair pair{rows[k] / 3, cols[k] / 3};
+    bool seen = false;
+    for (int r = 0; r < std::min(taken, kRecent) && !seen; ++r) seen = recent[r] == pair;
+    if (seen) continue;
+    recent[taken++ % kRecent] = pair;
+    node_pairs.push_back(pair);
   }
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   reserve_.build(
@@ -201,21 +241,19 @@ void HessianAssembler::build_reserve() {
       [&](PetscInt row, PetscInt col) { return find_fixed_entry(row, col, nullptr) >= 0; }, first);
 }
 
-PetscErrorCode HessianAssembler::map_changing_part(bool* fits) {
+PetscErrorCode HessianAssembler::map_changing_part(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols,
+                                                   bool* fits) {
   PetscFunctionBeginUser;
-  std::vector<PetscInt> rows, cols;
-  gather_coo_patterns(
-      terms_, [&](std::size_t t) { return element_map_[t] < 0 && changing(t); }, changing_raw_begin_, &term_begin_,
-      &term_size_, &rows, &cols);
-  for (std::size_t t = 0; t < terms_.size(); ++t) pattern_versions_[t] = terms_[t].pattern->pattern_version();
-  const PetscInt owned_begin = static_cast<PetscInt>(3 * dofs_.node_offset);
-  PetscCall(
-      changing_.build(rows.data(), cols.data(), rows.size(), owned_begin, owned_begin + 3 * dofs_.num_owned_nodes));
-  const std::size_t missing = changing_.place([&](PetscInt row, PetscInt col,
-                                                  std::size_t* hint) { return find_entry(row, col, hint); },
-                                              0, nullptr, nullptr);
+  std::size_t missing = 0;
+  try {
+    missing = changing_.build(rows.data(), cols.data(), rows.size(),
+                              [&](PetscInt row, PetscInt col, std::size_t* hint) {
+                                return find_entry(row, col, hint);
+                              });
+  } catch (const std::length_error& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+  }
   *fits = missing == 0;
-  num_raw_entries_ = changing_raw_begin_ + rows.size();
   PetscFunctionReturn(0);
 }
 
@@ -252,10 +290,14 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
     PetscCall(PetscLogEventEnd(log_events().node_blocks, 0, 0, 0, 0));
   }
   PetscCall(build_fixed_part());
-  build_reserve();
-  awaiting_rebuild_ = false;
   bool fits;
-  PetscCall(map_changing_part(&fits));
+  {
+    std::vector<PetscInt> rows, cols;
+    gather_changing_part(&rows, &cols);
+    build_reserve(rows, cols);
+    PetscCall(map_changing_part(rows, cols, &fits));
+  }
+  awaiting_rebuild_ = false;
   PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the changing Hessian terms' entries are not all in their reserve");
 
   // The matrix's entries: the element blocks', the fixed part's that no block holds, the reserve.

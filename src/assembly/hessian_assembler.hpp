@@ -1,12 +1,17 @@
 // HessianAssembler: the Hessian as a distributed PETSc matrix, its pattern made from the terms'
 // patterns (HessianPattern) and its values summed from the raw values the terms write.
 //
-// The matrix is made at setup and again only when a term's changed pattern (the contact active
-// set) needs entries it lacks, never per iteration otherwise. Its entries: the element forms'
-// node blocks, the fixed COO terms' entries that no block holds, and a reserve for the terms
-// whose pattern changes (ReservedBlocks: their candidate pairs' blocks), so that an active set
-// changing within the reserve only remaps that term's values (O(its entries)), keeps the matrix
-// and lets the preconditioner be reused. The terms (the potential's forms) write their raw
+// The matrix is made at setup and again when a term's pattern (the contact active set)
+// changes, never per iteration otherwise. Its entries: the element forms' node blocks, the
+// fixed COO terms' entries that no block holds, and those of the terms whose pattern changes
+// (ReservedBlocks: their current pattern's blocks and, with -dipc_pattern_remap candidates,
+// their candidate pairs'). With -dipc_pattern_remap fit or candidates, a pattern that fits the
+// matrix's entries only remaps those terms' values, keeping the matrix and the preconditioner:
+// each of their entries is looked up among the matrix's (TargetPart, on the host threads, 144
+// per contact pair) and sorted by entry on the device where the values are summed there. That
+// is off by default: on the contact-rich family on one H200 the remaps cost about as much as
+// the new matrices they replace, since both are host work per scalar contact entry
+// (docs/performance.md, "Contact-rich family"). The terms (the potential's forms) write their raw
 // values into one array made of parts, each with its own reduction into the matrix's entries:
 //   element part   the element forms' values (elastic, consistent mass), element by element in
 //                  their layouts, first, so that their offsets stay put; summed into the
@@ -18,8 +23,8 @@
 //                  its value); summed over their small lists (CooPart) onto the blocks, or onto
 //                  entries of their own after the blocks';
 //   changing part  the terms whose pattern changes (contact, friction), last, so that a new
-//                  active set resizes only it; summed (CooPart) onto the blocks, the fixed
-//                  part's entries or the reserve.
+//                  active set resizes only it; added value by value (TargetPart) onto the
+//                  blocks, the fixed part's entries or the reserve.
 // Entries after the blocks are zeroed before the parts add onto them; the Dirichlet
 // elimination (DirichletElimination) then sets the prescribed rows and columns. PETSc is given
 // only the distinct entries: through MatSetValuesCOO, or written straight into the matrix's
@@ -42,6 +47,7 @@
 #include "assembly/hessian_pattern.hpp"
 #include "assembly/large_page_vector.hpp"
 #include "assembly/reserved_blocks.hpp"
+#include "assembly/target_part.hpp"
 #include "device/device_runtime.hpp"
 #include "device/memory_space.hpp"
 
@@ -51,6 +57,10 @@ class HessianAssembler {
  public:
   // A term of the Hessian: its pattern, the memory space it writes its values in, and its name
   // (for messages).
+  // What a changed pattern does (-dipc_pattern_remap): off, a new matrix; fit, the matrix is
+  // kept where the pattern fits its entries; candidates, as fit, with the terms' reserved_blocks()
+  // in every new matrix.
+  enum class Remap { off, fit, candidates };
   struct Term {
     HessianPattern* pattern = nullptr;
     MemorySpace space = MemorySpace::host;
@@ -72,7 +82,7 @@ class HessianAssembler {
   HessianAssembler(const HessianAssembler&) = delete;
   HessianAssembler& operator=(const HessianAssembler&) = delete;
 
-  // Reads -dipc_direct_matrix. The pattern is built by create_matrix().
+  // Reads -dipc_direct_matrix and -dipc_pattern_remap. The pattern is built by create_matrix().
   PetscErrorCode setup(const Dofs& dofs, std::vector<Term> terms);
   // A matrix with the combined pattern preallocated (type from -mat_type, default aij). The
   // assembler keeps a reference to re-preallocate it when a pattern changes.
@@ -83,9 +93,9 @@ class HessianAssembler {
   void forget_matrix() { J_ = nullptr; }
 
   // Collective. Lets the terms fix their patterns at x (host array). Where a pattern changed
-  // and the matrix holds all its entries, the term's values are mapped onto them; *new_matrix
-  // on every rank when some rank's do not fit, and then rebuild_pattern() (or a new matrix)
-  // must follow before the next assembly.
+  // and the matrix holds all its entries, the term's values are mapped onto them (unless
+  // -dipc_pattern_remap is off); *new_matrix on every rank when a pattern changed and was not
+  // mapped, and then rebuild_pattern() (or a new matrix) must follow before the next assembly.
   PetscErrorCode update_patterns(const double* x, bool* new_matrix);
   // Collective. The matrix in use takes the terms' current pattern (its handle stays).
   PetscErrorCode rebuild_pattern() { return rebuild_pattern(false); }
@@ -123,11 +133,14 @@ class HessianAssembler {
   // The fixed COO terms' lists and the Dirichlet diagonal, their place in the raw values, and
   // the entries of theirs that no block holds (fixed_extra_rows_, fixed_extra_cols_).
   PetscErrorCode build_fixed_part();
-  // The reserve for the changing terms: their current patterns' and reserved_blocks()' blocks.
-  void build_reserve();
-  // The changing terms' lists and their place in the raw values and among the matrix's entries;
-  // *fits false where an entry has no place.
-  PetscErrorCode map_changing_part(bool* fits);
+  // The changing terms' COO lists, their place in the raw values; their versions taken.
+  void gather_changing_part(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols);
+  // The reserve for the changing terms: their current entries' blocks, and reserved_blocks()'
+  // with -dipc_pattern_remap candidates.
+  void build_reserve(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols);
+  // The changing part's values' place among the matrix's entries; *fits false where an entry
+  // has none.
+  PetscErrorCode map_changing_part(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols, bool* fits);
   // The raw value arrays sized for the parts, the maps on the device where values are summed there.
   void size_raw_values();
   // The matrix entry of the dof pair (row, col) among the blocks' and the fixed part's, or -1.
@@ -149,6 +162,7 @@ class HessianAssembler {
   std::vector<long> pattern_versions_;
   bool any_device_ = false;            // terms that write on the device
   bool direct_matrix_allowed_ = true;  // -dipc_direct_matrix, read at setup
+  Remap remap_ = Remap::off;           // -dipc_pattern_remap, read at setup
   Mat J_ = nullptr;                    // not owned
   bool device_matrix_ = false;         // values are summed on the device (device terms and matrix)
   // Each term's values in the raw array: start and count; element terms first.
@@ -166,7 +180,8 @@ class HessianAssembler {
   std::vector<PetscScalar> host_block_;
   device::Array<double> d_values_{"Hessian COO values"};
   ElementBlockPart elements_;
-  CooPart fixed_, changing_;
+  CooPart fixed_;
+  TargetPart changing_;
   // The fixed part's entries that no block holds (entries from blocks.num_entries() on), by row
   // then column; the reserve's follow them.
   std::vector<PetscInt> fixed_extra_rows_, fixed_extra_cols_;

@@ -1,16 +1,16 @@
 // ReservedBlocks: matrix entries kept for the Hessian terms whose pattern changes (contact's
 // active set, friction's lagged pairs), beyond those the element blocks and the fixed COO
-// terms already hold, so that the active set can change within them without a new matrix.
+// terms already hold, so that the pattern can change within them without a new matrix.
 //
 // A change of the contact active set used to make a new matrix: the whole COO part reduced
 // again, a new hypre matrix of every entry, and a fresh BoomerAMG setup, once per Newton
 // iteration on contact-rich steps (0.54 s of 1.56 s per iteration at 1M hexes on one H200,
-// docs/performance.md, "Contact-rich family"). The assembler instead gives the matrix the node
-// blocks of every contact *candidate* pair (the broad phase's pairs, a superset of the active
-// ones along the current Newton segment) and maps the active pairs' values into them; their
-// other entries hold zeros. Only an active pair outside the reserve (bodies that moved further
-// than the candidates' inflation) makes a new matrix, which reserves the candidates of that
-// moment.
+// docs/performance.md, "Contact-rich family"). The reserve holds the blocks of the changing
+// terms' current patterns, so a shrinking active set can keep the matrix, and with
+// -dipc_pattern_remap candidates those of every contact candidate pair (the broad phase's pairs, a
+// superset of the active ones along the current Newton segment), so that most changes keep it;
+// the reserve's unused entries hold zeros. A pattern outside the reserve makes a new matrix,
+// which reserves what is current then.
 //
 // The reserve is a list of node blocks (row node, column node), sorted, each with the mask of
 // its entries that no element block or fixed entry holds (bit 3i + j); entries are numbered

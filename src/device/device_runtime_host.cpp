@@ -50,5 +50,9 @@ void add_split(const double*, const std::uint32_t*, const std::uint8_t*, std::si
 void reduce_coo(const double*, const std::uint32_t*, const std::uint32_t*, std::size_t, double*) {
   no_cuda("device COO reduction");
 }
+void sort_by_target(std::uint32_t*, std::uint32_t*, std::size_t) { no_cuda("device sort by target"); }
+void add_by_target(double*, const std::uint32_t*, const std::uint32_t*, const double*, std::size_t) {
+  no_cuda("device sums by target");
+}
 
 }  // namespace dipc::device

@@ -8,10 +8,11 @@
 // of contact/cuda/contact_kernels.hpp on the device) and keeps their device lists.
 //
 // Matrix pattern. The Hessian's COO pattern holds the pairs active at the last update_pattern;
-// the matrix reserves the blocks of every candidate pair as well (reserved_blocks), so that a
-// new active set within the candidates is mapped onto the matrix's entries and only one outside
-// them makes a new matrix (a new matrix was 1.6 s at 64,000 hexes on 2 cores, 0.54 s per
-// Newton iteration at 1M on one H200, and a new preconditioner setup each time). Vertex–plane pairs
+// with -dipc_pattern_remap candidates the matrix reserves the blocks of every candidate pair as well
+// (reserved_blocks), so that a new active set within the candidates is mapped onto the matrix's
+// entries and only one outside them makes a new matrix (a new matrix was 1.6 s at 64,000 hexes
+// on 2 cores, 0.54 s per Newton iteration at 1M on one H200, and a new preconditioner setup
+// each time; assembly/reserved_blocks.hpp). Vertex–plane pairs
 // are exempt: every owned surface vertex is paired with every plane for the whole run, and all
 // those pairs are in the pattern from the first matrix on, writing zeros while inactive. Their
 // 3×3 blocks lie on their vertex's diagonal block, which the elastic pattern already holds, so

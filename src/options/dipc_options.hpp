@@ -75,6 +75,7 @@ constexpr const char* kPresets[] = {"fast", "balanced", "accurate"};           /
 constexpr const char* kPartitioners[] = {"metis", "ptscotch", "rcb", "auto"};  // partition/slice_partition.hpp
 constexpr const char* kSchurApproximations[] = {"mass", "selfp"};              // nonlinear/mixed_linear_solve.hpp
 constexpr const char* kSchurFactorizations[] = {"diag", "upper"};              // the same
+constexpr const char* kPatternRemaps[] = {"off", "fit", "candidates"};         // assembly/hessian_assembler.hpp
 
 // The table. Its order is -help's within each options block and the order of the checks.
 inline constexpr OptionSpec kTable[] = {
@@ -109,6 +110,10 @@ inline constexpr OptionSpec kTable[] = {
     // Read in assembly/hessian_assembler.cpp.
     flag("-dipc_direct_matrix", "DirectMatrix",
          "Make host AIJ (and device hypre) Hessians from dipc's own pattern instead of PETSc's COO preallocation"),
+    one_of("-dipc_pattern_remap", kPatternRemaps, "HessianAssembler",
+           "When the contact active set changes: off makes a new matrix; fit keeps the matrix where the new pattern "
+           "fits its entries and maps the contact values onto them; candidates also reserves entries for every "
+           "contact candidate pair when a matrix is made"),
     one_of("-dipc_mixed_schur", kSchurApproximations, "MixedLinearSolve",
            "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 Bs^T) "
            "or mass (I + D W)"),

@@ -1,5 +1,7 @@
 #include "potential/incremental_potential.hpp"
 
+#include <petsc/private/petscimpl.h>  // PetscObjectStateGet: has x changed since the patterns were asked
+
 #include <algorithm>
 #include <tuple>
 #include <utility>
@@ -267,7 +269,7 @@ PetscErrorCode IncrementalPotential::assemble_hessian(Vec x, Mat J) {
   PetscCall(x_views_.begin(x_local_));
   if (any_pattern_change_) {
     bool new_matrix;
-    PetscCall(update_patterns(&new_matrix));
+    PetscCall(update_patterns(x, &new_matrix));
     if (new_matrix) {
       const double start = MPI_Wtime();
       PetscCall(assembler_.rebuild_pattern());
@@ -299,8 +301,16 @@ bool IncrementalPotential::assemble_values(LocalViews& x) {
   return ok;
 }
 
-PetscErrorCode IncrementalPotential::update_patterns(bool* new_matrix) {
+PetscErrorCode IncrementalPotential::update_patterns(Vec x, bool* new_matrix) {
   PetscFunctionBeginUser;
+  // Newton asks at the start of each iteration (refresh_pattern) and again for the Hessian at
+  // the same x: the second time the patterns (an O(candidates) pass of the contact form) are
+  // those of the first, which left the matrix fitting them.
+  PetscObjectState state;
+  PetscCall(PetscObjectStateGet(reinterpret_cast<PetscObject>(x), &state));
+  *new_matrix = false;
+  if (x == patterns_x_ && state == patterns_state_ && assembler_.matrix()) PetscFunctionReturn(0);
+  patterns_x_ = x, patterns_state_ = state;
   const double start = MPI_Wtime();
   const long remaps_before = assembler_.remaps();
   PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), new_matrix));
@@ -316,7 +326,7 @@ PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) 
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   bool new_matrix;
-  PetscCall(update_patterns(&new_matrix));
+  PetscCall(update_patterns(x, &new_matrix));
   PetscCall(x_views_.end());
   *changed = new_matrix ? PETSC_TRUE : PETSC_FALSE;
   if (new_matrix) assembler_.forget_matrix();  // the caller replaces the matrix: create_matrix() rebuilds the pattern
@@ -338,6 +348,7 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
 
 PetscErrorCode IncrementalPotential::prepare_segment(Vec x, Vec p) {
   PetscFunctionBeginUser;
+  patterns_x_ = nullptr;  // new candidates: the patterns are asked again
   // Timed as `segment` (what every line search needs) apart from the forms' own work on the
   // segment, timed as `neighbourhood`.
   double start = MPI_Wtime();
@@ -489,6 +500,7 @@ PetscErrorCode IncrementalPotential::begin_step(Vec x_hat) {
 
 PetscErrorCode IncrementalPotential::begin_iteration(Vec x, PetscBool* changed) {
   PetscFunctionBeginUser;
+  patterns_x_ = nullptr;  // forms may adapt (friction's lagged pairs)
   PetscCall(gather(x));
   const PetscScalar* xl;
   PetscCall(VecGetArrayRead(x_local_, &xl));

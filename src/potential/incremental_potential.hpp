@@ -127,8 +127,9 @@ class IncrementalPotential {
 
  private:
   PetscErrorCode gather(Vec x);  // x -> x_local_
-  // The assembler's update_patterns at the gathered x (x_views_ begun), timed as preallocation.
-  PetscErrorCode update_patterns(bool* new_matrix);
+  // The assembler's update_patterns at the gathered x (x_views_ begun), timed as preallocation;
+  // nothing where the last call was at the same x (vector and state).
+  PetscErrorCode update_patterns(Vec x, bool* new_matrix);
   PetscErrorCode assemble_hessian(Vec x, Mat J);  // hessian() without its timer
   bool uses(MemorySpace space) const { return space == MemorySpace::device ? any_device_ : any_host_; }
   // Sums the forms' values at the local arrays x (one per space); false if any rejects x.
@@ -156,6 +157,9 @@ class IncrementalPotential {
   int num_owned_dofs_ = 0;
   Vec x_local_ = nullptr, g_local_ = nullptr, p_local_ = nullptr;
   HessianAssembler assembler_;
+  // The x of the last update_patterns() (vector and state), reset where forms may change.
+  Vec patterns_x_ = nullptr;
+  PetscObjectState patterns_state_ = 0;
   bool any_host_ = false, any_device_ = false;  // memory spaces the forms evaluate in
   bool any_extra_nodes_ = false, any_step_limit_ = false, any_pattern_change_ = false;
   LocalViews x_views_;

@@ -197,12 +197,61 @@ void check_changes(const char* mat_type) {
   PetscOptionsClearValue(nullptr, "-mat_type");
 }
 
-TEST(HessianAssembler, PatternChangesWithinTheReserveKeepTheMatrix) { check_changes("aij"); }
+TEST(HessianAssembler, PatternChangesWithinTheReserveKeepTheMatrix) {
+  PetscOptionsSetValue(nullptr, "-dipc_pattern_remap", "candidates");
+  check_changes("aij");
+  PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
+}
 
 TEST(HessianAssembler, PatternChangesOnPetscCooPath) {
+  PetscOptionsSetValue(nullptr, "-dipc_pattern_remap", "candidates");
   PetscOptionsSetValue(nullptr, "-dipc_direct_matrix", "0");
   check_changes("aij");
   PetscOptionsClearValue(nullptr, "-dipc_direct_matrix");
+  PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
+}
+
+// With -dipc_pattern_remap fit the matrix keeps only the current pattern's entries: a pattern
+// that shrinks still fits (the dropped pairs' entries hold zeros), a new pair does not. With
+// the default (off) every change makes a new matrix.
+TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
+  PetscOptionsSetValue(nullptr, "-dipc_pattern_remap", "fit");
+  int rank, size;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const NodePairs all = draw_pairs(rank, size, 3, 12);
+  const NodePairs half(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2));
+  Assembly changing(rank);
+  changing.pairs.set(all, joined(all, draw_pairs(rank, size, 4, 12)));  // reserved_blocks() is not asked
+  changing.setup(rank);
+  changing.assemble();
+  const std::size_t entries = changing.assembler.num_entries();
+  EXPECT_EQ(changing.assembler.num_reserved_entries() > 0, true);  // the cross-rank and off-element pairs
+
+  changing.pairs.set(half, {});
+  bool new_matrix = true;
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_FALSE(new_matrix);
+  changing.assemble();
+  EXPECT_EQ(changing.assembler.num_entries(), entries);
+  Assembly fresh(rank);
+  fresh.pairs.set(half, {});
+  fresh.setup(rank);
+  fresh.assemble();
+  EXPECT_LT(relative_difference(changing.J, fresh.J), 1e-14);
+
+  changing.pairs.set(joined(half, draw_pairs(rank, size, 5, 12)), {});
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_TRUE(new_matrix);
+  PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
+
+  Assembly by_default(rank);
+  by_default.pairs.set(all, {});
+  by_default.setup(rank);
+  by_default.pairs.set(half, {});
+  ASSERT_EQ(by_default.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_TRUE(new_matrix);
+  EXPECT_EQ(by_default.assembler.remaps(), 0);
 }
 
 }  // namespace
