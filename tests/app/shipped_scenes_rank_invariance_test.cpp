@@ -42,6 +42,8 @@ const ShippedScene kShippedScenes[] = {
     {"box_on_obj_ramp", 20},        // 60: lands on the OBJ ramp at step 13
     {"funnel_drop", 20},            // 40: the voxelised ball meets the OBJ funnel at step 17
     {"obj_rollers", 16},            // 30: the OBJ rollers grip the block from step 12
+    {"heavy_on_light", 8},          // 32: the heavy box lands on the light one and tilts; the
+                                    // squeeze-out (steps 9-28) takes 200-1000 Newton its a step
 };
 
 Scene load(const std::string& name) {
