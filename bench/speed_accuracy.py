@@ -34,6 +34,8 @@ Errors against the reference (u = displacement, over the output times both runs 
                more than 5 % of the drop) of |h_max_after - h_max_after_ref| / max |u_ref|
   exit_vel_err max over bodies of |v_end - v_end_ref| / max_t |v_ref|, v = node-average velocity
                at the last compared time (dynamic scenes)
+  end_pos_err  max over bodies of |c_end - c_end_ref| / max |u_ref|, c = node-average centre at the
+               last compared time: where each body ends up (a body squeezed out sideways, say)
   min_gap      min over the run of stats.csv's min_distance_over_dhat (contact scenes): the
                penetration margin, a fraction of d-hat (0 would be contact)
 Cost: wall_s the median over --repeat runs of the sum of stats.csv's wall_s (the steps, setup
@@ -72,7 +74,7 @@ PRESETS = ('fast', 'balanced', 'accurate')
 MODEL_KNOBS = ('dhat', 'dt', 'kappa', 'fric_its')  # change the discrete problem, not only how well it is solved
 REFERENCE = {'-dipc_velocity_tol_rel': '1e-7', '-ksp_rtol': '1e-10', '-dipc_pc_reuse': '0'}
 BUILTIN = {'-dipc_velocity_tol_rel': '1e-5', '-ksp_rtol': '1e-8', '-dipc_pc_reuse': '0'}
-ERRORS = ('err_max', 'err_l2', 'energy_diff', 'height_err', 'bounce_err', 'exit_vel_err', 'min_gap')
+ERRORS = ('err_max', 'err_l2', 'energy_diff', 'height_err', 'bounce_err', 'exit_vel_err', 'end_pos_err', 'min_gap')
 FLOATS = ERRORS + ('wall_s', 'wall_s_min', 'wall_s_max', 'linear_s', 'contact_s', 'other_s', 'process_s', 'cpu_s',
                    's_per_newton')
 
@@ -194,6 +196,10 @@ def compare(run_, ref, down):
     nodes = bodies(ref['mesh'])
     end = common[-1]
     moving = [n for n in nodes if np.abs(ref['fields'][end][0][n]).max() > 0]
+    if moving:
+        centre = lambda f, n: np.mean(x0[n] + f[end][0][n], axis=0)
+        out['end_pos_err'] = max(np.linalg.norm(centre(run_['fields'], n) - centre(ref['fields'], n))
+                                 for n in moving) / u_max
     if down is not None and moving:
         height = lambda f, t, n: -float(np.mean(x0[n] + f[t][0][n], axis=0) @ down)
         out['height_err'] = max(abs(height(run_['fields'], end, n) - height(ref['fields'], end, n))
@@ -398,7 +404,7 @@ def main():
 
         ref_errors = {k: 0.0 for k in ERRORS}
         ref_errors.update(energy_diff=0.0, min_gap=ref['min_gap'])
-        for k in ('height_err', 'bounce_err', 'exit_vel_err'):
+        for k in ('height_err', 'bounce_err', 'exit_vel_err', 'end_pos_err'):
             ref_errors[k] = compare(ref, ref, down)[0][k]
         rows = [row('reference', 'reference', options(REFERENCE), ref, ref_errors, len(ref['fields']) - 1)]
         for i, (setting, knob, sc, steps, opts) in enumerate(plan):
@@ -419,9 +425,9 @@ def main():
 
     print(f"{name}, {n} of {full} steps of dt {dt:g}, {args.ranks} rank(s), median of {args.repeat} run(s) "
           f"(reference: {' '.join(options(REFERENCE))})\n")
-    print('| setting | err max | err L2 | energy | rest height | bounce | exit vel | min gap/d̂ | CPU [s] | wall [s] | '
+    print('| setting | err max | err L2 | energy | rest height | bounce | exit vel | end position | min gap/d̂ | CPU [s] | wall [s] | '
           'linear / contact / other [s] | Newton | CG | s/Newton | Pareto |')
-    print('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|')
+    print('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|')
     for r in rows:
         status = f" (exit {r['status']})" if r['status'] else ''
         print(f"| {r['setting']}{status} | " + ' | '.join(fmt(r[k]) for k in ERRORS) +
