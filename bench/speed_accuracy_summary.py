@@ -7,6 +7,12 @@ Prints two Markdown tables: per scene, each preset's error (err_max: max over th
 displacement error relative to the largest displacement of the reference) and its CPU time
 relative to the built-in solver values; and per knob setting, the range of its error and of its
 CPU time relative to the built-in values over the scenes that have it.
+
+The last column of the first table flags each preset whose error on that scene exceeds the error
+it is documented to stay within (STATED_BOUND, docs/performance.md "Speed or accuracy"; the same
+bounds as app_solver_presets_tests); a warning after the table names those scenes. Such a scene
+has an outcome that depends on how tightly each step is solved (heavy_on_light: a light box
+squeezed out from under a heavy one), and the presets' errors do not describe it.
 """
 import csv
 import glob
@@ -15,6 +21,7 @@ import os
 import sys
 
 PRESETS = ('fast', 'balanced', 'accurate')
+STATED_BOUND = {'fast': 1e-3, 'balanced': 1e-4, 'accurate': 1e-5}  # err_max each preset is documented to stay within
 
 
 def load(directory):
@@ -42,23 +49,33 @@ def main():
     directory = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), 'results')
     studies = load(directory)
     print('| scene | steps run | ' + ' | '.join(f'{p}: error, CPU' for p in PRESETS) +
-          ' | built-in: error, CPU [s] | min gap/d̂ (ref → fast) |')
-    print('|---|---|' + '---|' * len(PRESETS) + '---|---|')
+          ' | built-in: error, CPU [s] | min gap/d̂ (ref → fast) | beyond stated error |')
+    print('|---|---|' + '---|' * len(PRESETS) + '---|---|---|')
     worst = {p: 0.0 for p in PRESETS}
+    beyond = {}  # scene -> presets whose error exceeds STATED_BOUND there (a failed run counts too)
     for scene, rows in studies.items():
         by = {r['setting']: r for r in rows}
         base = num(by['built-in']['cpu_s'])
         cells = []
         for p in PRESETS:
+            if p not in by:  # a study with --knobs, or cut short (the 1M-hex GPU study has no accurate row)
+                cells.append('not run')
+                continue
             e, c = num(by[p]['err_max']), num(by[p]['cpu_s'])
             worst[p] = max(worst[p], e) if math.isfinite(e) else worst[p]
             status = '' if by[p]['status'] == '0' else f" (exit {by[p]['status']})"
             cells.append(f'{fmt(e)}, {c / base:.2f}×{status}')
+            if by[p]['status'] != '0' or not e <= STATED_BOUND[p]:
+                beyond.setdefault(scene, []).append(p)
         gap = f"{num(by['reference']['min_gap']):.2g} → {num(by['fast']['min_gap']):.2g}" \
-            if math.isfinite(num(by['reference']['min_gap'])) else '—'
+            if 'fast' in by and math.isfinite(num(by['reference']['min_gap'])) else '—'
         print(f"| {scene} | {by['reference']['steps']} of {by['reference']['scene_steps']} | " + ' | '.join(cells) +
-              f" | {fmt(num(by['built-in']['err_max']))}, {base:.2f} | {gap} |")
+              f" | {fmt(num(by['built-in']['err_max']))}, {base:.2f} | {gap} | {', '.join(beyond.get(scene, []))} |")
     print('\nlargest error of each preset: ' + ', '.join(f'{p} {worst[p]:.1e}' for p in PRESETS))
+    for scene, presets in beyond.items():
+        print(f"WARNING: {scene}: {', '.join(presets)} beyond the stated error "
+              f"({', '.join(f'{p} {STATED_BOUND[p]:g}' for p in presets)}): the outcome depends on the solver "
+              "tolerances; use accurate and check convergence (a tighter -dipc_velocity_tol_rel) on such scenes")
 
     settings = []
     for rows in studies.values():
