@@ -4,19 +4,22 @@ several seconds is in progress still leaves a checkpoint of the last completed s
 stop line, and a restart that continues from it.
 
   long_step_signal_test.py --dipc build/src/app/dipc \\
-      --mpiexec "mpiexec --oversubscribe --allow-run-as-root" --work /tmp/long_step_signal [--grace 3]
+      --mpiexec "mpiexec --oversubscribe --allow-run-as-root" --work /tmp/long_step_signal [--grace 1]
 
 Open MPI 4.1's mpirun answers SIGTERM with SIGCONT to the ranks at once, SIGTERM
 `odls_base_sigkill_timeout` seconds later and SIGKILL as many seconds after that (measured:
 docs/output.md, "Signals"). So the ranks learn of the stop only --grace seconds after mpirun,
 and have --grace seconds to write their checkpoint. The scene (long_step_scene.json: a soft
-clamped beam sagging under gravity in steps of 0.5 s) takes 15 to 30 Newton iterations of a few
-tenths of a second each per step on 2 cores: steps of 5 s and more, so that a run which only
-stops between steps is still in step 2 when SIGKILL comes, while one that abandons the step at
-its next Newton iteration stops within a second.
+clamped beam sagging under gravity in steps of 0.5 s) takes 15 to 30 Newton iterations per
+step: 2-3 s per step on 2 idle cores, 12-17 s under load, with iterations of 0.1-0.5 s. A run
+that only stops between steps finishes step 2 (or is killed in it); one that abandons the step
+at its next Newton iteration stops well within the grace time.
 
-1. The run (2 ranks, `--mca odls_base_sigkill_timeout <grace>`) is signalled 0.5 s after step 1's
-   row reaches stats.csv: its ranks get SIGTERM `grace` s later, in the middle of step 2.
+1. The run (2 ranks, `--mca odls_base_sigkill_timeout <grace>`, Open MPI's default 1 s unless
+   given) is signalled once step 1's row reaches stats.csv, after a wait that puts the ranks'
+   SIGTERM about a third of the way into step 2 (step 2 takes about 0.7 of step 1's time):
+   max(0, 0.3 t1 - grace), t1 being when step 1 ended. On an idle machine that is at once, and
+   the ranks' SIGTERM comes 1 s into a step of 2 s or more.
 2. Checked: the stop line "stopped on signal 15 after step 1", the checkpoint of step 1 and none
    of step 2, stats.csv with step 1 alone, and the checkpoint's state equal to the output's
    step 1 (positions and velocities bit for bit, previous positions those of step 0), not to a
@@ -74,7 +77,8 @@ def run_stopped(args, out, log_path):
                 sys.exit(f"the run ended or timed out before step 1 (see {log_path})")
             time.sleep(0.05)
         step1 = time.monotonic() - start
-        time.sleep(0.5)
+        wait = max(0.0, 0.3 * step1 - args.grace)
+        time.sleep(wait)
         signalled = time.monotonic()
         proc.send_signal(signal.SIGTERM)
         try:
@@ -82,7 +86,7 @@ def run_stopped(args, out, log_path):
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
             status = proc.wait()
-        print(f"step 1 done {step1:.1f} s after the start; SIGTERM to mpirun 0.5 s later; mpirun exited "
+        print(f"step 1 done {step1:.1f} s after the start; SIGTERM to mpirun {wait:.1f} s later; mpirun exited "
               f"{time.monotonic() - signalled:.1f} s after it with status {status}", flush=True)
     with open(log_path) as f:
         return f.read()
@@ -113,7 +117,7 @@ def main():
     parser.add_argument("--dipc", required=True)
     parser.add_argument("--mpiexec", required=True, help="Open MPI's mpirun with its flags")
     parser.add_argument("--work", required=True)
-    parser.add_argument("--grace", type=int, default=3, help="odls_base_sigkill_timeout (s)")
+    parser.add_argument("--grace", type=int, default=1, help="odls_base_sigkill_timeout (s; Open MPI's default 1)")
     parser.add_argument("--timeout", type=float, default=120, help="for step 1 and for the restart (s)")
     args = parser.parse_args()
     shutil.rmtree(args.work, ignore_errors=True)
