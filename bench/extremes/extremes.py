@@ -35,9 +35,10 @@ import report  # noqa: E402
 
 # Quick cases that finish and span the knobs: a soft and the stiffest material,
 # near-incompressible, the smallest time step, a 100 m/s impact (taken in cut steps: step
-# recovery), a small d̂, a density ratio and the stack. The cases that do not finish (E_1e2,
+# recovery), a small d̂, a density ratio, the stack and the plates squeezing a soft box. The cases that do not finish (E_1e2,
 # impact_200, heavy_on_light, dhat_1e-7) are explained in README "Extremes matrix".
-CI_CASES = ['E_1e4', 'E_2e11', 'nu_0.499', 'dt_1e-5', 'impact_100', 'dhat_1e-5', 'light_on_heavy', 'stack_5']
+CI_CASES = ['E_1e4', 'E_2e11', 'nu_0.499', 'dt_1e-5', 'impact_100', 'dhat_1e-5', 'light_on_heavy', 'stack_5',
+            'squeeze_plates']
 
 
 def write_scenes(directory, names=None):
