@@ -12,15 +12,14 @@ PetscErrorCode CooPart::build(const PetscInt* rows, const PetscInt* cols, std::s
   PetscFunctionBeginUser;
   try {
     reduction_ = CooReduction::build(rows, cols, n, owned_begin, owned_end);
-    num_raw_ = n;
   } catch (const std::length_error& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
   PetscFunctionReturn(0);
 }
 
-std::size_t CooPart::place(const Find& find, std::size_t first_new, std::vector<PetscInt>* extra_rows,
-                           std::vector<PetscInt>* extra_cols) {
+void CooPart::place(const Find& find, std::size_t first_new, std::vector<PetscInt>* extra_rows,
+                    std::vector<PetscInt>* extra_cols) {
   // In chunks on the host threads (the lumped mass gives 3 entries per node), each with its own
   // row hint; a chunk's new entries are numbered after the lower chunks', in row order.
   const std::size_t num_scalar = reduction_.num_unique();
@@ -37,7 +36,7 @@ std::size_t CooPart::place(const Find& find, std::size_t first_new, std::vector<
     chunk_new[static_cast<std::size_t>(c)] = fresh;
   });
   const std::size_t num_new = chunk_starts(chunk_new, chunks)[0];
-  if (extra_rows && num_new > 0) {
+  if (num_new > 0) {
     const std::size_t before = extra_rows->size();
     extra_rows->resize(before + num_new), extra_cols->resize(before + num_new);
     parallel_chunks(num_scalar, [&](int c, std::size_t v0, std::size_t v1) {
@@ -53,7 +52,6 @@ std::size_t CooPart::place(const Find& find, std::size_t first_new, std::vector<
   }
   std::vector<PetscInt>().swap(reduction_.rows);
   std::vector<PetscInt>().swap(reduction_.cols);
-  return num_new;
 }
 
 void CooPart::keep_on_device() {

@@ -28,21 +28,18 @@ class CooPart {
   using Find = std::function<std::int64_t(PetscInt row, PetscInt col, std::size_t* row_hint)>;
   // Where each distinct entry goes among the matrix's entries: find(row, col), else a new one
   // from first_new on, whose (row, col) are appended to *extra_rows and *extra_cols (in row
-  // order); without those lists (null) no entry may be new. Returns how many were new. Frees
-  // the reduction's (row, col) lists.
-  std::size_t place(const Find& find, std::size_t first_new, std::vector<PetscInt>* extra_rows,
-                    std::vector<PetscInt>* extra_cols);
+  // order). Frees the reduction's (row, col) lists.
+  void place(const Find& find, std::size_t first_new, std::vector<PetscInt>* extra_rows,
+             std::vector<PetscInt>* extra_cols);
   // Puts the map on the device for reduce_on_device, and frees the host's copy of the reduction.
   void keep_on_device();
 
   // Adds the part's sums (raw: its first raw value) onto unique.
   void add(const double* raw, double* unique);
   void add_on_device(const double* d_raw, double* d_unique);
-  std::size_t num_raw() const { return num_raw_; }
 
  private:
   CooReduction reduction_;
-  std::size_t num_raw_ = 0;
   std::vector<std::size_t> target_;  // distinct entry -> the matrix's entry
   std::vector<double> sums_;
   device::Array<CooReduction::Index> d_offsets_{"COO reduction offsets"}, d_sources_{"COO reduction sources"};

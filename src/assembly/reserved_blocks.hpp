@@ -41,7 +41,6 @@ class ReservedBlocks {
              std::size_t first_entry);
   void clear() { *this = ReservedBlocks(); }
 
-  std::size_t num_blocks() const { return pairs_.size(); }
   std::size_t num_entries() const { return num_entries_; }
   // The matrix entry of the dof pair (row, col), or -1 where the reserve has none.
   std::int64_t find(PetscInt row, PetscInt col) const;
