@@ -282,8 +282,12 @@ check "run 2: the batch shell did not pass the second USR1 on" section_has 'got 
 task_codes() { grep -o 'Exited with exit code [0-9]*' <<<"$signal_section" | awk '{print $5}' | sort -u | tr '\n' ' '; }
 check "run 2: every rank exited with status 4 (codes seen: $(task_codes))" test "$(task_codes)" == "4 "
 check "run 2: the script requeued the job" section_has 'checkpoint written; requeueing the job'
-check "run 3 resumed from the checkpoint written on the signal (step ${second_restart:-none} > $before_signal)" \
-  test "${second_restart:-0}" -gt "$before_signal"
+# dipc stops within the step that is running when the signal comes and keeps the last completed
+# one: that may be the step of the newest periodic checkpoint (the signal came early in the next
+# step), so run 3 must start from the step dipc names on stopping, which is not older than it.
+signal_step=$(sed -n 's/^dipc: stopped on signal [0-9]* after step \([0-9]*\); checkpoint written.*/\1/p' <<<"$signal_section" | head -n 1)
+check "run 3 resumed from the checkpoint written on the signal (step ${second_restart:-none}; dipc stopped after step ${signal_step:-none}, newest checkpoint before the signal $before_signal)" \
+  test -n "$signal_step" -a "${second_restart:-0}" -eq "${signal_step:-0}" -a "${signal_step:-0}" -ge "$before_signal"
 check "run 3 finished" log_has 'run 3 .*finished'
 check "the script never asked for a requeue that Slurm refused" bash -c "! grep -q 'requeue refused' '$log'"
 check "the interrupted job's output equals the reference's at every step" \
