@@ -405,56 +405,62 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
 }
 
 // The Newton solve starts from x_n with the Dirichlet nodes at their positions at t. When that
-// jump inverts an element next to them (a large prescribed motion per step), the motion is
-// applied in fractions instead: each admissible fraction is solved for (the minimiser with the
-// Dirichlet nodes part-way), which carries the interior along, and the remaining motion is
-// retried from there, halving the fraction when it still inverts (Dirichlet continuation).
-// Only the last solve, with the full motion, is the step's solution; the others only build
-// its initial guess. Triangle-mesh obstacles move with the same fractions of the step: their
-// motion from the accepted fraction to the trial one is part of the CCD check, so an obstacle
-// that moves into a body pushes it along in partial solves instead of jumping through it.
+// jump inverts an element next to them, or drives them into a contact (plates closing on a body
+// by more than the gap in a step), the motion is applied in fractions instead: each admissible
+// fraction is solved for (the minimiser with the Dirichlet nodes part-way), which carries the
+// interior along, and the remaining motion is retried from there (Dirichlet continuation). Only
+// the last solve, with the full motion, is the step's solution; the others build its initial
+// guess. Triangle-mesh obstacles move with the same fractions of the step: their motion from the
+// accepted fraction to the trial one is part of the CCD check, so an obstacle that moves into a
+// body pushes it along in partial solves instead of jumping through it.
+//
+// Each fraction is tried in two states: the free nodes where the last solve left them, and (in
+// a dynamic problem) carried on at the rate they moved so far in the step (v_n before the first
+// partial solve), as a body the plates push moves along with them. Moving the Dirichlet nodes
+// alone fits only the gap, so a squeezed body needed as many partial solves as the plates'
+// travel holds gaps (40 and more per step, hundreds of Newton iterations, issue 32). A fraction
+// that fits neither way is cut to 0.8 of the collision-free part CCD found for the better of the
+// two (halved when an inverted element, not a contact, stopped it).
 PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* report) {
   PetscFunctionBeginUser;
   const double t0 = time_;
   double reached = 0.0;  // fraction of the step's Dirichlet motion already solved for
   double trial = 1.0;
-  bool tried_inertial = false;
-  Vec accepted;
+  Vec accepted, jump, carry = nullptr;
   PetscCall(VecDuplicate(x_, &accepted));
   PetscCall(VecCopy(x_, accepted));
-  Vec jump;
   PetscCall(VecDuplicate(x_, &jump));
-  for (int halvings = 0;;) {
-    const double t_from = t0 + reached * (t - t0), t_to = t0 + trial * (t - t0);
+  if (!problem_.is_static) {
+    PetscCall(VecDuplicate(x_, &carry));
+    PetscCall(VecWAXPY(carry, -1.0, x_n_, x_hat_));  // h v_n: the free nodes' motion per whole step
+  }
+  // x := accepted (+ the carry for the trial fraction), the Dirichlet nodes at the trial time;
+  // *alpha the collision-free fraction of accepted -> x, *valid when all of it is admissible.
+  // The obstacles stand at the trial time afterwards if it is valid, else where they were.
+  auto try_state = [&](bool carried, double t_from, double t_to, PetscReal* alpha, PetscBool* valid) {
+    PetscFunctionBeginUser;
+    PetscCall(VecCopy(accepted, x_));
+    if (carried) PetscCall(VecAXPY(x_, trial - reached, carry));
     PetscCall(apply_dirichlet(x_, t_to));
     if (contact_) contact_->set().move_obstacles(t_from, t_to);
-    // The jump of the Dirichlet nodes must not invert an element nor pass through a contact
-    // (CCD along accepted -> x; this also prepares the contact candidates around x).
+    // CCD along accepted -> x (this also prepares the contact candidates around x).
     PetscCall(VecWAXPY(jump, -1.0, accepted, x_));
-    PetscReal alpha;
-    PetscCall(potential_.max_step(accepted, jump, &alpha));
-    PetscBool valid = PETSC_FALSE;
-    if (alpha >= 1.0) PetscCall(potential_.is_valid(x_, &valid));
-    // From here on the obstacles stand still: at the trial time if it is taken, else where
-    // they were.
-    if (contact_) contact_->set().move_obstacles(valid ? t_to : t_from, valid ? t_to : t_from);
-    if (valid && trial == 1.0) break;
-    // The jump alone does not fit, as when plates close on a body they squeeze and the gap is
-    // smaller than their travel in a step: halving it then took more partial solves the smaller
-    // the gap (hundreds of Newton iterations per step, issue 32). Before cutting it, the jump is
-    // tried once with the free nodes carried on by their velocity (x̂ = x_n + h v_n), as a body
-    // the plates push moves along with them.
-    if (!valid && trial == 1.0 && reached == 0.0 && !tried_inertial && !problem_.is_static) {
-      tried_inertial = true;
-      PetscCall(VecCopy(x_hat_, x_));
-      PetscCall(apply_dirichlet(x_, t_to));
-      if (contact_) contact_->set().move_obstacles(t_from, t_to);
-      PetscCall(VecWAXPY(jump, -1.0, accepted, x_));
-      PetscCall(potential_.max_step(accepted, jump, &alpha));
-      if (alpha >= 1.0) PetscCall(potential_.is_valid(x_, &valid));
-      if (contact_) contact_->set().move_obstacles(valid ? t_to : t_from, valid ? t_to : t_from);
-      if (valid) break;
+    PetscCall(potential_.max_step(accepted, jump, alpha));
+    *valid = PETSC_FALSE;
+    if (*alpha >= 1.0) PetscCall(potential_.is_valid(x_, valid));
+    if (contact_) contact_->set().move_obstacles(*valid ? t_to : t_from, *valid ? t_to : t_from);
+    PetscFunctionReturn(0);
+  };
+  for (;;) {
+    const double t_from = t0 + reached * (t - t0), t_to = t0 + trial * (t - t0);
+    PetscReal alpha, alpha_carried = 0;
+    PetscBool valid;
+    PetscCall(try_state(false, t_from, t_to, &alpha, &valid));
+    if (!valid && carry) {
+      PetscCall(try_state(true, t_from, t_to, &alpha_carried, &valid));
+      alpha = std::max(alpha, alpha_carried);
     }
+    if (valid && trial == 1.0) break;
     if (valid) {
       NewtonReport partial;
       PetscCall(newton_.solve(x_, &partial));
@@ -469,14 +475,18 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
         break;
       }
       PetscCall(VecCopy(x_, accepted));
+      if (carry) {  // the rate the free nodes moved at in the step so far, per whole step
+        PetscCall(VecWAXPY(carry, -1.0, x_n_, accepted));
+        PetscCall(VecScale(carry, 1.0 / trial));
+      }
       reached = trial;
       trial = 1.0;
-      halvings = 0;
       continue;
     }
     PetscCall(VecCopy(accepted, x_));
-    trial = 0.5 * (reached + trial);
-    if (++halvings > 30) {
+    const double cut = alpha < 1.0 ? std::min(0.5, 0.8 * static_cast<double>(alpha)) : 0.5;
+    trial = reached + cut * (trial - reached);
+    if (!(trial - reached > 0x1p-30)) {
       report->failure = "the prescribed motion of this step inverts an element next to the Dirichlet nodes, or "
                         "drives them into a contact, even when applied in 2^-30 fractions";
       break;
@@ -484,6 +494,7 @@ PetscErrorCode TimeIntegrator::reach_prescribed_positions(double t, StepReport* 
   }
   PetscCall(VecDestroy(&accepted));
   PetscCall(VecDestroy(&jump));
+  PetscCall(VecDestroy(&carry));
   PetscFunctionReturn(0);
 }
 
