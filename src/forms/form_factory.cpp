@@ -7,6 +7,7 @@
 #include "forms/elastic_form.hpp"
 #include "forms/friction_form.hpp"
 #include "forms/inertia_form.hpp"
+#include "options/dipc_options.hpp"
 
 namespace dipc {
 
@@ -21,7 +22,7 @@ bool has_gravity(const ProblemSetup& problem) {
 // The barrier, then friction where μ > 0 in a dynamic run.
 PetscErrorCode add_contact_forms(const DistributedMesh& mesh, const ProblemSetup& problem,
                                  const std::vector<double>& node_mass, const GhostExchange& nodal, MemorySpace space,
-                                 ProblemForms* built) {
+                                 bool majorize_reversals, ProblemForms* built) {
   PetscFunctionBeginUser;
   auto contact = std::make_unique<ContactForm>(mesh, problem.contact_parameters, space, &nodal);
   // κ bounds from the average nodal mass (IPC supplement).
@@ -33,7 +34,7 @@ PetscErrorCode add_contact_forms(const DistributedMesh& mesh, const ProblemSetup
   built->forms.push_back(std::move(contact));
   if (problem.friction > 0 && !problem.is_static) {
     auto friction = std::make_unique<FrictionForm>(*built->contact, problem.friction, problem.friction_epsv,
-                                                   problem.dt);
+                                                   problem.dt, majorize_reversals);
     built->friction = friction.get();
     built->forms.push_back(std::move(friction));
   }
@@ -66,7 +67,15 @@ PetscErrorCode build_forms(const DistributedMesh& mesh, const ProblemSetup& prob
   forms.push_back(std::make_unique<ElasticForm>(deformable, h2, space));
   if (has_gravity(problem))
     forms.push_back(std::make_unique<BodyForceForm>(node_mass, mesh.num_owned_nodes, problem.gravity, h2, space));
-  if (problem.contact) PetscCall(add_contact_forms(mesh, problem, node_mass, nodal, space, built));
+  // Read for every scene, so that -help lists it whatever the scene holds.
+  constexpr const OptionSpec& majorize = dipc_option("-dipc_friction_majorize_reversals");
+  PetscBool majorize_reversals = PETSC_TRUE;
+  PetscOptionsBegin(mesh.comm, nullptr, "dipc friction", "dipc");
+  PetscCall(PetscOptionsBool(majorize.name, majorize.help, majorize.manual, majorize_reversals, &majorize_reversals,
+                             nullptr));
+  PetscOptionsEnd();
+  if (problem.contact)
+    PetscCall(add_contact_forms(mesh, problem, node_mass, nodal, space, majorize_reversals == PETSC_TRUE, built));
   PetscFunctionReturn(0);
 }
 

@@ -1,5 +1,6 @@
 #include "forms/friction_form.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "contact/friction/friction_potential.hpp"
@@ -39,6 +40,7 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
     pairs_.push_back(p);
   }
   contact_.set().pin_nodes(std::move(pinned));
+  reversing_.assign(pairs_.size(), 0);
   ++pattern_version_;
 }
 
@@ -50,6 +52,36 @@ bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_
     for (int c = 0; c < 3; ++c) X[3 * k + c] = xk[c];
   }
   return true;
+}
+
+void FrictionForm::slip(const Pair& p, const double* X, double u[2]) const {
+  if (p.count == 1)
+    contact::tangential_displacement(X, p.x_start.data(), p.plane, u);
+  else
+    contact::tangential_displacement(X, p.x_start.data(), p.pair, u);
+}
+
+void FrictionForm::prepare_segment(const double* x, const double* p) {
+  if (!majorize_reversals_) return;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    double X[12], X1[12], u0[2], u1[2];
+    std::int32_t local[4];
+    reversing_[k] = 0;
+    if (!gather(pairs_[k], x, X, local)) continue;
+    // Obstacles stand still along a segment (they move between segments, ContactSet).
+    for (int n = 0; n < pairs_[k].count; ++n)
+      for (int c = 0; c < 3; ++c)
+        X1[3 * n + c] = X[3 * n + c] + (is_obstacle_node(local[n]) ? 0.0 : p[3 * static_cast<std::size_t>(local[n]) + c]);
+    slip(pairs_[k], X, u0);
+    slip(pairs_[k], X1, u1);
+    reversing_[k] = contact::slip_reverses(u0, u1, eps_u_) ? 1 : 0;
+  }
+}
+
+std::size_t FrictionForm::num_reversing() const {
+  std::size_t n = 0;
+  for (const auto r : reversing_) n += r;
+  return n;
 }
 
 bool FrictionForm::value(const double* x, double* energy) {
@@ -98,23 +130,32 @@ void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt
 
 bool FrictionForm::hessian(const double* x, double* values) {
   std::size_t offset = 0;
-  for (const Pair& p : pairs_) {
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const Pair& p = pairs_[k];
     double X[12];
     std::int32_t local[4];
     if (!gather(p, x, X, local)) return false;
     int slots[4];
     const int n = 3 * body_slots(p.global.data(), p.count, slots);
+    const bool majorize = reversing_[k] != 0;
     if (p.count == 1) {
-      contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
-    } else if (n == 3 * p.count) {
-      contact::friction_hessian(X, p.x_start.data(), p.pair, values + offset);
-    } else {  // a pair with an obstacle: the body nodes' block
+      if (majorize)
+        contact::friction_majorizer_hessian(X, p.x_start.data(), p.plane, values + offset);
+      else
+        contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
+    } else {
       double H[144];
-      contact::friction_hessian(X, p.x_start.data(), p.pair, H);
-      body_block(H, p.count, slots, n / 3, values + offset);
+      double* out = n == 3 * p.count ? values + offset : H;  // with an obstacle: the body nodes' block of H
+      if (majorize)
+        contact::friction_majorizer_hessian(X, p.x_start.data(), p.pair, out);
+      else
+        contact::friction_hessian(X, p.x_start.data(), p.pair, out);
+      if (out == H) body_block(H, p.count, slots, n / 3, values + offset);
     }
     offset += static_cast<std::size_t>(n) * n;
   }
+  // One Newton model only: the next segment decides again.
+  std::fill(reversing_.begin(), reversing_.end(), 0);
   return true;
 }
 

@@ -5,6 +5,14 @@
 // smoothed below the sliding displacement ε_u = ε_v·h, is an ordinary smooth potential that
 // Newton minimises together with the others. Built only when μ > 0.
 //
+// A pair whose slip the last Newton step reversed (friction_potential.hpp: slip_reverses, seen
+// in prepare_segment on the line search's segment x -> x + p) gets, in the next Hessian only,
+// the isotropic majorizer of its energy in place of its own Hessian: the exact model has no
+// curvature along a sliding pair's slip and sends a pair that should stop across the apex,
+// which makes the line search cut everyone's step (-dipc_friction_majorize_reversals, on by
+// default; docs/performance.md, "Newton iterations on heavy contact steps"). Newton's criterion
+// and the energy are unchanged: only the model that chooses the direction differs.
+//
 // Pairs are kept by global node ids and evaluated on the rank that evaluates the contact pair,
 // so every pair counts once; their nodes stay among the contact form's extra nodes while the
 // lag lasts. Obstacle vertices (contact_obstacles.hpp) keep their obstacle ids: their positions
@@ -22,14 +30,17 @@ namespace dipc {
 
 class FrictionForm : public Form {
  public:
-  // μ the friction coefficient; smoothing below ε_u = ε_v · h (h the time step).
-  FrictionForm(ContactForm& contact, double mu, double eps_v, double h)
-      : contact_(contact), mu_(mu), eps_v_(eps_v), eps_u_(eps_v * h) {}
+  // μ the friction coefficient; smoothing below ε_u = ε_v · h (h the time step);
+  // majorize_reversals: the Hessian of a pair whose slip the last step reversed is its majorizer's.
+  FrictionForm(ContactForm& contact, double mu, double eps_v, double h, bool majorize_reversals)
+      : contact_(contact), mu_(mu), eps_v_(eps_v), eps_u_(eps_v * h), majorize_reversals_(majorize_reversals) {}
   std::string name() const override { return "friction (lagged)"; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool hessian(const double* x, double* values) override;
+  // Marks the pairs whose slip the segment x -> x + p reverses (for the next hessian()).
+  void prepare_segment(const double* x, const double* p) override;
   long pattern_version() const override { return pattern_version_; }
   bool pattern_may_change() const override { return true; }
   // Takes effect at the next update_lag (the start of every step).
@@ -39,6 +50,8 @@ class FrictionForm : public Form {
   // positions at the start of the step. Both are local arrays of the potential.
   void update_lag(const double* x_lag, const double* x_start);
   std::size_t num_pairs() const { return pairs_.size(); }
+  // Pairs whose next Hessian is their majorizer's (tests, reports).
+  std::size_t num_reversing() const;
 
  private:
   struct Pair {
@@ -49,10 +62,14 @@ class FrictionForm : public Form {
     contact::LaggedPointPlaneFriction plane{};
   };
   bool gather(const Pair& p, const double* x, double* X, std::int32_t* local) const;
+  // u of pair p at the gathered positions X.
+  void slip(const Pair& p, const double* X, double u[2]) const;
 
   ContactForm& contact_;
   double mu_, eps_v_, eps_u_;
+  bool majorize_reversals_;
   std::vector<Pair> pairs_;
+  std::vector<std::uint8_t> reversing_;  // per pair: majorizer in the next Hessian
   long pattern_version_ = 0;
 };
 

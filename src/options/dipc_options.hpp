@@ -103,6 +103,10 @@ inline constexpr OptionSpec kTable[] = {
          "Keep the preconditioner across Newton iterations while that is cheaper"),
     positive_real("-dipc_pc_reuse_setup_cost", "PreconditionerReuse",
                   "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)"),
+    // Read in forms/form_factory.cpp.
+    flag("-dipc_friction_majorize_reversals", "FrictionForm",
+         "In the Newton Hessian, give a friction pair whose slip the last step reversed the isotropic "
+         "majorizer of its energy (fewer Newton iterations where sliding bodies come to rest)"),
     // Read in nonlinear/mixed_linear_solve.cpp.
     flag("-dipc_mixed_solve", "MixedLinearSolve",
          "Solve Newton systems of mean-dilatation elements as a mixed u-p system; default on when such "

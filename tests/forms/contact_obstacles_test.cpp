@@ -6,7 +6,8 @@
 //  - barrier gradient and (unprojected) Hessian against finite differences, every pair kind
 //    present; the projected Hessian symmetric PSD; only body rows and columns;
 //  - lagged friction with a sliding obstacle: the obstacle's motion alone drags the body, and
-//    barrier + friction match finite differences;
+//    barrier + friction match finite differences; a step that reverses the slip gives the next
+//    Hessian the friction majorizer;
 //  - the same energy and gradient on every rank count;
 //  - CCD conformance: the body and an obstacle (static, moving at a velocity, or along the
 //    second piece of a path) approach each other; the full step would cross, the step CCD
@@ -14,6 +15,7 @@
 //    which these motions do exactly; a rotation's chord is what the integrator checks too.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -74,7 +76,7 @@ struct ObstacleFixture {
     std::vector<std::unique_ptr<Form>> forms;
     forms.push_back(std::move(form));
     if (mu > 0) {
-      auto f = std::make_unique<FrictionForm>(*contact, mu, 1e-3, 0.01);
+      auto f = std::make_unique<FrictionForm>(*contact, mu, 1e-3, 0.01, true);
       friction = f.get();
       forms.push_back(std::move(f));
     }
@@ -199,6 +201,68 @@ TEST(ContactObstacles, FrictionAgainstASlidingObstacleMatchesDifferences) {
   EXPECT_NEAR(fd.slope_fd, fd.slope, 1e-5 * std::abs(fd.slope));
   EXPECT_LT(fd.hessian_error, 1e-4 * fd.hessian_scale);
   for (Vec* v : {&x_start, &x, &d, &g, &w, &twice}) VecDestroy(v);
+}
+
+// FrictionForm's model of a reversal (friction_form.hpp): with the body shifted sideways from
+// where friction was lagged, every pair slides; a segment that turns every slip into its
+// opposite marks every pair, the next Hessian gives them their majorizer (stiffer along the
+// slip: H_majorizer - H is PSD and not zero) and clears the marks; a segment along the slip, or
+// none, marks no pair.
+TEST(ContactObstacles, FrictionPairsWhoseSlipAStepReversesGetTheMajorizerForOneHessian) {
+  ObstacleFixture f(obstacle_parameters(), PETSC_COMM_WORLD, 0.5);
+  Vec x_start, x, p, v, Hv, Mv;
+  f.potential.create_global_vec(&x);
+  for (Vec* w : {&x_start, &p, &v, &Hv, &Mv}) VecDuplicate(x, w);
+  f.fill(x_start, 3e-3, 1, true);
+  f.contact->set().start_obstacle_step(0.0);
+  ASSERT_EQ(f.potential.prepare_point(x_start), 0);
+  f.potential.with_local(x_start, [&](const double* xl, std::size_t) { f.friction->update_lag(xl, xl); });
+  const auto all_ranks = [&](std::size_t n) {
+    long local = static_cast<long>(n), total = 0;
+    MPI_Allreduce(&local, &total, 1, MPI_LONG, MPI_SUM, f.mesh.comm);
+    return total;
+  };
+  const long pairs = all_ranks(f.friction->num_pairs());
+  ASSERT_GT(pairs, 0);
+  // p := factor * (5e-4, 2e-4, 0) on every body node (ε_u = 1e-5).
+  const auto sideways = [&](Vec w, double factor) {
+    PetscScalar* a;
+    VecGetArray(w, &a);
+    for (int n = 0; n < f.mesh.num_owned_nodes; ++n)
+      a[3 * n] = factor * 5e-4, a[3 * n + 1] = factor * 2e-4, a[3 * n + 2] = 0;
+    VecRestoreArray(w, &a);
+  };
+  sideways(x, 1.0);
+  VecAXPY(x, 1.0, x_start);
+  ASSERT_EQ(f.potential.prepare_point(x), 0);
+  EXPECT_EQ(all_ranks(f.friction->num_reversing()), 0);
+  PetscReal alpha;
+  sideways(p, 1.0);  // along the slip: it grows
+  ASSERT_EQ(f.potential.max_step(x, p, &alpha), 0);
+  EXPECT_EQ(all_ranks(f.friction->num_reversing()), 0);
+  sideways(p, -2.0);  // to the opposite slip
+  ASSERT_EQ(f.potential.max_step(x, p, &alpha), 0);
+  EXPECT_EQ(all_ranks(f.friction->num_reversing()), pairs);
+  ASSERT_EQ(f.potential.hessian(x, f.H), 0);
+  EXPECT_EQ(all_ranks(f.friction->num_reversing()), 0) << "the marks hold for one Hessian";
+  Mat majorized;
+  MatDuplicate(f.H, MAT_COPY_VALUES, &majorized);
+  ASSERT_EQ(f.potential.hessian(x, f.H), 0);
+  double least = 0, most = 0;
+  for (int salt = 0; salt < 8; ++salt) {
+    f.fill(v, 1.0, 11 + salt, false);
+    MatMult(majorized, v, Mv);
+    MatMult(f.H, v, Hv);
+    PetscReal vMv, vHv;
+    VecDot(v, Mv, &vMv);
+    VecDot(v, Hv, &vHv);
+    least = std::min(least, (vMv - vHv) / std::abs(vHv));
+    most = std::max(most, (vMv - vHv) / std::abs(vHv));
+  }
+  EXPECT_GE(least, -1e-12);
+  EXPECT_GT(most, 1e-6);
+  MatDestroy(&majorized);
+  for (Vec* w : {&x_start, &x, &p, &v, &Hv, &Mv}) VecDestroy(w);
 }
 
 TEST(ContactObstacles, ProjectedHessianIsSymmetricPositiveSemidefinite) {

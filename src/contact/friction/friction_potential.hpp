@@ -11,6 +11,12 @@
 // sliding regime (where it is exactly 0), so the projected Hessian clamps M's eigenvalues
 // (symmetric_2x2_psd.hpp), as IPC does; Gamma^T P M P^T Gamma is then PSD by congruence.
 //
+// A Newton model built on that Hessian overshoots where a pair's slip reverses: in the sliding
+// regime the along-u curvature is 0, so a pair that should come to rest is sent across the
+// cone's apex to slide the other way, and the line search cuts the step of every node for it
+// (issue 29: the heavy steps of the contact family). For such pairs the form may use the
+// isotropic majorizer instead (friction_majorizer_hessian below).
+//
 // The 12-dof functions serve point-triangle [p, t0, t1, t2] and edge-edge
 // [ea0, ea1, eb0, eb1] pairs alike (only Gamma's weights differ); the 3-dof overloads are
 // the point-plane pairs. Gradients and Hessians are written (not accumulated); Hessians are
@@ -71,6 +77,40 @@ DIPC_HD void friction_inner_hessian(const double u[2], double eps_u, double mu_l
   if (project) project_symmetric_2x2_to_psd(M);
 }
 
+// The inner Hessian of D's isotropic majorizer at u0, M = mu lambda f1(y0)/y0 I. Since f1(y)/y
+// does not increase with y (f0(sqrt(s)) is concave in s, friction_mollifier.hpp), for every u
+//   D(u) <= D(u0) + mu lambda f1(y0)/(2 y0) (||u||^2 - y0^2),
+// the bound behind iteratively reweighted least squares (Weiszfeld's algorithm): a quadratic
+// that touches D at u0 with D's gradient. Along u it is stiffer than D (f1/y against f1'), so
+// the model's minimiser of D alone is the apex u = 0, never beyond it. PSD by construction.
+DIPC_HD void friction_majorizer_inner_hessian(const double u[2], double eps_u, double mu_lambda, double M[4]) {
+  const double y = sqrt(u[0] * u[0] + u[1] * u[1]);
+  M[0] = M[3] = mu_lambda * friction_f1_over_y(y, eps_u);
+  M[1] = M[2] = 0.0;
+}
+
+// Whether the move u0 -> u1 reverses a sliding pair's slip: sliding at both ends (||u|| >= eps_u)
+// in directions more than 90 degrees apart, so the segment passes the stick disc or its side.
+DIPC_HD bool slip_reverses(const double u0[2], const double u1[2], double eps_u) {
+  const double y0 = sqrt(u0[0] * u0[0] + u0[1] * u0[1]), y1 = sqrt(u1[0] * u1[0] + u1[1] * u1[1]);
+  return y0 >= eps_u && y1 >= eps_u && u0[0] * u1[0] + u0[1] * u1[1] < 0.0;
+}
+
+// Which inner Hessian a pair Hessian is built from.
+enum class FrictionModel {
+  exact,       // D's own (may be slightly indefinite by rounding; for tests)
+  projected,   // D's own, eigenvalues clamped at 0: what Newton uses
+  majorizer,   // the isotropic majorizer (friction_majorizer_inner_hessian)
+};
+
+DIPC_HD void friction_model_inner_hessian(const double u[2], double eps_u, double mu_lambda, FrictionModel model,
+                                          double M[4]) {
+  if (model == FrictionModel::majorizer)
+    friction_majorizer_inner_hessian(u, eps_u, mu_lambda, M);
+  else
+    friction_inner_hessian(u, eps_u, mu_lambda, model == FrictionModel::projected, M);
+}
+
 // ---- point-triangle and edge-edge pairs (12 dofs) ----
 
 // u = P^T Gamma (x - x_n)
@@ -99,11 +139,11 @@ DIPC_HD void friction_gradient(const double x12[12], const double xn12[12], cons
 namespace friction_detail {
 
 // H = Gamma^T A Gamma with Gamma = [w_i I]: H_(3i+a, 3j+b) = w_i w_j A_ab.
-DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f, bool project,
-                          double H144[144]) {
+DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
+                          FrictionModel model, double H144[144]) {
   double u[2], M[4], A[9];
   tangential_displacement(x12, xn12, f, u);
-  friction_inner_hessian(u, f.eps_u, f.mu * f.normal_force, project, M);
+  friction_model_inner_hessian(u, f.eps_u, f.mu * f.normal_force, model, M);
   lift_from_tangent(f.basis, M, A);
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) {
@@ -118,13 +158,20 @@ DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const Lag
 // PSD-projected Hessian (what Newton uses).
 DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
                               double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, true, H144);
+  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::projected, H144);
+}
+
+// The Hessian of the isotropic majorizer at x (for a pair whose slip the last Newton step
+// reversed): Gamma^T P (mu lambda f1(y)/y I) P^T Gamma.
+DIPC_HD void friction_majorizer_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
+                                        double H144[144]) {
+  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::majorizer, H144);
 }
 
 // The exact Hessian of friction_energy (may be slightly indefinite by rounding; for tests).
 DIPC_HD void friction_hessian_unprojected(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
                                           double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, false, H144);
+  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::exact, H144);
 }
 
 // ---- point-plane pairs (3 dofs, Gamma = I) ----
@@ -148,20 +195,31 @@ DIPC_HD void friction_gradient(const double x3[3], const double xn3[3], const La
   friction_detail::tangential_force(f.basis, u, f.eps_u, f.mu * f.normal_force, g3);
 }
 
-DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
-                              double H9[9]) {
+namespace friction_detail {
+
+DIPC_HD void point_plane_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
+                                 FrictionModel model, double H9[9]) {
   double u[2], M[4];
   tangential_displacement(x3, xn3, f, u);
-  friction_inner_hessian(u, f.eps_u, f.mu * f.normal_force, true, M);
-  friction_detail::lift_from_tangent(f.basis, M, H9);
+  friction_model_inner_hessian(u, f.eps_u, f.mu * f.normal_force, model, M);
+  lift_from_tangent(f.basis, M, H9);
+}
+
+}  // namespace friction_detail
+
+DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
+                              double H9[9]) {
+  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::projected, H9);
+}
+
+DIPC_HD void friction_majorizer_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
+                                        double H9[9]) {
+  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::majorizer, H9);
 }
 
 DIPC_HD void friction_hessian_unprojected(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
                                           double H9[9]) {
-  double u[2], M[4];
-  tangential_displacement(x3, xn3, f, u);
-  friction_inner_hessian(u, f.eps_u, f.mu * f.normal_force, false, M);
-  friction_detail::lift_from_tangent(f.basis, M, H9);
+  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::exact, H9);
 }
 
 }  // namespace dipc::contact

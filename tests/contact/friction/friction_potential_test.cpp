@@ -364,6 +364,104 @@ TEST(PointPlaneFriction, ZeroDisplacementContinuityDirectionAndZeroMu) {
   }
 }
 
+// The isotropic majorizer (friction_majorizer_hessian): PSD, and the quadratic it makes with the
+// energy and gradient at x lies on or above the energy everywhere, also where the move crosses
+// the stick disc to slide the other way (large random moves, and the move that reverses u);
+// along the slip it is at least as stiff as the exact Hessian.
+TEST(FrictionMajorizer, BoundsTheEnergyFromAboveAndTouchesItAtX) {
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (const PairCase& c : pair_cases())
+    for (double eps : kEpsValues)
+      for (double ratio : kRatios) {
+        const LaggedPairFriction f = lagged(c, kMu, eps);
+        std::array<double, 12> x, xn;
+        make_state(c, f, ratio, rng, x, xn);
+        double g[12], Hm[144], H[144];
+        friction_gradient(x.data(), xn.data(), f, g);
+        friction_majorizer_hessian(x.data(), xn.data(), f, Hm);
+        friction_hessian_unprojected(x.data(), xn.data(), f, H);
+        const double scale = test::max_abs(Hm, 144);
+        EXPECT_GE(min_eigenvalue(Hm, 12), -1e-13 * scale) << c.name;
+        const double E0 = friction_energy(x.data(), xn.data(), f);
+        const auto model_gap = [&](const std::array<double, 12>& d) {  // model(x + d) - E(x + d)
+          std::array<double, 12> y;
+          double gd = 0, dHd = 0;
+          for (int i = 0; i < 12; ++i) {
+            y[i] = x[i] + d[i];
+            gd += g[i] * d[i];
+            for (int j = 0; j < 12; ++j) dHd += d[i] * Hm[12 * i + j] * d[j];
+          }
+          return E0 + gd + 0.5 * dHd - friction_energy(y.data(), xn.data(), f);
+        };
+        const double roundoff = 1e-12 * kMu * kLambda * eps * (1 + 100 * ratio);
+        for (int k = 0; k < 20; ++k) {
+          std::array<double, 12> d;
+          const double size = ratio * eps * std::pow(10.0, unit(rng) * 2);  // 0.01 to 100 slips
+          for (double& di : d) di = size * unit(rng);
+          EXPECT_GE(model_gap(d), -roundoff) << c.name << " eps " << eps << " |u|/eps " << ratio;
+        }
+        // x_n - (x - x_n): the move that turns u into -u.
+        std::array<double, 12> reverse;
+        for (int i = 0; i < 12; ++i) reverse[i] = -2 * (x[i] - xn[i]);
+        EXPECT_GE(model_gap(reverse), -roundoff) << c.name;
+        // Along the slip (the move x - x_n that made it) the majorizer is at least as stiff.
+        std::array<double, 12> along;
+        double along2 = 0;
+        for (int i = 0; i < 12; ++i) along[i] = x[i] - xn[i], along2 += along[i] * along[i];
+        const auto curvature = [&](const double* M, const std::array<double, 12>& d) {
+          double v = 0;
+          for (int i = 0; i < 12; ++i)
+            for (int j = 0; j < 12; ++j) v += d[i] * M[12 * i + j] * d[j];
+          return v;
+        };
+        EXPECT_GE(curvature(Hm, along), curvature(H, along) - 1e-12 * scale * along2) << c.name;
+      }
+}
+
+TEST(FrictionMajorizer, PointPlaneBoundsTheEnergyAndEqualsMuLambdaF1OverYInTheTangentPlane) {
+  std::mt19937_64 rng(73);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (double eps : kEpsValues)
+    for (double ratio : kRatios)
+      for (int k = 0; k < 5; ++k) {
+        const PlaneState s = plane_state(rng, kMu, eps, ratio);
+        double g[3], Hm[9];
+        friction_gradient(s.x.data(), s.xn.data(), s.f, g);
+        friction_majorizer_hessian(s.x.data(), s.xn.data(), s.f, Hm);
+        // mu lambda f1(y)/y P P^T: trace twice the factor, no stiffness along the normal.
+        const double factor = kMu * kLambda * friction_f1_over_y(ratio * eps, eps);
+        EXPECT_NEAR(Hm[0] + Hm[4] + Hm[8], 2 * factor, 1e-9 * factor);
+        const double E0 = friction_energy(s.x.data(), s.xn.data(), s.f);
+        for (int t = 0; t < 20; ++t) {
+          std::array<double, 3> d, y;
+          const double size = ratio * eps * std::pow(10.0, unit(rng) * 2);
+          double gd = 0, dHd = 0;
+          for (int i = 0; i < 3; ++i) d[i] = size * unit(rng), y[i] = s.x[i] + d[i];
+          for (int i = 0; i < 3; ++i) {
+            gd += g[i] * d[i];
+            for (int j = 0; j < 3; ++j) dHd += d[i] * Hm[3 * i + j] * d[j];
+          }
+          EXPECT_GE(E0 + gd + 0.5 * dHd - friction_energy(y.data(), s.xn.data(), s.f),
+                    -1e-12 * kMu * kLambda * eps * (1 + 100 * ratio))
+              << eps << " " << ratio;
+        }
+      }
+}
+
+TEST(FrictionMajorizer, SlipReversesOnlyBetweenOpposedSlidingStates) {
+  const double eps = 1e-3;
+  const double sliding[2] = {2e-3, 1e-3}, opposed[2] = {-3e-3, -0.5e-3}, turned[2] = {1e-3, 3e-3},
+               stuck[2] = {-0.5e-3, 0}, across[2] = {-1e-3, 2e-3};
+  EXPECT_TRUE(slip_reverses(sliding, opposed, eps));
+  EXPECT_TRUE(slip_reverses(opposed, sliding, eps));
+  EXPECT_FALSE(slip_reverses(sliding, turned, eps));   // less than 90 degrees apart
+  EXPECT_FALSE(slip_reverses(sliding, stuck, eps));    // lands in the stick disc
+  EXPECT_FALSE(slip_reverses(stuck, opposed, eps));    // starts in it
+  EXPECT_FALSE(slip_reverses(sliding, sliding, eps));  // no move
+  EXPECT_FALSE(slip_reverses(sliding, across, eps));   // exactly 90 degrees is not a reversal
+}
+
 // lambda = -kappa b'(d) 2 sqrt(d) is minus the derivative of kappa b(s^2) with respect to the
 // unsquared distance s, checked on IPC's barrier b(d) = -(d - dhat)^2 ln(d/dhat).
 TEST(FrictionNormalForce, IsTheBarrierForceAlongTheUnsquaredDistance) {
