@@ -17,7 +17,8 @@ contact_family.py scales it) with one change:
 Prints one table (steps down, variants across: Newton iterations and the smallest line-search
 step α of the step) and writes <out>/heavy_steps_<tag>.csv with a row per variant and step:
 variant, member, elements, ranks, step, newton, ksp, alpha_min, alpha_ccd, contacts, step_s,
-status. A variant that fails keeps the steps it finished and names its exit status.
+status. A variant that fails keeps the steps it finished and names its exit status; the exit
+status is 1 when a variant failed or printed fewer step lines than --steps.
 """
 import argparse
 import csv
@@ -146,7 +147,10 @@ def main():
         w.writeheader()
         w.writerows(rows)
     print("wrote", path)
-    return 0 if rows and all(r["status"] == 0 for r in rows) else 1
+    short = [v for v in variants if sum(1 for r in rows if r["variant"] == v) != int(args.steps)]
+    if short:
+        print("fewer step lines than --steps %s: %s" % (args.steps, ", ".join(short)), file=sys.stderr)
+    return 0 if rows and not short and all(r["status"] == 0 for r in rows) else 1
 
 
 if __name__ == "__main__":
