@@ -89,21 +89,28 @@ def base_elements(scene):
                for g in scene["geometry"] if "box" in g)
 
 
-def scaled_scene(member, elements, workdir):
-    """A copy of the member's scene with every box's resolution scaled towards `elements` in all;
-    mesh paths made absolute (they are relative to the scene file)."""
-    src = os.path.join(SCENES, member + ".json")
-    with open(src) as f:
+def member_scene(member, elements=None):
+    """The member's scene as a dict, every box's resolution scaled towards `elements` in all (as
+    shipped without it), mesh paths made absolute (they are relative to the scene file)."""
+    with open(os.path.join(SCENES, member + ".json")) as f:
         scene = json.load(f)
-    s = (elements / base_elements(scene)) ** (1.0 / 3.0)
+    if elements:
+        s = (elements / base_elements(scene)) ** (1.0 / 3.0)
+        for g in scene["geometry"]:
+            if "box" in g:
+                g["box"]["resolution"] = [max(1, round(r * s)) for r in g["box"]["resolution"]]
     for g in scene["geometry"]:
-        if "box" in g:
-            g["box"]["resolution"] = [max(1, round(r * s)) for r in g["box"]["resolution"]]
         if "mesh" in g and not os.path.isabs(g["mesh"]):
             g["mesh"] = os.path.join(SCENES, g["mesh"])
     for o in scene.get("contact", {}).get("obstacles", []):
         if not os.path.isabs(o["mesh"]):
             o["mesh"] = os.path.join(SCENES, o["mesh"])
+    return scene
+
+
+def scaled_scene(member, elements, workdir):
+    """A copy of the member's scene scaled towards `elements` hexes (member_scene), written to workdir."""
+    scene = member_scene(member, elements)
     path = os.path.join(workdir, "%s_%d.json" % (member, elements))
     with open(path, "w") as f:
         json.dump(scene, f, indent=1)

@@ -28,7 +28,7 @@ import re
 import sys
 import tempfile
 
-from contact_family import SCENES, scaled_scene
+from contact_family import SCENES, member_scene
 from run_dipc import run_dipc
 
 STEP_LINE = re.compile(r"^step\s+(\d+)\s.*?newton\s+(\d+).*?ksp\s+(\d+)\s+alpha_min\s+(\S+).*?\s([0-9.]+) s"
@@ -57,18 +57,7 @@ def apply_variant(scene, variant):
 def variant_scene(args, variant, workdir):
     """The path of the variant's scene file: the member scaled to --elements (or as shipped, for
     --refine), then changed."""
-    if args.elements:
-        path = scaled_scene(args.member, args.elements, workdir)
-    else:
-        path = os.path.join(SCENES, args.member + ".json")
-    with open(path) as f:
-        scene = json.load(f)
-    for g in scene["geometry"]:  # mesh paths are relative to the shipped scene
-        if "mesh" in g and not os.path.isabs(g["mesh"]):
-            g["mesh"] = os.path.join(SCENES, g["mesh"])
-    for o in scene.get("contact", {}).get("obstacles", []):
-        if not os.path.isabs(o["mesh"]):
-            o["mesh"] = os.path.join(SCENES, o["mesh"])
+    scene = member_scene(args.member, args.elements)
     out = os.path.join(workdir, "%s_%s.json" % (args.member, re.sub(r"[^A-Za-z0-9_.]", "_", variant)))
     with open(out, "w") as f:
         json.dump(apply_variant(scene, variant), f, indent=1)

@@ -137,20 +137,15 @@ bool FrictionForm::hessian(const double* x, double* values) {
     if (!gather(p, x, X, local)) return false;
     int slots[4];
     const int n = 3 * body_slots(p.global.data(), p.count, slots);
-    const bool majorize = reversing_[k] != 0;
+    const auto model = reversing_[k] ? contact::FrictionModel::majorizer : contact::FrictionModel::projected;
     if (p.count == 1) {
-      if (majorize)
-        contact::friction_majorizer_hessian(X, p.x_start.data(), p.plane, values + offset);
-      else
-        contact::friction_hessian(X, p.x_start.data(), p.plane, values + offset);
-    } else {
+      contact::friction_hessian(X, p.x_start.data(), p.plane, model, values + offset);
+    } else if (n == 3 * p.count) {
+      contact::friction_hessian(X, p.x_start.data(), p.pair, model, values + offset);
+    } else {  // a pair with an obstacle: the body nodes' block
       double H[144];
-      double* out = n == 3 * p.count ? values + offset : H;  // with an obstacle: the body nodes' block of H
-      if (majorize)
-        contact::friction_majorizer_hessian(X, p.x_start.data(), p.pair, out);
-      else
-        contact::friction_hessian(X, p.x_start.data(), p.pair, out);
-      if (out == H) body_block(H, p.count, slots, n / 3, values + offset);
+      contact::friction_hessian(X, p.x_start.data(), p.pair, model, H);
+      body_block(H, p.count, slots, n / 3, values + offset);
     }
     offset += static_cast<std::size_t>(n) * n;
   }

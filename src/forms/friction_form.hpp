@@ -50,7 +50,7 @@ class FrictionForm : public Form {
   // positions at the start of the step. Both are local arrays of the potential.
   void update_lag(const double* x_lag, const double* x_start);
   std::size_t num_pairs() const { return pairs_.size(); }
-  // Pairs whose next Hessian is their majorizer's (tests, reports).
+  // Pairs whose next Hessian is their majorizer's (tests).
   std::size_t num_reversing() const;
 
  private:

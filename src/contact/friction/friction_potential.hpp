@@ -155,6 +155,12 @@ DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const Lag
 
 }  // namespace friction_detail
 
+// The Hessian of the chosen model (FrictionModel), for a caller that picks it per pair.
+DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
+                              FrictionModel model, double H144[144]) {
+  friction_detail::pair_hessian(x12, xn12, f, model, H144);
+}
+
 // PSD-projected Hessian (what Newton uses).
 DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
                               double H144[144]) {
@@ -206,6 +212,11 @@ DIPC_HD void point_plane_hessian(const double x3[3], const double xn3[3], const 
 }
 
 }  // namespace friction_detail
+
+DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
+                              FrictionModel model, double H9[9]) {
+  friction_detail::point_plane_hessian(x3, xn3, f, model, H9);
+}
 
 DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
                               double H9[9]) {
