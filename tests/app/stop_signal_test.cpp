@@ -94,10 +94,12 @@ TEST(StopSignal, SigintToOneProcess) {
 }
 
 TEST(StopSignal, SecondSignalExitsAtOnce) {
-  // Steps of well over 0.1 s on any machine (8192 elements with the tight `accurate` preset), so
-  // that the second signal, 0.1 s after the first, comes while the first waits for the end of
-  // the step; the pause lets the first be delivered on its own rather than merged with it.
-  const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.1; kill -TERM $pid",
+  // Newton iterations of well over 0.02 s on any machine (8192 elements with the tight `accurate`
+  // preset), so that the second signal, 0.02 s after the first, comes while the first waits for
+  // the end of the iteration (dipc checks for a stop once per Newton iteration); the pause lets
+  // the first be delivered on its own rather than merged with it. With 0.1 s the first stop
+  // sometimes completed before the second signal on 2 loaded cores (exit 4).
+  const Outcome o = run_and_signal("signal_twice", 1, "kill -TERM $pid; sleep 0.02; kill -TERM $pid",
                                    "-dipc_refine 16 -dipc_preset accurate");
   EXPECT_EQ(o.status, 128 + 15) << o.output;
 }
