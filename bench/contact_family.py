@@ -45,7 +45,8 @@ and from its output:
 The exit status is 1 when a run failed, printed no timing table, or no contact pair became active in it.
 Rows go to <out>/contact_family_<tag>.csv (rows of the same member, elements, ranks and backend
 are replaced) and, with matplotlib, a plot <out>/contact_family_<tag>.png: per member, seconds
-per Newton iteration against elements, stacked by phase.
+per Newton iteration against elements, stacked by phase. Each run's whole output goes to
+<out>/contact_family_<tag>_<member>_<refine|elements><size>.log.
 """
 import argparse
 import csv
@@ -205,6 +206,10 @@ def run_one(args, member, size_kind, size, workdir):
     with GpuSampler() as gpu:
         text, status, full = run_dipc(args.dipc, args.ranks, cmd, timeout=args.timeout,
                                       cores_per_rank=args.cores_per_rank)
+    # The whole output beside the CSV: the step lines' Newton counts and the timing table.
+    log = os.path.join(args.out, "contact_family_%s_%s_%s%s.log" % (args.tag, member, size_kind, size))
+    with open(log, "w") as f:
+        f.write(text)
     row = {"member": member, "ranks": args.ranks, "refine": refine, "steps": args.steps, "status": status,
            "wall_s": round(time.time() - start, 2)}
     if gpu.peak is not None:

@@ -120,6 +120,12 @@ PetscErrorCode NewtonSolver::set_default_options() {
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
   PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
+  // On the GPU, PETSc 3.22 has hypre form the coarse operators (RAP) with cuSPARSE's SpGEMM
+  // unless told otherwise. On the contact-rich stack at 1M hexes on one H200 that failed in
+  // the fourth step's AMG setup with CUSPARSE_STATUS_INSUFFICIENT_RESOURCES, with 34 of 139 GB
+  // in use; hypre's own SpGEMM ran the same steps (docs/performance.md, "Contact-rich family").
+  if (device_matrix && PetscDefined(HAVE_HYPRE_DEVICE))
+    PetscCall(default_option("-pc_mg_galerkin_mat_product_algorithm", "hypre"));
   PetscFunctionReturn(0);
 }
 
