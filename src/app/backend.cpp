@@ -86,17 +86,24 @@ std::size_t device_bytes_per_element(bool matrix_on_device) {
 void check_device_memory(MPI_Comm comm, long elements, bool matrix_on_device) {
   const device::MemoryInfo info = device::memory_info();
   const double need = static_cast<double>(elements) * device_bytes_per_element(matrix_on_device);
-  const int short_here = need > static_cast<double>(info.free_bytes) ? 1 : 0;
-  int any = 0;
-  MPI_Allreduce(&short_here, &any, 1, MPI_INT, MPI_MAX, comm);
-  if (!any) return;
-  double worst[2] = {short_here ? need : 0.0, short_here ? static_cast<double>(info.free_bytes) : 0.0}, w[2];
-  MPI_Allreduce(worst, w, 2, MPI_DOUBLE, MPI_MAX, comm);
-  char msg[320];
+  // The rank short of the most memory, named with its share (MPI_MAXLOC over need − free).
+  int rank;
+  MPI_Comm_rank(comm, &rank);
+  struct {
+    double shortfall;
+    int rank;
+  } mine{need - static_cast<double>(info.free_bytes), rank}, worst;
+  MPI_Allreduce(&mine, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm);
+  if (worst.shortfall <= 0) return;
+  double facts[3] = {static_cast<double>(elements), need, static_cast<double>(info.free_bytes)};
+  MPI_Bcast(facts, 3, MPI_DOUBLE, worst.rank, comm);
+  char msg[400];
   std::snprintf(msg, sizeof msg,
-                "the scene does not fit on the GPU: a rank needs about %.2f GiB of device memory (%zu bytes per "
-                "element) but its device has %.2f GiB free; run on more GPUs (mpirun -n), or with -dipc_backend cpu",
-                w[0] / 1073741824.0, device_bytes_per_element(matrix_on_device), w[1] / 1073741824.0);
+                "the scene does not fit on the GPU: rank %d has %.0f elements and needs about %.2f GiB of device "
+                "memory (%zu bytes per element) but its device has %.2f GiB free; run on more GPUs (mpirun -n), or "
+                "with -dipc_backend cpu",
+                worst.rank, facts[0], facts[1] / 1073741824.0, device_bytes_per_element(matrix_on_device),
+                facts[2] / 1073741824.0);
   throw std::runtime_error(msg);
 }
 

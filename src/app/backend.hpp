@@ -34,8 +34,8 @@ BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long e
 // it starts; PETSc's device matrix and hypre's hierarchy come on top when they live there.
 std::size_t device_bytes_per_element(bool matrix_on_device);
 
-// Collective. Throws std::runtime_error naming the shortfall if any rank's estimate exceeds its
-// device's free memory.
+// Collective. Throws std::runtime_error if any rank's estimate exceeds its device's free memory,
+// naming the rank short of the most, its elements, the memory it needs and has, and what to change.
 void check_device_memory(MPI_Comm comm, long elements, bool matrix_on_device);
 
 }  // namespace dipc

@@ -16,6 +16,7 @@
 
 #include "app/backend.hpp"
 #include "app/checkpoint.hpp"
+#include "app/library_exit.hpp"
 #include "app/natural_order.hpp"
 #include "app/openmp_threads.hpp"
 #include "app/option_checks.hpp"
@@ -253,6 +254,7 @@ class RunOutput {
       PetscCall(VecDestroy(&ff));
     }
     writer_->write_step(fields);
+    library_exit::output_complete(writer_->xdmf_path(), writer_->num_steps_written());
     PetscCall(VecDestroy(&u));
     PetscFunctionReturn(0);
   }
@@ -663,6 +665,7 @@ PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions&
       break;
     }
     if (at_end) break;
+    library_exit::enter("step " + std::to_string(s + 1));
     StepReport r;
     PetscCall(recovery.step(&r, on_substep));
     add_step_counts(r, result);
@@ -827,6 +830,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   PetscCall(read_velocity_tol(comm, options, partitioned.diagonal, &velocity_tol));
   const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(),
                                                options.auto_gpu_min_elements);
+  library_exit::arm(mesh.num_elements(),
+                    backend.space == MemorySpace::device ? device::name(backend.device) : std::string());
+  library_exit::enter("setup");
   DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
   const double dt_min = min_substep(scene, options);
   TimeIntegrator integrator;
@@ -874,6 +880,7 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     const double since = seconds_since_stop_signal();
     MPI_Allreduce(&since, &result->stop_seconds, 1, MPI_DOUBLE, MPI_MAX, comm);
   }
+  library_exit::disarm();
   result->steps_taken = recovery.steps_taken();
   PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
   PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
