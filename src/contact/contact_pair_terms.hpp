@@ -12,6 +12,7 @@
 #include "contact/geometry/edge_edge_distance.hpp"
 #include "contact/geometry/edge_edge_mollifier.hpp"
 #include "contact/geometry/point_triangle_distance.hpp"
+#include "contact/geometry/translation_free_psd.hpp"
 #include "contact/pair_kind.hpp"
 #include "math/host_device.hpp"
 #include "math/symmetric_eigen.hpp"
@@ -56,7 +57,8 @@ DIPC_HD double contact_pair_squared_distance(PairKind kind, const double* X, con
 //   ∇e  = κ w (m b' ∇d + b ∇m),
 //   ∇²e = κ w (m (b'' ∇d ∇dᵀ + b' ∇²d) + b' (∇m ∇dᵀ + ∇d ∇mᵀ) + b ∇²m),
 // the Hessian projected onto the PSD cone when `project` (per pair, as IPC does, so Newton's
-// matrix stays positive semi-definite). Returns false when the pair is not admissible
+// matrix stays positive semi-definite; four-point pairs on the 9 dimensions their translations
+// leave, translation_free_psd.hpp). Returns false when the pair is not admissible
 // (d ≤ 0, or a vertex on or behind its plane); *active is false when d ≥ d̂² (the terms are then
 // left untouched: energy 0, no gradient or Hessian) and when the pair is not admissible.
 DIPC_HD bool contact_pair_terms(PairKind kind, const double* X, const double* plane_point, const double* plane_normal,
@@ -110,7 +112,12 @@ DIPC_HD bool contact_pair_terms(PairKind kind, const double* X, const double* pl
         const double bij = b2 * gd[i] * gd[j] + b1 * Hd[ndof * i + j];  // ∇²b
         t->H[ndof * i + j] = s * (m * bij + b1 * (gm[i] * gd[j] + gd[i] * gm[j]) + b * Hm[ndof * i + j]);
       }
-    if (project) project_psd<12>(t->H, ndof);
+    if (project) {
+      if (ndof == 12)
+        contact::project_translation_free_psd(t->H);
+      else
+        project_psd<3>(t->H, 3);
+    }
   }
   return true;
 }

@@ -1,7 +1,8 @@
 // Cyclic Jacobi eigen-decomposition of small symmetric matrices (n <= 12) and the
 // projection of a symmetric matrix onto the positive semi-definite cone. Host/device point
 // functions on plain row-major arrays: used for the 3x3 SVD of the deformation gradient,
-// as the reference projection in tests, and for 12x12 contact Hessians.
+// as the reference projection in tests, and for contact Hessians (9x9, after their
+// translations are taken out: contact/geometry/translation_free_psd.hpp).
 #pragma once
 #include <cmath>
 
@@ -18,13 +19,18 @@ constexpr int kSymmetricEigenMaxN = 12;
 // converge (the result is then still the best estimate).
 //
 // Cyclic-by-row Jacobi with the stable symmetric Schur rotation (Golub & Van Loan, Matrix
-// Computations, 4th ed., section 8.5 "Jacobi methods"). A pair (p,q) is rotated while
-// |a_pq| > eps * sqrt(|a_pp a_qq|), the relative criterion of Demmel & Veselic (1992),
-// which gives small eigenvalues of positive definite matrices (such as F^T F of a
+// Computations, 4th ed., section 8.5 "Jacobi methods"). With EigenAccuracy::relative a pair
+// (p,q) is rotated while |a_pq| > eps * sqrt(|a_pp a_qq|), the criterion of Demmel & Veselic
+// (1992), which gives small eigenvalues of positive definite matrices (such as F^T F of a
 // compressed element) to high relative accuracy; pairs below 1e-300 * ||A|| are ignored so
-// indefinite matrices with zero diagonal still terminate.
+// indefinite matrices with zero diagonal still terminate. With EigenAccuracy::absolute a
+// pair is rotated while |a_pq| > 8 eps ||A||_F: every eigenvalue to a few eps ||A||, which is
+// all a PSD projection needs, in about two thirds of the sweeps on rank-deficient matrices
+// such as contact Hessians (whose small diagonal entries keep the relative test rotating).
+enum class EigenAccuracy { relative, absolute };
 template <int MaxN = kSymmetricEigenMaxN>
-DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V) {
+DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V,
+                            EigenAccuracy accuracy = EigenAccuracy::relative) {
   double a[MaxN * MaxN];
   double norm2 = 0;
   for (int i = 0; i < n; ++i)
@@ -35,7 +41,7 @@ DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V) {
       V[n * i + j] = i == j ? 1.0 : 0.0;
     }
   const double eps = 2.220446049250313e-16;
-  const double floor_value = 1e-300 * sqrt(norm2);
+  const double floor_value = accuracy == EigenAccuracy::relative ? 1e-300 * sqrt(norm2) : 8 * eps * sqrt(norm2);
   int sweeps = -1;
   for (int sweep = 1; sweep <= 64; ++sweep) {
     bool rotated = false;
@@ -44,7 +50,8 @@ DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V) {
         const double apq = a[n * p + q];
         const double app = a[n * p + p], aqq = a[n * q + q];
         const double mag = fabs(apq);
-        if (mag <= floor_value || mag <= eps * sqrt(fabs(app * aqq))) continue;
+        if (mag <= floor_value || (accuracy == EigenAccuracy::relative && mag <= eps * sqrt(fabs(app * aqq))))
+          continue;
         rotated = true;
         const double tau = (aqq - app) / (2.0 * apq);
         const double t = fabs(tau) > 1e150 ? 0.5 / tau : (tau >= 0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
@@ -94,9 +101,9 @@ DIPC_HD int symmetric_eigen(const double* A, int n, double* w, double* V) {
 // Replaces the symmetric n x n matrix A by its nearest positive semi-definite matrix in the
 // Frobenius norm, V diag(max(w, 0)) V^T (Higham 1988). The output is exactly symmetric.
 template <int MaxN = kSymmetricEigenMaxN>
-DIPC_HD void project_psd(double* A, int n) {
+DIPC_HD void project_psd(double* A, int n, EigenAccuracy accuracy = EigenAccuracy::relative) {
   double w[MaxN], V[MaxN * MaxN];
-  symmetric_eigen<MaxN>(A, n, w, V);
+  symmetric_eigen<MaxN>(A, n, w, V, accuracy);
   for (int k = 0; k < n; ++k) w[k] = w[k] > 0 ? w[k] : 0.0;
   for (int i = 0; i < n; ++i)
     for (int j = i; j < n; ++j) {
