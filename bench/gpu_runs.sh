@@ -3,7 +3,8 @@
 # more H100/H200). Expects the programs in $DEVICE_BIN (a folder holding dipc, bench_* and the GPU tests) and
 # writes logs and CSVs into $OUT (default: bench/results/raw).
 #
-#   bench/gpu_runs.sh tests        GPU tests (element, contact and broad-phase kernels, GPU vs CPU trajectories on 1 and 2 ranks)
+#   bench/gpu_runs.sh tests        GPU tests (element, contact and broad-phase kernels, GPU vs CPU trajectories on 1 rank,
+#                                  and on 2 where there are two GPUs; GPU_TEST_RANKS, e.g. "1 2", chooses)
 #   bench/gpu_runs.sh assembly     assembly throughput, GPU vs 16 CPU ranks
 #   bench/gpu_runs.sh broadphase   contact broad phase, device vs one CPU core
 #   bench/gpu_runs.sh crossover    seconds per Newton iteration, cpu vs cuda backend, 1 rank
@@ -74,7 +75,10 @@ case "${1:-}" in
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
       echo "$t: exit ${PIPESTATUS[0]}"
     done
-    for n in 1 2; do
+    # Two ranks on one GPU run about 13x slower than one (README, "Limits"): the 2-rank
+    # trajectories took over 10 minutes on a one-GPU H200 host, so they run where there are two
+    # GPUs, or when GPU_TEST_RANKS asks for them.
+    for n in ${GPU_TEST_RANKS:-$( ((gpus >= 2)) && echo 1 2 || echo 1 )}; do
       run mpirun -n $n "$bin/app_gpu_trajectory_tests" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "relative|FAIL|PASSED|SKIP|another rank"
       echo "app_gpu_trajectory_tests on $n ranks: exit ${PIPESTATUS[0]}"
