@@ -52,14 +52,18 @@ void report() {
 
 }  // namespace
 
-void arm(long long elements, const std::string& device) {
+ArmedRun::ArmedRun(long long elements, const std::string& device) {
   State& s = state();
   MPI_Comm_rank(MPI_COMM_WORLD, &s.rank);
   s.elements = elements;
   s.device = device;
+  s.phase = "setup";
+  s.output_frames = 0;
   if (!s.registered) s.registered = std::atexit(report) == 0;
   s.armed = true;
 }
+
+ArmedRun::~ArmedRun() { state().armed = false; }
 
 void enter(const std::string& phase) {
   State& s = state();
@@ -75,7 +79,5 @@ void output_complete(const std::string& xdmf_path, std::size_t frames) {
   s.xdmf_path = xdmf_path;
   s.output_frames = frames;
 }
-
-void disarm() { state().armed = false; }
 
 }  // namespace dipc::library_exit

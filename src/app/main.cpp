@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "app/option_checks.hpp"
-#include "app/library_exit.hpp"
 #include "app/options_files.hpp"
 #include "app/petsc_input_errors.hpp"
 #include "app/scene_size.hpp"
@@ -49,9 +48,6 @@ int main(int argc, char** argv) {
   MPI_Comm comm = PETSC_COMM_WORLD;
   dipc::install_stop_signal_handlers();  // after PETSc's, which would abort on SIGTERM
   PetscCall(dipc::push_input_error_handler());
-  // A library that calls exit during the run gets a dipc error (library_exit.hpp); dipc's own
-  // ways out of main do not.
-  const dipc::library_exit::DisarmOnExit disarm_on_return;
 
   int status = 0;
   try {

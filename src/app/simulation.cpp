@@ -830,8 +830,9 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   PetscCall(read_velocity_tol(comm, options, partitioned.diagonal, &velocity_tol));
   const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(),
                                                options.auto_gpu_min_elements);
-  library_exit::arm(mesh.num_elements(),
-                    backend.space == MemorySpace::device ? device::name(backend.device) : std::string());
+  const library_exit::ArmedRun armed(mesh.num_elements(), backend.space == MemorySpace::device
+                                                             ? device::name(backend.device)
+                                                             : std::string());
   library_exit::enter("setup");
   DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
   const double dt_min = min_substep(scene, options);
@@ -880,7 +881,6 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
     const double since = seconds_since_stop_signal();
     MPI_Allreduce(&since, &result->stop_seconds, 1, MPI_DOUBLE, MPI_MAX, comm);
   }
-  library_exit::disarm();
   result->steps_taken = recovery.steps_taken();
   PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
   PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
