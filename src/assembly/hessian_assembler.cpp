@@ -7,6 +7,7 @@
 #include "assembly/device_matrix.hpp"
 #include "logging/log_stages.hpp"
 #include "options/dipc_options.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -217,24 +218,35 @@ void HessianAssembler::gather_changing_part(std::vector<PetscInt>* rows, std::ve
 void HessianAssembler::build_reserve(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols) {
   // The changing terms' current entries (rows, cols) and, with -dipc_pattern_remap candidates,
   // their reserved blocks, as node pairs. A contact pair's 144 entries fall on 16 node pairs,
-  // each seen 9 times in a row of its layout: a node pair among the last 16 taken is not taken
-  // again, so that the sort in ReservedBlocks::build sees each about once.
+  // each seen 3 times in a row (a row of its 3×3 block) and again every 3 rows of its layout: a
+  // node pair equal to the one before or among the last 16 taken is not taken again. The
+  // entries are taken chunk by chunk on the host threads, each chunk sorting and deduplicating
+  // its own node pairs, so that the sort in ReservedBlocks::build sees sorted runs with about
+  // one copy per chunk.
   std::vector<ReservedBlocks::NodePair> node_pairs;
   if (remap_ == Remap::candidates)
     for (std::size_t t = 0; t < terms_.size(); ++t)
       if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
-  constexpr int kRecent = 16;
-  ReservedBlocks::NodePair recent[kRecent];
-  int taken = 0;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    if (rows[k] < 0 || cols[k] < 0) continue;
-    const ReservedBlocks::NodePair pair{rows[k] / 3, cols[k] / 3};
-    bool seen = false;
-    for (int r = 0; r < std::min(taken, kRecent) && !seen; ++r) seen = recent[r] == pair;
-    if (seen) continue;
-    recent[taken++ % kRecent] = pair;
-    node_pairs.push_back(pair);
-  }
+  std::vector<ReservedBlocks::NodePair> current = parallel_collect<ReservedBlocks::NodePair>(
+      rows.size(), [&](std::size_t k0, std::size_t k1, std::vector<ReservedBlocks::NodePair>& out) {
+        constexpr int kRecent = 16;
+        ReservedBlocks::NodePair recent[kRecent], last{-1, -1};
+        int taken = 0;
+        for (std::size_t k = k0; k < k1; ++k) {
+          if (rows[k] < 0 || cols[k] < 0) continue;
+          const ReservedBlocks::NodePair pair{rows[k] / 3, cols[k] / 3};
+          if (pair == last) continue;
+          last = pair;
+          bool seen = false;
+          for (int r = 0; r < std::min(taken, kRecent) && !seen; ++r) seen = recent[r] == pair;
+          if (seen) continue;
+          recent[taken++ % kRecent] = pair;
+          out.push_back(pair);
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+      });
+  node_pairs.insert(node_pairs.end(), current.begin(), current.end());
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   reserve_.build(
       node_pairs, elements_.blocks(),
