@@ -15,7 +15,7 @@
 // regime the along-u curvature is 0, so a pair that should come to rest is sent across the
 // cone's apex to slide the other way, and the line search cuts the step of every node for it
 // (issue 29: the heavy steps of the contact family). For such pairs the form may use the
-// isotropic majorizer instead (friction_majorizer_hessian below).
+// isotropic majorizer instead (friction_hessian with FrictionModel::majorizer).
 //
 // The 12-dof functions serve point-triangle [p, t0, t1, t2] and edge-edge
 // [ea0, ea1, eb0, eb1] pairs alike (only Gamma's weights differ); the 3-dof overloads are
@@ -136,15 +136,15 @@ DIPC_HD void friction_gradient(const double x12[12], const double xn12[12], cons
   apply_relative_velocity_transpose(f.weights, t, g12);
 }
 
-namespace friction_detail {
-
-// H = Gamma^T A Gamma with Gamma = [w_i I]: H_(3i+a, 3j+b) = w_i w_j A_ab.
-DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
-                          FrictionModel model, double H144[144]) {
+// The Hessian of the chosen model (FrictionModel), for a caller that picks it per pair:
+// H = Gamma^T A Gamma with Gamma = [w_i I], H_(3i+a, 3j+b) = w_i w_j A_ab. The majorizer's is
+// Gamma^T P (mu lambda f1(y)/y I) P^T Gamma (for a pair whose slip the last Newton step reversed).
+DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
+                              FrictionModel model, double H144[144]) {
   double u[2], M[4], A[9];
   tangential_displacement(x12, xn12, f, u);
   friction_model_inner_hessian(u, f.eps_u, f.mu * f.normal_force, model, M);
-  lift_from_tangent(f.basis, M, A);
+  friction_detail::lift_from_tangent(f.basis, M, A);
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) {
       const double wij = f.weights[i] * f.weights[j];
@@ -153,31 +153,16 @@ DIPC_HD void pair_hessian(const double x12[12], const double xn12[12], const Lag
     }
 }
 
-}  // namespace friction_detail
-
-// The Hessian of the chosen model (FrictionModel), for a caller that picks it per pair.
-DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
-                              FrictionModel model, double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, model, H144);
-}
-
 // PSD-projected Hessian (what Newton uses).
 DIPC_HD void friction_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
                               double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::projected, H144);
-}
-
-// The Hessian of the isotropic majorizer at x (for a pair whose slip the last Newton step
-// reversed): Gamma^T P (mu lambda f1(y)/y I) P^T Gamma.
-DIPC_HD void friction_majorizer_hessian(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
-                                        double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::majorizer, H144);
+  friction_hessian(x12, xn12, f, FrictionModel::projected, H144);
 }
 
 // The exact Hessian of friction_energy (may be slightly indefinite by rounding; for tests).
 DIPC_HD void friction_hessian_unprojected(const double x12[12], const double xn12[12], const LaggedPairFriction& f,
                                           double H144[144]) {
-  friction_detail::pair_hessian(x12, xn12, f, FrictionModel::exact, H144);
+  friction_hessian(x12, xn12, f, FrictionModel::exact, H144);
 }
 
 // ---- point-plane pairs (3 dofs, Gamma = I) ----
@@ -201,36 +186,22 @@ DIPC_HD void friction_gradient(const double x3[3], const double xn3[3], const La
   friction_detail::tangential_force(f.basis, u, f.eps_u, f.mu * f.normal_force, g3);
 }
 
-namespace friction_detail {
-
-DIPC_HD void point_plane_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
-                                 FrictionModel model, double H9[9]) {
+DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
+                              FrictionModel model, double H9[9]) {
   double u[2], M[4];
   tangential_displacement(x3, xn3, f, u);
   friction_model_inner_hessian(u, f.eps_u, f.mu * f.normal_force, model, M);
-  lift_from_tangent(f.basis, M, H9);
-}
-
-}  // namespace friction_detail
-
-DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
-                              FrictionModel model, double H9[9]) {
-  friction_detail::point_plane_hessian(x3, xn3, f, model, H9);
+  friction_detail::lift_from_tangent(f.basis, M, H9);
 }
 
 DIPC_HD void friction_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
                               double H9[9]) {
-  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::projected, H9);
-}
-
-DIPC_HD void friction_majorizer_hessian(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
-                                        double H9[9]) {
-  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::majorizer, H9);
+  friction_hessian(x3, xn3, f, FrictionModel::projected, H9);
 }
 
 DIPC_HD void friction_hessian_unprojected(const double x3[3], const double xn3[3], const LaggedPointPlaneFriction& f,
                                           double H9[9]) {
-  friction_detail::point_plane_hessian(x3, xn3, f, FrictionModel::exact, H9);
+  friction_hessian(x3, xn3, f, FrictionModel::exact, H9);
 }
 
 }  // namespace dipc::contact

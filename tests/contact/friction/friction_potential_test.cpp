@@ -364,10 +364,10 @@ TEST(PointPlaneFriction, ZeroDisplacementContinuityDirectionAndZeroMu) {
   }
 }
 
-// The isotropic majorizer (friction_majorizer_hessian): PSD, and the quadratic it makes with the
-// energy and gradient at x lies on or above the energy everywhere, also where the move crosses
-// the stick disc to slide the other way (large random moves, and the move that reverses u);
-// along the slip it is at least as stiff as the exact Hessian.
+// The isotropic majorizer (friction_hessian with FrictionModel::majorizer): PSD, and the
+// quadratic it makes with the energy and gradient at x lies on or above the energy everywhere,
+// also where the move crosses the stick disc to slide the other way (large random moves, and
+// the move that reverses u); along the slip it is at least as stiff as the exact Hessian.
 TEST(FrictionMajorizer, BoundsTheEnergyFromAboveAndTouchesItAtX) {
   std::mt19937_64 rng(71);
   std::uniform_real_distribution<double> unit(-1, 1);
@@ -379,7 +379,7 @@ TEST(FrictionMajorizer, BoundsTheEnergyFromAboveAndTouchesItAtX) {
         make_state(c, f, ratio, rng, x, xn);
         double g[12], Hm[144], H[144];
         friction_gradient(x.data(), xn.data(), f, g);
-        friction_majorizer_hessian(x.data(), xn.data(), f, Hm);
+        friction_hessian(x.data(), xn.data(), f, FrictionModel::majorizer, Hm);
         friction_hessian_unprojected(x.data(), xn.data(), f, H);
         const double scale = test::max_abs(Hm, 144);
         EXPECT_GE(min_eigenvalue(Hm, 12), -1e-13 * scale) << c.name;
@@ -428,7 +428,7 @@ TEST(FrictionMajorizer, PointPlaneBoundsTheEnergyAndEqualsMuLambdaF1OverYInTheTa
         const PlaneState s = plane_state(rng, kMu, eps, ratio);
         double g[3], Hm[9];
         friction_gradient(s.x.data(), s.xn.data(), s.f, g);
-        friction_majorizer_hessian(s.x.data(), s.xn.data(), s.f, Hm);
+        friction_hessian(s.x.data(), s.xn.data(), s.f, FrictionModel::majorizer, Hm);
         // mu lambda f1(y)/y P P^T: trace twice the factor, no stiffness along the normal.
         const double factor = kMu * kLambda * friction_f1_over_y(ratio * eps, eps);
         EXPECT_NEAR(Hm[0] + Hm[4] + Hm[8], 2 * factor, 1e-9 * factor);
