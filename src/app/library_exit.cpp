@@ -15,7 +15,7 @@ struct State {
   bool registered = false, armed = false;
   int rank = -1;
   long long elements = 0;
-  std::string device, phase = "setup", xdmf_path;
+  std::string device, phase, xdmf_path;
   std::size_t device_used = 0, device_total = 0;
   std::size_t output_frames = 0;  // 0: no output written
 };
@@ -57,10 +57,10 @@ ArmedRun::ArmedRun(long long elements, const std::string& device) {
   MPI_Comm_rank(MPI_COMM_WORLD, &s.rank);
   s.elements = elements;
   s.device = device;
-  s.phase = "setup";
   s.output_frames = 0;
   if (!s.registered) s.registered = std::atexit(report) == 0;
   s.armed = true;
+  enter("setup");
 }
 
 ArmedRun::~ArmedRun() { state().armed = false; }

@@ -14,7 +14,7 @@
 namespace dipc::library_exit {
 
 // Arms the handler (registered once per process) while it lives: a run of `elements` elements
-// on this rank, on the GPU named `device` ("" on the CPU). Every way out of its scope (the
+// on this rank, on the GPU named `device` ("" on the CPU), entering its setup. Every way out of its scope (the
 // run's end, an error returned, an exception) disarms it, so dipc's own errors and normal ends
 // are not reported as a library's.
 class ArmedRun {

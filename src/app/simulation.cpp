@@ -833,7 +833,6 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   const library_exit::ArmedRun armed(mesh.num_elements(), backend.space == MemorySpace::device
                                                              ? device::name(backend.device)
                                                              : std::string());
-  library_exit::enter("setup");
   DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
   const double dt_min = min_substep(scene, options);
   TimeIntegrator integrator;

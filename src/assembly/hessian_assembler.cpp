@@ -223,11 +223,7 @@ void HessianAssembler::build_reserve(const std::vector<PetscInt>& rows, const st
   // entries are taken chunk by chunk on the host threads, each chunk sorting and deduplicating
   // its own node pairs, so that the sort in ReservedBlocks::build sees sorted runs with about
   // one copy per chunk.
-  std::vector<ReservedBlocks::NodePair> node_pairs;
-  if (remap_ == Remap::candidates)
-    for (std::size_t t = 0; t < terms_.size(); ++t)
-      if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
-  std::vector<ReservedBlocks::NodePair> current = parallel_collect<ReservedBlocks::NodePair>(
+  std::vector<ReservedBlocks::NodePair> node_pairs = parallel_collect<ReservedBlocks::NodePair>(
       rows.size(), [&](std::size_t k0, std::size_t k1, std::vector<ReservedBlocks::NodePair>& out) {
         constexpr int kRecent = 16;
         ReservedBlocks::NodePair recent[kRecent], last{-1, -1};
@@ -246,7 +242,9 @@ void HessianAssembler::build_reserve(const std::vector<PetscInt>& rows, const st
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
       });
-  node_pairs.insert(node_pairs.end(), current.begin(), current.end());
+  if (remap_ == Remap::candidates)
+    for (std::size_t t = 0; t < terms_.size(); ++t)
+      if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   reserve_.build(
       node_pairs, elements_.blocks(),
