@@ -1,6 +1,7 @@
 #include "assembly/hessian_assembler.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -89,9 +90,9 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matr
   PetscCall(PetscLogEventBegin(log_events().pattern_remap, 0, 0, 0, 0));
   bool fits = true;
   if (local) {
-    std::vector<PetscInt> rows, cols;
-    gather_changing_part(&rows, &cols);
-    PetscCall(map_changing_part(rows, cols, &fits));
+    std::vector<NodeGroup> groups;
+    PetscCall(gather_changing_part(&groups));
+    PetscCall(map_changing_part(groups, &fits));
   }
   int all_fit = fits ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &all_fit, 1, MPI_INT, MPI_MIN, dofs_.comm));
@@ -184,10 +185,7 @@ PetscErrorCode HessianAssembler::build_fixed_part() {
   PetscFunctionReturn(0);
 }
 
-std::int64_t HessianAssembler::find_fixed_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const {
-  const NodeBlockReduction& blocks = elements_.blocks();
-  const std::int64_t k = blocks.find(row, col, row_hint);
-  if (k >= 0) return k;
+std::int64_t HessianAssembler::find_fixed_extra(PetscInt row, PetscInt col) const {
   // The fixed part's extra entries ascend by (row, col).
   std::size_t lo = 0, hi = fixed_extra_rows_.size();
   while (lo < hi) {
@@ -198,68 +196,95 @@ std::int64_t HessianAssembler::find_fixed_entry(PetscInt row, PetscInt col, std:
       hi = mid;
   }
   if (lo < fixed_extra_rows_.size() && fixed_extra_rows_[lo] == row && fixed_extra_cols_[lo] == col)
-    return static_cast<std::int64_t>(blocks.num_entries() + lo);
+    return static_cast<std::int64_t>(elements_.blocks().num_entries() + lo);
   return -1;
 }
 
-std::int64_t HessianAssembler::find_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const {
-  const std::int64_t k = find_fixed_entry(row, col, row_hint);
-  return k >= 0 ? k : reserve_.find(row, col);
+void HessianAssembler::find_block_entries(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint,
+                                          std::int64_t entry[9]) const {
+  // The element blocks hold most (a contact pair's nodes on one body share elements), the
+  // reserve the rest; the fixed part's extra entries are few (none where every node has an
+  // element). The three are disjoint (ReservedBlocks::build).
+  const NodeBlockReduction& blocks = elements_.blocks();
+  const std::int64_t k = blocks.find_block(row_node, col_node, row_hint);
+  const unsigned held = k >= 0 ? blocks.block_mask[static_cast<std::size_t>(k)] : 0u;
+  ReservedBlocks::Block reserved;
+  if (held != 0x1ffu) reserved = reserve_.find_block(row_node, col_node);
+  for (int bit = 0; bit < 9; ++bit) {
+    if (held >> bit & 1u) {
+      entry[bit] = static_cast<std::int64_t>(blocks.block_start[static_cast<std::size_t>(k)]) + entry_in_block(held, bit);
+    } else if (reserved.mask >> bit & 1u) {
+      entry[bit] = static_cast<std::int64_t>(reserved.start) + entry_in_block(reserved.mask, bit);
+    } else {
+      entry[bit] = find_fixed_extra(static_cast<PetscInt>(3 * row_node + bit / 3),
+                                    static_cast<PetscInt>(3 * col_node + bit % 3));
+    }
+  }
 }
 
-void HessianAssembler::gather_changing_part(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  gather_coo_patterns(
-      terms_, [&](std::size_t t) { return element_map_[t] < 0 && changing(t); }, changing_raw_begin_, &term_begin_,
-      &term_size_, rows, cols);
+PetscErrorCode HessianAssembler::gather_changing_part(std::vector<NodeGroup>* groups) {
+  PetscFunctionBeginUser;
+  groups->clear();
+  std::vector<NodeGroup> term_groups;
+  std::size_t raw = changing_raw_begin_;
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    if (element_map_[t] >= 0 || !changing(t)) continue;
+    PetscCheck(terms_[t].pattern->node_groups(&term_groups), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "form %s says its pattern may change but gives no node groups", terms_[t].name.c_str());
+    term_begin_[t] = raw;
+    term_size_[t] = 0;
+    for (const NodeGroup& g : term_groups) term_size_[t] += node_group_values(g.count);
+    raw += term_size_[t];
+    groups->insert(groups->end(), term_groups.begin(), term_groups.end());
+  }
   for (std::size_t t = 0; t < terms_.size(); ++t) pattern_versions_[t] = terms_[t].pattern->pattern_version();
-  num_raw_entries_ = changing_raw_begin_ + rows->size();
+  num_raw_entries_ = raw;
+  PetscFunctionReturn(0);
 }
 
-void HessianAssembler::build_reserve(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols) {
-  // The changing terms' current entries (rows, cols) and, with -dipc_pattern_remap candidates,
-  // their reserved blocks, as node pairs. A contact pair's 144 entries fall on 16 node pairs,
-  // each seen 3 times in a row (a row of its 3×3 block) and again every 3 rows of its layout: a
-  // node pair equal to the one before or among the last 16 taken is not taken again. The
-  // entries are taken chunk by chunk on the host threads, each chunk sorting and deduplicating
-  // its own node pairs, so that the sort in ReservedBlocks::build sees sorted runs with about
-  // one copy per chunk.
+void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
+  // The changing terms' current groups' node blocks (16 per contact pair) and, with
+  // -dipc_pattern_remap candidates, their reserved blocks. Each host thread takes the blocks
+  // whose row node falls in its share of the row nodes' range, from all groups, and sorts and
+  // deduplicates them: joined in thread order, they are sorted and distinct.
+  std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = std::numeric_limits<std::int64_t>::min();
+  for (const NodeGroup& g : groups)
+    for (int a = 0; a < g.count; ++a) lo = std::min(lo, g.node[a]), hi = std::max(hi, g.node[a]);
+  const std::size_t ranges = groups.empty() ? 0 : static_cast<std::size_t>(host_threads());
+  const auto range_begin = [&](std::size_t r) {
+    return lo + static_cast<std::int64_t>(static_cast<double>(hi - lo + 1) * static_cast<double>(r) /
+                                          static_cast<double>(ranges));
+  };
   std::vector<ReservedBlocks::NodePair> node_pairs = parallel_collect<ReservedBlocks::NodePair>(
-      rows.size(), [&](std::size_t k0, std::size_t k1, std::vector<ReservedBlocks::NodePair>& out) {
-        constexpr int kRecent = 16;
-        ReservedBlocks::NodePair recent[kRecent], last{-1, -1};
-        int taken = 0;
-        for (std::size_t k = k0; k < k1; ++k) {
-          if (rows[k] < 0 || cols[k] < 0) continue;
-          const ReservedBlocks::NodePair pair{rows[k] / 3, cols[k] / 3};
-          if (pair == last) continue;
-          last = pair;
-          bool seen = false;
-          for (int r = 0; r < std::min(taken, kRecent) && !seen; ++r) seen = recent[r] == pair;
-          if (seen) continue;
-          recent[taken++ % kRecent] = pair;
-          out.push_back(pair);
-        }
+      ranges,
+      [&](std::size_t r0, std::size_t r1, std::vector<ReservedBlocks::NodePair>& out) {
+        const std::int64_t first = range_begin(r0), last = r1 == ranges ? hi + 1 : range_begin(r1);
+        for (const NodeGroup& g : groups)
+          for (int a = 0; a < g.count; ++a) {
+            if (g.node[a] < first || g.node[a] >= last) continue;
+            for (int b = 0; b < g.count; ++b) out.push_back({g.node[a], g.node[b]});
+          }
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
-      });
+      },
+      1);
   if (remap_ == Remap::candidates)
     for (std::size_t t = 0; t < terms_.size(); ++t)
       if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   reserve_.build(
-      node_pairs, elements_.blocks(),
-      [&](PetscInt row, PetscInt col) { return find_fixed_entry(row, col, nullptr) >= 0; }, first);
+      node_pairs, elements_.blocks(), [&](PetscInt row, PetscInt col) { return find_fixed_extra(row, col) >= 0; },
+      first);
 }
 
-PetscErrorCode HessianAssembler::map_changing_part(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols,
-                                                   bool* fits) {
+PetscErrorCode HessianAssembler::map_changing_part(const std::vector<NodeGroup>& groups, bool* fits) {
   PetscFunctionBeginUser;
   std::size_t missing = 0;
   try {
-    missing = changing_.build(rows.data(), cols.data(), rows.size(),
-                              [&](PetscInt row, PetscInt col, std::size_t* hint) {
-                                return find_entry(row, col, hint);
-                              });
+    missing = changing_.build(groups, [&](std::int64_t row_node, std::int64_t col_node, std::size_t* hint,
+                                          std::int64_t entry[9]) {
+      find_block_entries(row_node, col_node, hint, entry);
+    });
   } catch (const std::length_error& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
@@ -299,13 +324,23 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
     PetscCall(build_element_part());
     PetscCall(PetscLogEventEnd(log_events().node_blocks, 0, 0, 0, 0));
   }
-  PetscCall(build_fixed_part());
+  // The fixed part's pattern changes only with the owned Dirichlet dofs (its Dirichlet diagonal);
+  // it is made again then, or for a matrix in the other memory space.
+  const std::vector<char> owned_prescribed(dofs_.prescribed->begin(),
+                                           dofs_.prescribed->begin() + 3 * dofs_.num_owned_nodes);
+  const bool new_fixed = !fixed_built_ || fixed_on_device_ != device_matrix_ || owned_prescribed != fixed_prescribed_;
+  if (new_fixed) {
+    PetscCall(build_fixed_part());
+    fixed_built_ = true;
+    fixed_on_device_ = device_matrix_;
+    fixed_prescribed_ = owned_prescribed;
+  }
   bool fits;
   {
-    std::vector<PetscInt> rows, cols;
-    gather_changing_part(&rows, &cols);
-    build_reserve(rows, cols);
-    PetscCall(map_changing_part(rows, cols, &fits));
+    std::vector<NodeGroup> groups;
+    PetscCall(gather_changing_part(&groups));
+    build_reserve(groups);
+    PetscCall(map_changing_part(groups, &fits));
   }
   awaiting_rebuild_ = false;
   PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the changing Hessian terms' entries are not all in their reserve");
@@ -328,7 +363,7 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
   // The other maps go to the device too; the blocks' layout stays for the next pattern change.
   if (device_matrix_) {
     elements_.keep_on_device();
-    fixed_.keep_on_device();
+    if (new_fixed) fixed_.keep_on_device();
     dirichlet_.keep_on_device();
   }
   PetscCall(PetscLogEventEnd(log_events().coo_reduction, 0, 0, 0, 0));

@@ -5,13 +5,14 @@
 // changes, never per iteration otherwise. Its entries: the element forms' node blocks, the
 // fixed COO terms' entries that no block holds, and those of the terms whose pattern changes
 // (ReservedBlocks: their current pattern's blocks and, with -dipc_pattern_remap candidates,
-// their candidate pairs'). With -dipc_pattern_remap fit or candidates, a pattern that fits the
-// matrix's entries only remaps those terms' values, keeping the matrix and the preconditioner:
-// each of their entries is looked up among the matrix's (TargetPart, on the host threads, 144
-// per contact pair) and sorted by entry on the device where the values are summed there. That
-// is off by default: on the contact-rich family on one H200 the remaps cost about as much as
-// the new matrices they replace, since both are host work per scalar contact entry
-// (docs/performance.md, "Contact-rich family"). The terms (the potential's forms) write their raw
+// their candidate pairs'). Either way the changing terms' node blocks (16 per contact pair) are
+// looked up among the matrix's (TargetPart, on the host threads) and their values sorted by
+// entry on the device where the values are summed there. With -dipc_pattern_remap fit or
+// candidates, a pattern that fits the matrix's entries only remaps those terms' values, keeping
+// the matrix and the preconditioner. That is off by default: on the contact-rich family on one
+// H200 the kept preconditioner costs more CG and Newton iterations than the new matrices it
+// saves (docs/performance.md, "Contact-rich family"). The fixed part is made once (again only
+// when the owned Dirichlet dofs change). The terms (the potential's forms) write their raw
 // values into one array made of parts, each with its own reduction into the matrix's entries:
 //   element part   the element forms' values (elastic, consistent mass), element by element in
 //                  their layouts, first, so that their offsets stay put; summed into the
@@ -23,8 +24,9 @@
 //                  its value); summed over their small lists (CooPart) onto the blocks, or onto
 //                  entries of their own after the blocks';
 //   changing part  the terms whose pattern changes (contact, friction), last, so that a new
-//                  active set resizes only it; added value by value (TargetPart) onto the
-//                  blocks, the fixed part's entries or the reserve.
+//                  active set resizes only it; given as node groups (a pair's body nodes) and
+//                  added value by value (TargetPart) onto the blocks, the fixed part's entries
+//                  or the reserve, whose entries are found node block by node block.
 // Entries after the blocks are zeroed before the parts add onto them; the Dirichlet
 // elimination (DirichletElimination) then sets the prescribed rows and columns. PETSc is given
 // only the distinct entries: through MatSetValuesCOO, or written straight into the matrix's
@@ -133,20 +135,22 @@ class HessianAssembler {
   // The fixed COO terms' lists and the Dirichlet diagonal, their place in the raw values, and
   // the entries of theirs that no block holds (fixed_extra_rows_, fixed_extra_cols_).
   PetscErrorCode build_fixed_part();
-  // The changing terms' COO lists, their place in the raw values; their versions taken.
-  void gather_changing_part(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols);
-  // The reserve for the changing terms: their current entries' blocks, and reserved_blocks()'
+  // The changing terms' node groups, their place in the raw values; their versions taken.
+  PetscErrorCode gather_changing_part(std::vector<NodeGroup>* groups);
+  // The reserve for the changing terms: their current groups' blocks, and reserved_blocks()'
   // with -dipc_pattern_remap candidates.
-  void build_reserve(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols);
+  void build_reserve(const std::vector<NodeGroup>& groups);
   // The changing part's values' place among the matrix's entries; *fits false where an entry
   // has none.
-  PetscErrorCode map_changing_part(const std::vector<PetscInt>& rows, const std::vector<PetscInt>& cols, bool* fits);
+  PetscErrorCode map_changing_part(const std::vector<NodeGroup>& groups, bool* fits);
   // The raw value arrays sized for the parts, the maps on the device where values are summed there.
   void size_raw_values();
-  // The matrix entry of the dof pair (row, col) among the blocks' and the fixed part's, or -1.
-  std::int64_t find_fixed_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const;
-  // The same among all the matrix's entries (the reserve's too).
-  std::int64_t find_entry(PetscInt row, PetscInt col, std::size_t* row_hint) const;
+  // The matrix entry of the dof pair (row, col) among the fixed part's extra entries, or -1.
+  std::int64_t find_fixed_extra(PetscInt row, PetscInt col) const;
+  // The matrix entries of node block (row_node, col_node)'s 9 dof pairs among all the matrix's
+  // entries (the reserve's too), -1 where none (TargetPart::BlockFind).
+  void find_block_entries(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint,
+                          std::int64_t entry[9]) const;
   bool changing(std::size_t t) const { return terms_[t].pattern->pattern_may_change(); }
   // The matrix J_ from the entries: the blocks', then (extra_rows[v], extra_cols[v]).
   PetscErrorCode make_matrix(bool template_matrix, const std::vector<PetscInt>& extra_rows,
@@ -181,6 +185,9 @@ class HessianAssembler {
   device::Array<double> d_values_{"Hessian COO values"};
   ElementBlockPart elements_;
   CooPart fixed_;
+  bool fixed_built_ = false;         // fixed_ and fixed_extra_* hold the fixed part
+  bool fixed_on_device_ = false;     // ... for a device matrix (its maps are on the device)
+  std::vector<char> fixed_prescribed_;  // ... made with these owned Dirichlet flags
   TargetPart changing_;
   // The fixed part's entries that no block holds (entries from blocks.num_entries() on), by row
   // then column; the reserve's follow them.

@@ -9,12 +9,36 @@
 #include <petscsys.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "assembly/element_pattern.hpp"
 
 namespace dipc {
+
+// A dense block of a term's Hessian over a few nodes (a contact or friction pair's body nodes):
+// its raw values are the (3 count)^2 entries over (node a, component i) x (node b, component j),
+// row-major, that is in the order (a, i, b, j).
+struct NodeGroup {
+  std::array<std::int64_t, 4> node{};  // global node ids, the first `count` used
+  int count = 0;
+};
+// The raw values of a group of `count` nodes.
+inline std::size_t node_group_values(int count) { return static_cast<std::size_t>(9 * count * count); }
+// The groups' entries as a COO list (global dof ids 3 node + component), in their values' order.
+inline void expand_node_groups(const std::vector<NodeGroup>& groups, std::vector<PetscInt>* rows,
+                               std::vector<PetscInt>* cols) {
+  rows->clear(), cols->clear();
+  for (const NodeGroup& g : groups)
+    for (int a = 0; a < g.count; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int b = 0; b < g.count; ++b)
+          for (int j = 0; j < 3; ++j) {
+            rows->push_back(static_cast<PetscInt>(3 * g.node[a] + i));
+            cols->push_back(static_cast<PetscInt>(3 * g.node[b] + j));
+          }
+}
 
 class HessianPattern {
  public:
@@ -45,6 +69,11 @@ class HessianPattern {
   // lagged pairs): without any, the potential never looks for pattern changes, and the matrix
   // made at setup is the only one.
   virtual bool pattern_may_change() const { return false; }
+  // Terms whose pattern may change give it as node groups, in coo_pattern()'s order (which is
+  // then expand_node_groups() of them), and return true. The assembler maps a changed pattern
+  // onto the matrix block by block (16 node blocks per contact pair instead of 144 scalar
+  // entries), and never asks such a term for coo_pattern().
+  virtual bool node_groups(std::vector<NodeGroup>* groups) const { return false; }
   // Terms whose pattern may change: node blocks, as (global row node, global column node), for
   // which the matrix keeps entries beyond coo_pattern()'s, so that the pattern can change
   // within them without a new matrix (reserved_blocks.hpp). Contact gives its candidate pairs'

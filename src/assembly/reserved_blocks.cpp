@@ -2,39 +2,46 @@
 
 #include <algorithm>
 
+#include "threads/host_threads.hpp"
+
 namespace dipc {
 
 void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockReduction& blocks, const Held& held,
                            std::size_t first_entry) {
   clear();
-  std::sort(node_pairs.begin(), node_pairs.end());
+  if (!std::is_sorted(node_pairs.begin(), node_pairs.end())) std::sort(node_pairs.begin(), node_pairs.end());
   node_pairs.erase(std::unique(node_pairs.begin(), node_pairs.end()), node_pairs.end());
-  std::size_t row_hint = 0, next = first_entry;  // pairs ascend by row node
-  for (const NodePair& pair : node_pairs) {
-    const std::int64_t k = blocks.find_block(pair[0], pair[1], &row_hint);
-    unsigned missing = 0x1ffu & ~(k >= 0 ? static_cast<unsigned>(blocks.block_mask[static_cast<std::size_t>(k)]) : 0u);
-    for (int bit = 0; bit < 9; ++bit)
-      if (missing >> bit & 1u &&
-          held(static_cast<PetscInt>(3 * pair[0] + bit / 3), static_cast<PetscInt>(3 * pair[1] + bit % 3)))
-        missing &= ~(1u << bit);
-    if (!missing) continue;
-    pairs_.push_back(pair);
-    mask_.push_back(static_cast<std::uint16_t>(missing));
+  // Each pair's entries that nothing holds yet, on the host threads; then the blocks in order.
+  std::vector<std::uint16_t> missing(node_pairs.size());
+  parallel_for(node_pairs.size(), [&](std::size_t p0, std::size_t p1) {
+    std::size_t row_hint = 0;  // pairs ascend by row node
+    for (std::size_t p = p0; p < p1; ++p) {
+      const NodePair& pair = node_pairs[p];
+      const std::int64_t k = blocks.find_block(pair[0], pair[1], &row_hint);
+      unsigned m = 0x1ffu & ~(k >= 0 ? static_cast<unsigned>(blocks.block_mask[static_cast<std::size_t>(k)]) : 0u);
+      for (int bit = 0; bit < 9; ++bit)
+        if (m >> bit & 1u && held(static_cast<PetscInt>(3 * pair[0] + bit / 3), static_cast<PetscInt>(3 * pair[1] + bit % 3)))
+          m &= ~(1u << bit);
+      missing[p] = static_cast<std::uint16_t>(m);
+    }
+  });
+  std::size_t next = first_entry;
+  for (std::size_t p = 0; p < node_pairs.size(); ++p) {
+    if (!missing[p]) continue;
+    pairs_.push_back(node_pairs[p]);
+    mask_.push_back(missing[p]);
     start_.push_back(next);
-    next += kBlockMaskBits[missing];
+    next += kBlockMaskBits[missing[p]];
   }
   num_entries_ = next - first_entry;
 }
 
-std::int64_t ReservedBlocks::find(PetscInt row, PetscInt col) const {
-  if (row < 0 || col < 0) return -1;
-  const NodePair pair{row / 3, col / 3};
+ReservedBlocks::Block ReservedBlocks::find_block(std::int64_t row_node, std::int64_t col_node) const {
+  const NodePair pair{row_node, col_node};
   const auto it = std::lower_bound(pairs_.begin(), pairs_.end(), pair);
-  if (it == pairs_.end() || *it != pair) return -1;
+  if (it == pairs_.end() || *it != pair) return {};
   const std::size_t k = static_cast<std::size_t>(it - pairs_.begin());
-  const int bit = static_cast<int>(3 * (row % 3) + col % 3);
-  if (!(mask_[k] >> bit & 1u)) return -1;
-  return static_cast<std::int64_t>(start_[k]) + entry_in_block(mask_[k], bit);
+  return {mask_[k], start_[k]};
 }
 
 void ReservedBlocks::entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {

@@ -31,19 +31,25 @@ namespace dipc {
 class ReservedBlocks {
  public:
   using NodePair = std::array<std::int64_t, 2>;
-  // held(row, col): whether an entry already exists (element blocks, fixed entries).
+  // held(row, col): whether an entry outside the node blocks already exists (the fixed part's).
   using Held = std::function<bool(PetscInt row, PetscInt col)>;
 
   // The reserve of the node pairs (row node, column node) given, in any order and repeated:
   // their blocks' entries that `blocks` and `held` do not hold, numbered from first_entry.
-  // Sorts node_pairs in place.
+  // Sorts node_pairs in place (unless sorted); the pairs are looked up on the host threads.
   void build(std::vector<NodePair>& node_pairs, const NodeBlockReduction& blocks, const Held& held,
              std::size_t first_entry);
   void clear() { *this = ReservedBlocks(); }
 
   std::size_t num_entries() const { return num_entries_; }
-  // The matrix entry of the dof pair (row, col), or -1 where the reserve has none.
-  std::int64_t find(PetscInt row, PetscInt col) const;
+  // A reserved block: which of its entries the reserve holds (bit 3i + j; none where the
+  // reserve has no such block) and the first of them.
+  struct Block {
+    unsigned mask = 0;
+    std::size_t start = 0;
+  };
+  // The reserve's block of the node pair (row_node, col_node).
+  Block find_block(std::int64_t row_node, std::int64_t col_node) const;
   // Appends the global dof ids of every entry, in entry order.
   void entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
 

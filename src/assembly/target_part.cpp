@@ -8,7 +8,11 @@
 
 namespace dipc {
 
-std::size_t TargetPart::build(const PetscInt* rows, const PetscInt* cols, std::size_t n, const CooPart::Find& find) {
+std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockFind& find) {
+  // Each group's first raw value.
+  std::vector<std::size_t> begin(groups.size() + 1, 0);
+  for (std::size_t g = 0; g < groups.size(); ++g) begin[g + 1] = begin[g] + node_group_values(groups[g].count);
+  const std::size_t n = begin.back();
   // The device sort counts its items in int.
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::length_error("more than 2^31 - 1 changing Hessian entries on one rank: run on more ranks");
@@ -16,18 +20,26 @@ std::size_t TargetPart::build(const PetscInt* rows, const PetscInt* cols, std::s
   target_.assign(n, kDropped);
   std::vector<std::size_t> chunk_missing(static_cast<std::size_t>(host_threads()), 0);
   std::atomic<bool> too_far{false};
-  const int chunks = parallel_chunks(n, [&](int c, std::size_t k0, std::size_t k1) {
+  const int chunks = parallel_chunks(groups.size(), [&](int c, std::size_t g0, std::size_t g1) {
     std::size_t row_hint = 0, missing = 0;
-    for (std::size_t k = k0; k < k1; ++k) {
-      if (rows[k] < 0 || cols[k] < 0) continue;
-      const std::int64_t t = find(rows[k], cols[k], &row_hint);
-      if (t < 0) {
-        ++missing;
-      } else if (static_cast<std::uint64_t>(t) >= kDropped) {
-        too_far = true;
-      } else {
-        target_[k] = static_cast<std::uint32_t>(t);
-      }
+    std::int64_t entry[9];
+    for (std::size_t g = g0; g < g1; ++g) {
+      const NodeGroup& group = groups[g];
+      const int n3 = 3 * group.count;
+      for (int a = 0; a < group.count; ++a)
+        for (int b = 0; b < group.count; ++b) {
+          find(group.node[a], group.node[b], &row_hint, entry);
+          for (int bit = 0; bit < 9; ++bit) {
+            // Value (3a + i, 3b + j) of the group's row-major (3 count)^2 block.
+            const std::size_t k = begin[g] + static_cast<std::size_t>((3 * a + bit / 3) * n3 + 3 * b + bit % 3);
+            if (entry[bit] < 0)
+              ++missing;
+            else if (static_cast<std::uint64_t>(entry[bit]) >= kDropped)
+              too_far = true;
+            else
+              target_[k] = static_cast<std::uint32_t>(entry[bit]);
+          }
+        }
     }
     chunk_missing[static_cast<std::size_t>(c)] = missing;
   });

@@ -3,30 +3,39 @@
 //
 // A CooPart first sums its raw values per distinct (row, col) and needs a sort of its COO list
 // for that (CooReduction): O(n log n) on the host, 144 entries per contact pair, 1.5-9 s per
-// active-set change on contact-rich scenes at 1M hexes on one H200's host. Here each raw value
-// just looks up its matrix entry (its target; in parallel on the host threads), and the values
-// are added onto their targets in raw order: on the host as they come, on the device through
-// the values sorted by target (a stable radix sort, once per pattern), so that every entry
-// receives the same values in the same order on both, and both give the same bits.
+// active-set change on contact-rich scenes at 1M hexes on one H200's host. Here the part is
+// given as node groups (hessian_pattern.hpp: a contact pair's body nodes, whose values are the
+// dense block over them), each group's node blocks are looked up among the matrix's (16 per
+// contact pair, in parallel on the host threads; a lookup gives a block's 9 entries), and every
+// raw value gets its entry (its target) from its block's. The values are added onto their
+// targets in raw order: on the host as they come, on the device through the values sorted by
+// target (a stable radix sort, once per pattern), so that every entry receives the same values
+// in the same order on both, and both give the same bits.
 #pragma once
 #include <petscsys.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
-#include "assembly/coo_part.hpp"
+#include "assembly/hessian_pattern.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {
 
 class TargetPart {
  public:
-  // The matrix entry of each of the n raw entries (rows[k], cols[k]): find(row, col, hint).
-  // Entries with a negative row or column are dropped. Returns how many have no entry (the
-  // part is then unusable until built again). Throws std::length_error where n or a target
-  // does not fit (2^31 - 1 entries, 2^32 - 2 targets).
-  std::size_t build(const PetscInt* rows, const PetscInt* cols, std::size_t n, const CooPart::Find& find);
+  // find(row_node, col_node, row_hint, entry): the matrix entries of the node block's 9 dof
+  // pairs (3 row_node + i, 3 col_node + j) into entry[3i + j], -1 where the matrix has none;
+  // row_hint as for NodeBlockReduction::find_block.
+  using BlockFind = std::function<void(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint,
+                                       std::int64_t entry[9])>;
+  // The matrix entry of every raw value of the groups (in their order, each group's values as
+  // hessian_pattern.hpp lays them out). Returns how many values have no entry (the part is then
+  // unusable until built again). Throws std::length_error where the values or a target do not
+  // fit (2^31 - 1 values, 2^32 - 2 targets).
+  std::size_t build(const std::vector<NodeGroup>& groups, const BlockFind& find);
   // The targets to the device, sorted there for add_on_device; the host's copy is freed.
   void keep_on_device();
 

@@ -57,6 +57,24 @@ void ContactForm::prepare_segment(const double* x, const double* p) {
   stats_.transfer_seconds += MPI_Wtime() - start;
 }
 
+void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+  std::vector<NodeGroup> groups;
+  node_groups(&groups);
+  expand_node_groups(groups, rows, cols);
+}
+
+bool ContactForm::node_groups(std::vector<NodeGroup>* groups) const {
+  groups->clear();
+  groups->reserve(set_.pattern_pairs().size());
+  set_.for_each_pattern_group([&](const std::int64_t* nodes, int count) {
+    NodeGroup g;
+    g.count = count;
+    std::copy(nodes, nodes + count, g.node.begin());
+    groups->push_back(g);
+  });
+  return true;
+}
+
 void ContactForm::update_pattern(const double* x) {
   set_.update_pattern([&](CandidateKind kind, std::size_t i) {
     bool active;

@@ -114,18 +114,22 @@ bool FrictionForm::gradient(const double* x, double* g) {
 }
 
 void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  rows->clear(), cols->clear();
+  std::vector<NodeGroup> groups;
+  node_groups(&groups);
+  expand_node_groups(groups, rows, cols);
+}
+
+bool FrictionForm::node_groups(std::vector<NodeGroup>* groups) const {
+  groups->clear();
+  groups->reserve(pairs_.size());
   for (const Pair& p : pairs_) {
     int slots[4];
-    const int n = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int b = 0; b < n; ++b)
-          for (int j = 0; j < 3; ++j) {
-            rows->push_back(static_cast<PetscInt>(3 * p.global[slots[a]] + i));
-            cols->push_back(static_cast<PetscInt>(3 * p.global[slots[b]] + j));
-          }
+    NodeGroup g;
+    g.count = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
+    for (int a = 0; a < g.count; ++a) g.node[a] = p.global[slots[a]];
+    groups->push_back(g);
   }
+  return true;
 }
 
 bool FrictionForm::hessian(const double* x, double* values) {

@@ -38,6 +38,7 @@ class FrictionForm : public Form {
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
+  bool node_groups(std::vector<NodeGroup>* groups) const override;
   bool hessian(const double* x, double* values) override;
   // Marks the pairs whose slip the segment x -> x + p reverses (for the next hessian()).
   void prepare_segment(const double* x, const double* p) override;

@@ -52,6 +52,37 @@ TEST(HostThreadsRun, SameTrajectoryOnOneAndFourThreads) {
   EXPECT_EQ(one.newton_iterations, four.newton_iterations);
 }
 
+TEST(HostThreadsRun, SameContactAndFrictionTrajectoryOnOneAndFourThreads) {
+  // Two blocks falling onto each other and the plane with friction: the active-set pass over the
+  // candidates, the reserve of the contact and friction blocks (split by row node) and their
+  // map onto the matrix all run on the host threads.
+  const Scene scene = parse_scene_text(
+      R"({"materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
+          "geometry": [{"name": "lower", "box": {"size": [0.2, 0.2, 0.1], "resolution": [14, 14, 7], "origin": [0, 0, 0.0005]},
+                        "material": "rubber", "initial_velocity": [0, 0, -0.5]},
+                       {"name": "upper", "box": {"size": [0.2, 0.2, 0.1], "resolution": [14, 14, 7], "origin": [0.03, 0.02, 0.1012]},
+                        "material": "rubber", "initial_velocity": [0, 0, -0.5]}],
+          "boundary_conditions": {"gravity": [0, 0, -9.81]},
+          "contact": {"enabled": true, "dhat": 1e-3, "friction": 0.3, "epsv": 1e-3,
+                      "planes": [{"point": [0, 0, 0], "normal": [0, 0, 1]}]},
+          "time": {"dt": 0.002, "steps": 3}})",
+      "blocks_friction.json", ".");
+  RunResult one, four;
+  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, quiet_run(1, 3), &one), 0);
+  ASSERT_EQ(run_scene(scene, PETSC_COMM_WORLD, quiet_run(4, 3), &four), 0);
+  ASSERT_TRUE(one.failure.empty()) << one.failure;
+  ASSERT_TRUE(four.failure.empty()) << four.failure;
+  int rank;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) {
+    EXPECT_TRUE(one.positions == four.positions) << "the positions differ between 1 and 4 host threads";
+    EXPECT_TRUE(one.velocities == four.velocities);
+  }
+  EXPECT_EQ(one.newton_iterations, four.newton_iterations);
+  EXPECT_GT(one.max_contact_pairs, 0) << "the blocks never touched: the test does not exercise contact";
+  EXPECT_GT(one.new_matrix_patterns, 0) << "the active set never changed";
+}
+
 // PETSc's message of the error a run returns (the first, where it was raised).
 PetscErrorCode keep_message(MPI_Comm, int, const char*, const char*, PetscErrorCode, PetscErrorType type,
                             const char* message, void* context) {

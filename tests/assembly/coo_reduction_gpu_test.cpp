@@ -24,24 +24,29 @@ namespace {
 
 TEST(TargetPartGpu, DeviceSumsEqualHostSumsBitForBit) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
-  // Raw entries onto 5000 matrix entries, many on each, some dropped (negative column), some
-  // entries starting non-zero; values over many magnitudes, so that another order would show.
+  // Groups of 1 to 4 of 600 nodes onto 5000 matrix entries: a node block's entries are
+  // 9 (row node + col node) mod 5000 onward, so that many values land on each entry and the
+  // groups' blocks overlap; some entries start non-zero; values over many magnitudes, so that
+  // another order would show.
   std::mt19937_64 rng(5);
-  std::uniform_int_distribution<PetscInt> entry(0, 4999);
-  std::uniform_int_distribution<int> pick(0, 49);
+  std::uniform_int_distribution<std::int64_t> node(0, 599);
+  std::uniform_int_distribution<int> size(1, 4);
   std::uniform_real_distribution<double> mantissa(-1, 1), exponent(-12, 12);
-  const std::size_t n = 200000;
-  std::vector<PetscInt> rows(n), cols(n);
-  std::vector<double> raw(n), start(5000);
-  for (std::size_t k = 0; k < n; ++k) {
-    rows[k] = entry(rng);
-    cols[k] = pick(rng) == 0 ? -1 : rows[k];
-    raw[k] = mantissa(rng) * std::pow(10.0, exponent(rng));
+  std::vector<NodeGroup> groups(20000);
+  std::size_t n = 0;
+  for (NodeGroup& g : groups) {
+    g.count = size(rng);
+    for (int a = 0; a < g.count; ++a) g.node[a] = node(rng);
+    n += node_group_values(g.count);
   }
+  std::vector<double> raw(n), start(5000);
+  for (double& v : raw) v = mantissa(rng) * std::pow(10.0, exponent(rng));
   for (double& v : start) v = mantissa(rng);
   TargetPart part;
-  ASSERT_EQ(part.build(rows.data(), cols.data(), n,
-                       [](PetscInt row, PetscInt, std::size_t*) { return std::int64_t{row}; }),
+  ASSERT_EQ(part.build(groups,
+                       [](std::int64_t row_node, std::int64_t col_node, std::size_t*, std::int64_t entry[9]) {
+                         for (int bit = 0; bit < 9; ++bit) entry[bit] = (9 * (row_node + col_node) + bit) % 5000;
+                       }),
             0u);
   std::vector<double> host = start;
   part.add(raw.data(), host.data());

@@ -47,11 +47,21 @@ class PairTerm : public HessianPattern {
     ++version_;
   }
   void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override {
-    rows->clear(), cols->clear();
-    for_each_entry([&](std::size_t, PetscInt r, PetscInt c) { rows->push_back(r), cols->push_back(c); });
+    std::vector<NodeGroup> groups;
+    node_groups(&groups);
+    expand_node_groups(groups, rows, cols);
+  }
+  bool node_groups(std::vector<NodeGroup>* groups) const override {
+    groups->clear();
+    for (const auto& p : active_) groups->push_back({{p[0], p[1], 0, 0}, 2});
+    return true;
   }
   void values(double* v) const {
-    for_each_entry([&](std::size_t k, PetscInt r, PetscInt c) { v[k] = 0.5 + 0.01 * r + 0.003 * c + 1e-4 * k; });
+    std::vector<NodeGroup> groups;
+    std::vector<PetscInt> rows, cols;
+    node_groups(&groups);
+    expand_node_groups(groups, &rows, &cols);
+    for (std::size_t k = 0; k < rows.size(); ++k) v[k] = 0.5 + 0.01 * rows[k] + 0.003 * cols[k] + 1e-4 * k;
   }
   long pattern_version() const override { return version_; }
   bool pattern_may_change() const override { return true; }
@@ -62,15 +72,6 @@ class PairTerm : public HessianPattern {
   }
 
  private:
-  template <class F>
-  void for_each_entry(F&& f) const {
-    std::size_t k = 0;
-    for (const auto& p : active_)
-      for (const std::int64_t a : {p[0], p[1]})
-        for (const std::int64_t b : {p[0], p[1]})
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) f(k++, static_cast<PetscInt>(3 * a + i), static_cast<PetscInt>(3 * b + j));
-  }
   NodePairs active_, reserve_;
   long version_ = 0;
 };

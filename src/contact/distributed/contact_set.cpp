@@ -215,23 +215,6 @@ std::vector<std::array<std::int64_t, 5>> ContactSet::pattern_keys(const std::vec
   return key;
 }
 
-void ContactSet::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
-  rows->clear(), cols->clear();
-  // Only the body nodes' blocks: obstacle nodes (negative ids) have no unknowns.
-  for (const auto& k : pattern_key_) {
-    int slots[4];
-    const int n = body_slots(k.data() + 1, k[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4,
-                             slots);
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 3; ++i)
-        for (int b = 0; b < n; ++b)
-          for (int j = 0; j < 3; ++j) {
-            rows->push_back(static_cast<PetscInt>(3 * k[1 + slots[a]] + i));
-            cols->push_back(static_cast<PetscInt>(3 * k[1 + slots[b]] + j));
-          }
-  }
-}
-
 void ContactSet::reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const {
   for_each_pair([&](CandidateKind kind, std::size_t i) {
     if (kind == CandidateKind::vertex_plane) return true;

@@ -45,11 +45,13 @@
 #include "contact/cuda/contact_kernels.hpp"
 #include "contact/distributed/contact_obstacles.hpp"
 #include "contact/distributed/contact_parameters.hpp"
+#include "contact/obstacle_nodes.hpp"
 #include "contact/pair_kind.hpp"
 #include "device/memory_space.hpp"
 #include "partition/contact_surface.hpp"
 #include "partition/distributed_mesh.hpp"
 #include "partition/ghost_exchange.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -161,13 +163,25 @@ class ContactSet {
     std::int32_t index;  // into the list of that kind
   };
   // Keeps the candidates for which active(kind, index) holds (vertex–plane pairs always) as the
-  // pattern's pairs; the version changes when their keys do.
+  // pattern's pairs; the version changes when their keys do. active is called from the host
+  // threads at once.
   template <class Active>
   void update_pattern(Active&& active);
   const std::vector<PatternEntry>& pattern_pairs() const { return pattern_pairs_; }
   long pattern_version() const { return pattern_version_; }
-  // Global dof indices of the pattern's body-node blocks, pair by pair.
-  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const;
+  // The pattern's pairs' body nodes (global ids, obstacle nodes left out), pair by pair:
+  // f(nodes, count). The Hessian's values of a pair are the dense block over them.
+  template <class F>
+  void for_each_pattern_group(F&& f) const {
+    for (const auto& k : pattern_key_) {
+      const int count = k[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4;
+      int slots[4];
+      const int n = body_slots(k.data() + 1, count, slots);
+      std::int64_t nodes[4];
+      for (int a = 0; a < n; ++a) nodes[a] = k[1 + slots[a]];
+      f(nodes, n);
+    }
+  }
   // The body-node blocks (global row node, global column node) of every candidate pair but the
   // vertex–plane ones (always in the pattern): room in the matrix for the active set to change
   // within the candidates of the last broad phase (assembly/reserved_blocks.hpp). Appends.
@@ -271,13 +285,24 @@ bool ContactSet::for_each_pair(F&& f) const {
 
 template <class Active>
 void ContactSet::update_pattern(Active&& active) {
+  // for_each_pair's order, each kind's candidates tested on the host threads (active must be
+  // safe to call from several): at 1M hexes there are millions of candidates, asked at every
+  // Newton iteration.
+  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),        edge_edge_.size(),
+                                                 vertex_plane_.size(),       vertex_obstacle_face_.size(),
+                                                 edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
   std::vector<PatternEntry> active_now;
-  for_each_pair([&](CandidateKind kind, std::size_t i) {
-    // Vertex–plane pairs are always in the pattern (contact_form.hpp).
-    if (kind == CandidateKind::vertex_plane || active(kind, i))
-      active_now.push_back({kind, static_cast<std::int32_t>(i)});
-    return true;
-  });
+  for (int k = 0; k < kNumCandidateKinds; ++k) {
+    const CandidateKind kind = static_cast<CandidateKind>(k);
+    const std::vector<PatternEntry> part = parallel_collect<PatternEntry>(
+        count[k], [&](std::size_t i0, std::size_t i1, std::vector<PatternEntry>& out) {
+          for (std::size_t i = i0; i < i1; ++i)
+            // Vertex–plane pairs are always in the pattern (contact_form.hpp).
+            if (kind == CandidateKind::vertex_plane || active(kind, i))
+              out.push_back({kind, static_cast<std::int32_t>(i)});
+        });
+    active_now.insert(active_now.end(), part.begin(), part.end());
+  }
   std::vector<std::array<std::int64_t, 5>> key = pattern_keys(active_now);
   pattern_pairs_ = std::move(active_now);
   if (key != pattern_key_) {
