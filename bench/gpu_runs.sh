@@ -32,7 +32,8 @@
 #                                  build/src/app/dipc: the CUDA PETSc's hypre runs on the GPU only); FAMILY_REFINE,
 #                                  default 1,2,3,4 (about 0.1M, 1M, 3.4M, 8M hexes); FAMILY_STEPS, default 3;
 #                                  FAMILY_MEMBERS, default stack,squeeze,press; FAMILY_EXTRA, more dipc options
-#                                  (e.g. -log_view); each run's whole output is kept beside the CSV
+#                                  (e.g. -log_view); FAMILY_TAG, a suffix of the CSVs' tags; each run's whole
+#                                  output is kept beside the CSV
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -102,13 +103,16 @@ case "${1:-}" in
   family)
     card=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1 | awk '{print tolower($2)}')
     members=${FAMILY_MEMBERS:-stack,squeeze,press}
+    # The rank gets the cores of its GPU's share of the host for its host threads (mpirun alone
+    # binds one rank to one core).
     run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members --refine ${FAMILY_REFINE:-1,2,3,4} \
-      --steps ${FAMILY_STEPS:-3} --ranks 1 --tag "${card}_1gpu" --out "$out" -- -dipc_backend cuda -vec_type cuda \
+      --steps ${FAMILY_STEPS:-3} --ranks 1 --cores-per-rank $(( $(nproc) / gpus )) --tag "${card}_1gpu${FAMILY_TAG:-}" \
+      --out "$out" -- -dipc_backend cuda -vec_type cuda \
       -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc ${FAMILY_EXTRA:-}
     cpu_dipc=${FAMILY_CPU_DIPC:-build/src/app/dipc}
     if [[ -x $cpu_dipc ]]; then
       run python3 bench/contact_family.py --dipc "$cpu_dipc" --members $members --refine ${FAMILY_REFINE:-1,2,3,4} \
-        --steps ${FAMILY_STEPS:-3} --ranks $(nproc) --tag "${card}_host_cpu$(nproc)" --out "$out" -- -dipc_backend cpu \
+        --steps ${FAMILY_STEPS:-3} --ranks $(nproc) --tag "${card}_host_cpu$(nproc)${FAMILY_TAG:-}" --out "$out" -- -dipc_backend cpu \
         ${FAMILY_EXTRA:-}
     else
       echo "family: no CPU build at $cpu_dipc (FAMILY_CPU_DIPC): CPU runs skipped" >&2

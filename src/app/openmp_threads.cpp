@@ -1,9 +1,11 @@
 #include "app/openmp_threads.hpp"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "threads/host_threads.hpp"
@@ -93,6 +95,15 @@ HostThreads choose_host_threads(MPI_Comm comm, int requested, const OpenMpThread
     const AffinityShare share = share_of_affinity(mine, node_masks);
     result.threads = share.threads;
     result.why = std::to_string(share.cores) + " cores / " + std::to_string(share.sharing) + " ranks";
+    // mpirun binds 1 or 2 ranks to one core each by default: on a GPU node run with a rank per
+    // GPU, the host work (new matrices, contact patterns) then runs on one core of many.
+    std::vector<unsigned char> bound(mine.size(), 0);
+    for (const std::vector<unsigned char>& other : node_masks)
+      for (std::size_t b = 0; b < std::min(bound.size(), other.size()); ++b) bound[b] |= other[b];
+    const long online = sysconf(_SC_NPROCESSORS_ONLN);
+    if (online > 0 && count_cores(bound) < online)
+      result.why += "; this node's ranks are bound to " + std::to_string(count_cores(bound)) + " of its " +
+                    std::to_string(online) + " cores: mpirun --bind-to none or --map-by slot:PE=N gives them more";
   }
   set_host_threads(result.threads);
   return result;
