@@ -127,16 +127,30 @@ struct DirectMatrix::RowEntries {
   // The list's own entries and the received ones, bucketed by row (counting sort, in 4 B): the
   // list's entry k as nb + k, received entry k as total + k, so that own entries sort first,
   // then the received ones in arrival order.
+  // On the host threads, each taking a range of rows and scanning the whole list for them (a
+  // per-thread count of every row would cost more memory than the list).
   void bucket_by_row() {
+    const std::size_t ranges = static_cast<std::size_t>(host_threads());
+    const auto range_rows = [&](std::size_t q) {
+      return static_cast<PetscInt>(static_cast<std::size_t>(num_rows) * q / ranges);
+    };
+    const auto for_rows_of_ranges = [&](auto&& f) {
+      parallel_for(
+          ranges,
+          [&](std::size_t q0, std::size_t q1) {
+            const PetscInt first = row_begin + range_rows(q0), last = row_begin + range_rows(q1);
+            for (std::size_t k = 0; k < n; ++k)
+              if (rows[k] >= first && rows[k] < last) f(k, rows[k] - row_begin);
+          },
+          1);
+    };
     row_count.assign(static_cast<std::size_t>(num_rows) + 1, 0);
-    for (std::size_t k = 0; k < n; ++k)
-      if (own_row(rows[k])) ++row_count[rows[k] - row_begin + 1];
+    for_rows_of_ranges([&](std::size_t, PetscInt r) { ++row_count[r + 1]; });
     for (const Pair& p : received) ++row_count[p.row - row_begin + 1];
     for (PetscInt r = 0; r < num_rows; ++r) row_count[r + 1] += row_count[r];
     source.resize(row_count[num_rows]);
     std::vector<std::size_t> next(row_count.begin(), row_count.end() - 1);
-    for (std::size_t k = 0; k < n; ++k)
-      if (own_row(rows[k])) source[next[rows[k] - row_begin]++] = static_cast<std::uint32_t>(nb + k);
+    for_rows_of_ranges([&](std::size_t k, PetscInt r) { source[next[r]++] = static_cast<std::uint32_t>(nb + k); });
     for (std::size_t k = 0; k < received.size(); ++k)
       source[next[received[k].row - row_begin]++] = static_cast<std::uint32_t>(total + k);
   }

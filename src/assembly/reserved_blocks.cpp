@@ -45,13 +45,19 @@ ReservedBlocks::Block ReservedBlocks::find_block(std::int64_t row_node, std::int
 }
 
 void ReservedBlocks::entries(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) const {
-  rows->reserve(rows->size() + num_entries_), cols->reserve(cols->size() + num_entries_);
-  for (std::size_t k = 0; k < pairs_.size(); ++k)
-    for (int bit = 0; bit < 9; ++bit)
-      if (mask_[k] >> bit & 1u) {
-        rows->push_back(static_cast<PetscInt>(3 * pairs_[k][0] + bit / 3));
-        cols->push_back(static_cast<PetscInt>(3 * pairs_[k][1] + bit % 3));
-      }
+  // Block k's entries go at its start's offset from the first block's, on the host threads.
+  const std::size_t at = rows->size();
+  rows->resize(at + num_entries_), cols->resize(at + num_entries_);
+  parallel_for(pairs_.size(), [&](std::size_t k0, std::size_t k1) {
+    for (std::size_t k = k0; k < k1; ++k) {
+      std::size_t e = at + (start_[k] - start_[0]);
+      for (int bit = 0; bit < 9; ++bit)
+        if (mask_[k] >> bit & 1u) {
+          (*rows)[e] = static_cast<PetscInt>(3 * pairs_[k][0] + bit / 3);
+          (*cols)[e++] = static_cast<PetscInt>(3 * pairs_[k][1] + bit % 3);
+        }
+    }
+  });
 }
 
 }  // namespace dipc

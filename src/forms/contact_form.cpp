@@ -9,6 +9,7 @@
 
 #include "contact/contact_pair_terms.hpp"
 #include "contact/geometry/barrier.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -214,28 +215,28 @@ double ContactForm::squared_distance(const PairInfo& info, const double* X) {
 }
 
 double ContactForm::min_distance(const double* x) const {
-  double d2 = std::numeric_limits<double>::infinity();
-  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
-    const PairInfo info = set_.describe(kind, i);
-    double X[12];
-    set_.gather(x, info, X);
-    d2 = std::min(d2, squared_distance(info, X));
-    return true;
+  // On the host threads (each chunk its own minimum), as the per-step reports ask for it.
+  std::vector<double> chunk_min(static_cast<std::size_t>(host_threads()), std::numeric_limits<double>::infinity());
+  set_.for_each_pair_chunk([&](CandidateKind kind, std::size_t begin, std::size_t end, int chunk) {
+    double& d2 = chunk_min[static_cast<std::size_t>(chunk)];
+    for (std::size_t i = begin; i < end; ++i) {
+      const PairInfo info = set_.describe(kind, i);
+      double X[12];
+      set_.gather(x, info, X);
+      d2 = std::min(d2, squared_distance(info, X));
+    }
   });
-  return std::sqrt(d2);
+  return std::sqrt(*std::min_element(chunk_min.begin(), chunk_min.end()));
 }
 
 std::vector<ContactForm::ActivePair> ContactForm::active_pairs(const double* x) const {
-  std::vector<ActivePair> out;
-  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
+  return set_.collect_pairs<ActivePair>([&](CandidateKind kind, std::size_t i, std::vector<ActivePair>& out) {
     const PairInfo info = set_.describe(kind, i);
     bool active;
     ContactPairTerms t;
     terms(info, x, false, false, &active, &t);
     if (active) out.push_back({info, set_.global_node(info.nodes[0])});
-    return true;
   });
-  return out;
 }
 
 const char* ContactForm::pair_kind_name(int kind) {
@@ -246,14 +247,19 @@ const char* ContactForm::pair_kind_name(int kind) {
 }
 
 std::array<long, ContactForm::num_pair_kinds> ContactForm::active_pair_counts(const double* x) const {
-  std::array<long, num_pair_kinds> counts{};
-  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
-    bool active;
-    ContactPairTerms t;
-    terms(set_.describe(kind, i), x, false, false, &active, &t);
-    if (active) ++counts[static_cast<int>(kind)];
-    return true;
+  std::vector<std::array<long, num_pair_kinds>> chunk_counts(static_cast<std::size_t>(host_threads()));
+  set_.for_each_pair_chunk([&](CandidateKind kind, std::size_t begin, std::size_t end, int chunk) {
+    long& count = chunk_counts[static_cast<std::size_t>(chunk)][static_cast<int>(kind)];
+    for (std::size_t i = begin; i < end; ++i) {
+      bool active;
+      ContactPairTerms t;
+      terms(set_.describe(kind, i), x, false, false, &active, &t);
+      count += active;
+    }
   });
+  std::array<long, num_pair_kinds> counts{};
+  for (const auto& c : chunk_counts)
+    for (int k = 0; k < num_pair_kinds; ++k) counts[k] += c[k];
   return counts;
 }
 

@@ -151,6 +151,15 @@ class ContactSet {
   // Calls f(kind, index) for every candidate pair this rank evaluates; false if any call was.
   template <class F>
   bool for_each_pair(F&& f) const;
+  // The same on the host threads, kind by kind, each kind's candidates in chunks: f(kind,
+  // begin, end, chunk), chunk < host_threads(), for the candidates [begin, end) of that kind.
+  // f must be safe to call from several threads at once.
+  template <class F>
+  void for_each_pair_chunk(F&& f) const;
+  // What keep(kind, index, out) appends to out for every candidate, on the host threads, joined
+  // in for_each_pair's order (for any number of threads).
+  template <class T, class Keep>
+  std::vector<T> collect_pairs(Keep&& keep) const;
   PairInfo describe(CandidateKind kind, std::size_t i) const;
   // Stacked positions of a pair's nodes at x (obstacles at t1) and, for CCD, at the segment's
   // start and end (obstacles from t0 to t1).
@@ -261,6 +270,11 @@ class ContactSet {
   // Active pairs at the last update_pattern (their order defines the COO pattern).
   std::vector<PatternEntry> pattern_pairs_;
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
+  // The candidate lists' sizes, in CandidateKind order.
+  std::array<std::size_t, kNumCandidateKinds> candidate_counts() const {
+    return {vertex_face_.size(),          edge_edge_.size(),          vertex_plane_.size(),
+            vertex_obstacle_face_.size(), edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
+  }
   long pattern_version_ = 0;
   // Device space: the planes and obstacle vertex positions (and the segment times of those
   // positions), the broad phase over the uploaded surface and the ext-local node of each of its
@@ -274,35 +288,46 @@ class ContactSet {
 
 template <class F>
 bool ContactSet::for_each_pair(F&& f) const {
-  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),        edge_edge_.size(),
-                                                 vertex_plane_.size(),       vertex_obstacle_face_.size(),
-                                                 edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
+  const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
   bool ok = true;
   for (int kind = 0; kind < kNumCandidateKinds; ++kind)
     for (std::size_t i = 0; i < count[kind]; ++i) ok = f(static_cast<CandidateKind>(kind), i) && ok;
   return ok;
 }
 
-template <class Active>
-void ContactSet::update_pattern(Active&& active) {
-  // for_each_pair's order, each kind's candidates tested on the host threads (active must be
-  // safe to call from several): at 1M hexes there are millions of candidates, asked at every
-  // Newton iteration.
-  const std::size_t count[kNumCandidateKinds] = {vertex_face_.size(),        edge_edge_.size(),
-                                                 vertex_plane_.size(),       vertex_obstacle_face_.size(),
-                                                 edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
-  std::vector<PatternEntry> active_now;
+template <class F>
+void ContactSet::for_each_pair_chunk(F&& f) const {
+  const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
+  for (int kind = 0; kind < kNumCandidateKinds; ++kind)
+    parallel_chunks(count[kind], [&](int chunk, std::size_t begin, std::size_t end) {
+      f(static_cast<CandidateKind>(kind), begin, end, chunk);
+    });
+}
+
+template <class T, class Keep>
+std::vector<T> ContactSet::collect_pairs(Keep&& keep) const {
+  const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
+  std::vector<T> all;
   for (int k = 0; k < kNumCandidateKinds; ++k) {
     const CandidateKind kind = static_cast<CandidateKind>(k);
-    const std::vector<PatternEntry> part = parallel_collect<PatternEntry>(
-        count[k], [&](std::size_t i0, std::size_t i1, std::vector<PatternEntry>& out) {
-          for (std::size_t i = i0; i < i1; ++i)
-            // Vertex–plane pairs are always in the pattern (contact_form.hpp).
-            if (kind == CandidateKind::vertex_plane || active(kind, i))
-              out.push_back({kind, static_cast<std::int32_t>(i)});
+    const std::vector<T> part =
+        parallel_collect<T>(count[k], [&](std::size_t begin, std::size_t end, std::vector<T>& out) {
+          for (std::size_t i = begin; i < end; ++i) keep(kind, i, out);
         });
-    active_now.insert(active_now.end(), part.begin(), part.end());
+    all.insert(all.end(), part.begin(), part.end());
   }
+  return all;
+}
+
+template <class Active>
+void ContactSet::update_pattern(Active&& active) {
+  // Each kind's candidates tested on the host threads (active must be safe to call from
+  // several): at 1M hexes there are millions of candidates, asked at every Newton iteration.
+  std::vector<PatternEntry> active_now =
+      collect_pairs<PatternEntry>([&](CandidateKind kind, std::size_t i, std::vector<PatternEntry>& out) {
+        // Vertex–plane pairs are always in the pattern (contact_form.hpp).
+        if (kind == CandidateKind::vertex_plane || active(kind, i)) out.push_back({kind, static_cast<std::int32_t>(i)});
+      });
   std::vector<std::array<std::int64_t, 5>> key = pattern_keys(active_now);
   pattern_pairs_ = std::move(active_now);
   if (key != pattern_key_) {
