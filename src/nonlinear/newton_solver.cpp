@@ -58,16 +58,17 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   PetscBool new_pattern;
   PetscCall(potential->refresh_pattern(x, &new_pattern));
   if (new_pattern) {
-    Mat J;
-    PetscCall(potential->create_matrix(&J));
-    PetscCall(SNESSetJacobian(snes, self->mixed_ ? self->newton_matrix_ : J, J, hessian_callback, self));
     // A lagged preconditioner (-snes_lag_preconditioner) would otherwise be kept across the
-    // new pattern, holding on to the old matrix; start it afresh instead.
+    // new pattern, holding on to the old matrix; start it afresh instead, and before the new
+    // matrix is made, so that the old AMG hierarchy is not held beside it.
     KSP ksp;
     PC pc;
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCReset(pc));
+    Mat J;
+    PetscCall(potential->create_matrix(&J));
+    PetscCall(SNESSetJacobian(snes, self->mixed_ ? self->newton_matrix_ : J, J, hessian_callback, self));
     PetscCall(MatDestroy(&self->J_));
     self->J_ = J;
     PetscCall(self->attach_near_null_space(x));
