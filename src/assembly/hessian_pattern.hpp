@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "assembly/element_pattern.hpp"
@@ -46,8 +47,13 @@ class HessianPattern {
 
   // Global dof indices of this term's Hessian entries, fixed for the life of the pattern (for
   // element forms the expansion of element_pattern(), which the assembler does not ask for).
-  // The values are written in this order (Form::hessian).
-  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) = 0;
+  // The values are written in this order (Form::hessian). By default the expansion of
+  // node_groups(); a term that gives none must override it.
+  virtual void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
+    std::vector<NodeGroup> groups;
+    if (!node_groups(&groups)) throw std::logic_error("a Hessian term gives neither a COO pattern nor node groups");
+    expand_node_groups(groups, rows, cols);
+  }
   // Element forms (elastic, consistent inertia) also describe their pattern as node blocks and
   // return true: the assembler then builds the matrix from the blocks and never expands
   // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a

@@ -58,12 +58,6 @@ void ContactForm::prepare_segment(const double* x, const double* p) {
   stats_.transfer_seconds += MPI_Wtime() - start;
 }
 
-void ContactForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  std::vector<NodeGroup> groups;
-  node_groups(&groups);
-  expand_node_groups(groups, rows, cols);
-}
-
 bool ContactForm::node_groups(std::vector<NodeGroup>* groups) const {
   groups->clear();
   groups->reserve(set_.pattern_pairs().size());

@@ -62,7 +62,6 @@ class ContactForm : public Form {
   MemorySpace memory_space() const override { return space_; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
-  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool node_groups(std::vector<NodeGroup>* groups) const override;
   bool hessian(const double* x, double* values) override;
   double max_step(const double* x, const double* p) override;

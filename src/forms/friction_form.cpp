@@ -113,12 +113,6 @@ bool FrictionForm::gradient(const double* x, double* g) {
   return true;
 }
 
-void FrictionForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) {
-  std::vector<NodeGroup> groups;
-  node_groups(&groups);
-  expand_node_groups(groups, rows, cols);
-}
-
 bool FrictionForm::node_groups(std::vector<NodeGroup>* groups) const {
   groups->clear();
   groups->reserve(pairs_.size());

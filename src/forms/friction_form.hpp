@@ -37,7 +37,6 @@ class FrictionForm : public Form {
   std::string name() const override { return "friction (lagged)"; }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
-  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override;
   bool node_groups(std::vector<NodeGroup>* groups) const override;
   bool hessian(const double* x, double* values) override;
   // Marks the pairs whose slip the segment x -> x + p reverses (for the next hessian()).

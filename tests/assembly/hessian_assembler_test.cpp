@@ -46,11 +46,6 @@ class PairTerm : public HessianPattern {
     active_ = std::move(active), reserve_ = std::move(reserve);
     ++version_;
   }
-  void coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>* cols) override {
-    std::vector<NodeGroup> groups;
-    node_groups(&groups);
-    expand_node_groups(groups, rows, cols);
-  }
   bool node_groups(std::vector<NodeGroup>* groups) const override {
     groups->clear();
     for (const auto& p : active_) groups->push_back({{p[0], p[1], 0, 0}, 2});
