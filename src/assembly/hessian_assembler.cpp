@@ -245,12 +245,17 @@ PetscErrorCode HessianAssembler::gather_changing_part(std::vector<NodeGroup>* gr
 void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
   // The changing terms' current groups' node blocks (16 per contact pair) and, with
   // -dipc_pattern_remap candidates, their reserved blocks. Each host thread takes the blocks
-  // whose row node falls in its share of the row nodes' range, from all groups, and sorts and
+  // whose row node falls in its share of the row nodes' range, from all of them, and sorts and
   // deduplicates them: joined in thread order, they are sorted and distinct.
+  std::vector<ReservedBlocks::NodePair> candidates;
+  if (remap_ == Remap::candidates)
+    for (std::size_t t = 0; t < terms_.size(); ++t)
+      if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&candidates);
   std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = std::numeric_limits<std::int64_t>::min();
   for (const NodeGroup& g : groups)
     for (int a = 0; a < g.count; ++a) lo = std::min(lo, g.node[a]), hi = std::max(hi, g.node[a]);
-  const std::size_t ranges = groups.empty() ? 0 : static_cast<std::size_t>(host_threads());
+  for (const ReservedBlocks::NodePair& pair : candidates) lo = std::min(lo, pair[0]), hi = std::max(hi, pair[0]);
+  const std::size_t ranges = hi < lo ? 0 : static_cast<std::size_t>(host_threads());
   const auto range_begin = [&](std::size_t r) {
     return lo + static_cast<std::int64_t>(static_cast<double>(hi - lo + 1) * static_cast<double>(r) /
                                           static_cast<double>(ranges));
@@ -264,13 +269,13 @@ void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
             if (g.node[a] < first || g.node[a] >= last) continue;
             for (int b = 0; b < g.count; ++b) out.push_back({g.node[a], g.node[b]});
           }
+        for (const ReservedBlocks::NodePair& pair : candidates)
+          if (pair[0] >= first && pair[0] < last) out.push_back(pair);
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
       },
       1);
-  if (remap_ == Remap::candidates)
-    for (std::size_t t = 0; t < terms_.size(); ++t)
-      if (changing(t) && element_map_[t] < 0) terms_[t].pattern->reserved_blocks(&node_pairs);
+  std::vector<ReservedBlocks::NodePair>().swap(candidates);
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   reserve_.build(
       node_pairs, elements_.blocks(), [&](PetscInt row, PetscInt col) { return find_fixed_extra(row, col) >= 0; },

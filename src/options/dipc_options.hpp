@@ -117,7 +117,7 @@ inline constexpr OptionSpec kTable[] = {
     one_of("-dipc_pattern_remap", kPatternRemaps, "HessianAssembler",
            "When the contact active set changes: off makes a new matrix; fit keeps the matrix where the new pattern "
            "fits its entries and maps the contact values onto them; candidates also reserves entries for every "
-           "contact candidate pair when a matrix is made"),
+           "contact candidate pair when a matrix is made (the preconditioner is set up afresh either way)"),
     one_of("-dipc_mixed_schur", kSchurApproximations, "MixedLinearSolve",
            "Preconditioner of the mixed solve's pressure block: selfp (AMG on I + Bs diag(A)^-1 Bs^T) "
            "or mass (I + D W)"),

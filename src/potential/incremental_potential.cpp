@@ -319,16 +319,19 @@ PetscErrorCode IncrementalPotential::update_patterns(Vec x, bool* new_matrix) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed) {
+PetscErrorCode IncrementalPotential::refresh_pattern(Vec x, PetscBool* changed, PetscBool* remapped) {
   PetscFunctionBeginUser;
   *changed = PETSC_FALSE;
+  *remapped = PETSC_FALSE;
   if (!any_pattern_change_) PetscFunctionReturn(0);  // the matrix made at setup serves the whole run
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
   bool new_matrix;
+  const long remaps_before = assembler_.remaps();  // the same count on every rank
   PetscCall(update_patterns(x, &new_matrix));
   PetscCall(x_views_.end());
   *changed = new_matrix ? PETSC_TRUE : PETSC_FALSE;
+  *remapped = assembler_.remaps() > remaps_before ? PETSC_TRUE : PETSC_FALSE;
   if (new_matrix) assembler_.forget_matrix();  // the caller replaces the matrix: create_matrix() rebuilds the pattern
   PetscFunctionReturn(0);
 }

@@ -88,8 +88,10 @@ class IncrementalPotential {
   PetscErrorCode hessian(Vec x, Mat J);
   // Lets the forms fix their Hessian patterns at x; *changed (on every rank) when a changed
   // pattern does not fit the current matrix, which the caller must then replace with
-  // create_matrix() (a change that fits keeps the matrix: HessianAssembler).
-  PetscErrorCode refresh_pattern(Vec x, PetscBool* changed);
+  // create_matrix(); *remapped (on every rank) when it fitted and the matrix was kept
+  // (-dipc_pattern_remap: HessianAssembler), so that the caller can set the preconditioner up
+  // afresh.
+  PetscErrorCode refresh_pattern(Vec x, PetscBool* changed, PetscBool* remapped);
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
   // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then

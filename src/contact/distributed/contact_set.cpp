@@ -216,8 +216,9 @@ std::vector<std::array<std::int64_t, 5>> ContactSet::pattern_keys(const std::vec
 }
 
 void ContactSet::reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const {
-  for_each_pair([&](CandidateKind kind, std::size_t i) {
-    if (kind == CandidateKind::vertex_plane) return true;
+  using Block = std::array<std::int64_t, 2>;
+  const std::vector<Block> found = collect_pairs<Block>([&](CandidateKind kind, std::size_t i, std::vector<Block>& out) {
+    if (kind == CandidateKind::vertex_plane) return;
     const PairInfo info = describe(kind, i);
     std::int64_t node[4];
     int n = 0;
@@ -226,9 +227,9 @@ void ContactSet::reserved_blocks(std::vector<std::array<std::int64_t, 2>>* block
       if (!is_obstacle_node(g)) node[n++] = g;  // obstacle nodes have no unknowns
     }
     for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) blocks->push_back({node[a], node[b]});
-    return true;
+      for (int b = 0; b < n; ++b) out.push_back({node[a], node[b]});
   });
+  blocks->insert(blocks->end(), found.begin(), found.end());
 }
 
 }  // namespace dipc
