@@ -131,14 +131,12 @@ struct DirectMatrix::RowEntries {
   // per-thread count of every row would cost more memory than the list).
   void bucket_by_row() {
     const std::size_t ranges = static_cast<std::size_t>(host_threads());
-    const auto range_rows = [&](std::size_t q) {
-      return static_cast<PetscInt>(static_cast<std::size_t>(num_rows) * q / ranges);
-    };
     const auto for_rows_of_ranges = [&](auto&& f) {
       parallel_for(
           ranges,
           [&](std::size_t q0, std::size_t q1) {
-            const PetscInt first = row_begin + range_rows(q0), last = row_begin + range_rows(q1);
+            const PetscInt first = static_cast<PetscInt>(split_point(row_begin, row_begin + num_rows, q0, ranges));
+            const PetscInt last = static_cast<PetscInt>(split_point(row_begin, row_begin + num_rows, q1, ranges));
             for (std::size_t k = 0; k < n; ++k)
               if (rows[k] >= first && rows[k] < last) f(k, rows[k] - row_begin);
           },

@@ -255,15 +255,12 @@ void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
   for (const NodeGroup& g : groups)
     for (int a = 0; a < g.count; ++a) lo = std::min(lo, g.node[a]), hi = std::max(hi, g.node[a]);
   for (const ReservedBlocks::NodePair& pair : candidates) lo = std::min(lo, pair[0]), hi = std::max(hi, pair[0]);
-  const std::size_t ranges = hi < lo ? 0 : static_cast<std::size_t>(host_threads());
-  const auto range_begin = [&](std::size_t r) {
-    return lo + static_cast<std::int64_t>(static_cast<double>(hi - lo + 1) * static_cast<double>(r) /
-                                          static_cast<double>(ranges));
-  };
+  if (hi < lo) lo = 0, hi = -1;  // no blocks: one empty range
+  const std::size_t ranges = static_cast<std::size_t>(host_threads());
   std::vector<ReservedBlocks::NodePair> node_pairs = parallel_collect<ReservedBlocks::NodePair>(
       ranges,
       [&](std::size_t r0, std::size_t r1, std::vector<ReservedBlocks::NodePair>& out) {
-        const std::int64_t first = range_begin(r0), last = r1 == ranges ? hi + 1 : range_begin(r1);
+        const std::int64_t first = split_point(lo, hi + 1, r0, ranges), last = split_point(lo, hi + 1, r1, ranges);
         for (const NodeGroup& g : groups)
           for (int a = 0; a < g.count; ++a) {
             if (g.node[a] < first || g.node[a] >= last) continue;

@@ -48,7 +48,10 @@ int parallel_chunks(std::size_t n, const std::function<void(int, std::size_t, st
   if (grain_cap > 0) grain = std::min(grain, grain_cap);
   const std::size_t by_grain = std::max<std::size_t>(1, n / std::max<std::size_t>(1, grain));
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads_for_loops), by_grain));
-  auto begin_of = [n, k](int c) { return n * static_cast<std::size_t>(c) / static_cast<std::size_t>(k); };
+  auto begin_of = [n, k](int c) {
+    return static_cast<std::size_t>(split_point(0, static_cast<std::int64_t>(n), static_cast<std::size_t>(c),
+                                                static_cast<std::size_t>(k)));
+  };
   if (k == 1) {
     body(0, 0, n);
     return 1;

@@ -30,6 +30,12 @@ bool host_threads_available();
 int parallel_chunks(std::size_t n, const std::function<void(int chunk, std::size_t begin, std::size_t end)>& body,
                     std::size_t grain = 4096);
 
+// Where part q of k of the range [begin, end) starts: the split parallel_chunks uses, for the
+// loops in which each thread takes a range of keys (rows, nodes) and scans the items for its own.
+inline std::int64_t split_point(std::int64_t begin, std::int64_t end, std::size_t q, std::size_t k) {
+  return begin + (end - begin) * static_cast<std::int64_t>(q) / static_cast<std::int64_t>(k);
+}
+
 // Per-chunk counts to per-chunk starts: count[c * width + p], chunk c's items for list p
 // (c < chunks), becomes where chunk c's items start in list p, after the lower chunks' (the
 // place one pass in order would put them). Returns each list's total.

@@ -10,6 +10,7 @@
 
 #include "app/openmp_threads.hpp"
 #include "app/simulation.hpp"
+#include "colliding_blocks_scene.hpp"
 #include "io/scene.hpp"
 #include "threads/host_threads.hpp"
 
@@ -67,17 +68,7 @@ TEST(HostThreadsRun, SameContactAndFrictionTrajectoryOnOneAndFourThreads) {
   // Two blocks falling onto each other and the plane with friction: the active-set pass over the
   // candidates, the reserve of the contact and friction blocks (split by row node) and their
   // map onto the matrix all run on the host threads.
-  const Scene scene = parse_scene_text(
-      R"({"materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
-          "geometry": [{"name": "lower", "box": {"size": [0.2, 0.2, 0.1], "resolution": [14, 14, 7], "origin": [0, 0, 0.0005]},
-                        "material": "rubber", "initial_velocity": [0, 0, -0.5]},
-                       {"name": "upper", "box": {"size": [0.2, 0.2, 0.1], "resolution": [14, 14, 7], "origin": [0.03, 0.02, 0.1012]},
-                        "material": "rubber", "initial_velocity": [0, 0, -0.5]}],
-          "boundary_conditions": {"gravity": [0, 0, -9.81]},
-          "contact": {"enabled": true, "dhat": 1e-3, "friction": 0.3, "epsv": 1e-3,
-                      "planes": [{"point": [0, 0, 0], "normal": [0, 0, 1]}]},
-          "time": {"dt": 0.002, "steps": 3}})",
-      "blocks_friction.json", ".");
+  const Scene scene = colliding_blocks_scene(14, 3);
   RunResult one;
   expect_same_run_on_one_and_four_threads(scene, 3, &one);
   EXPECT_GT(one.max_contact_pairs, 0) << "the blocks never touched: the test does not exercise contact";

@@ -11,9 +11,9 @@
 #include <cstdio>
 
 #include "app/simulation.hpp"
+#include "colliding_blocks_scene.hpp"
 #include "displacement_difference.hpp"
 #include "io/default_scene.hpp"
-#include "io/scene.hpp"
 
 namespace dipc {
 namespace {
@@ -80,17 +80,7 @@ TEST(PcReuse, KeepsThePreconditionerAndReachesTheSameStatesReproducibly) {
 TEST(PcReuse, RebuildsThePreconditionerWhenTheActiveSetChangesWithinTheMatrix) {
   // Two blocks colliding with friction: their active set changes within the matrix's entries
   // at some iterations and outside them at others.
-  const Scene scene = parse_scene_text(
-      R"({"materials": [{"name": "rubber", "E": 1e6, "nu": 0.4, "rho": 1000}],
-          "geometry": [{"name": "lower", "box": {"size": [0.2, 0.2, 0.1], "resolution": [8, 8, 4], "origin": [0, 0, 0.0005]},
-                        "material": "rubber", "initial_velocity": [0, 0, -0.5]},
-                       {"name": "upper", "box": {"size": [0.2, 0.2, 0.1], "resolution": [8, 8, 4], "origin": [0.03, 0.02, 0.1012]},
-                        "material": "rubber", "initial_velocity": [0, 0, -0.5]}],
-          "boundary_conditions": {"gravity": [0, 0, -9.81]},
-          "contact": {"enabled": true, "dhat": 1e-3, "friction": 0.3, "epsv": 1e-3,
-                      "planes": [{"point": [0, 0, 0], "normal": [0, 0, 1]}]},
-          "time": {"dt": 0.002, "steps": 6}})",
-      "blocks_friction.json", ".");
+  const Scene scene = colliding_blocks_scene(8, 6);
   RunOptions options = twenty_quiet_steps();
   options.steps = 6;
   RunResult result;
