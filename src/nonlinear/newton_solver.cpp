@@ -57,15 +57,19 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   if (changed) PetscCall(SNESComputeFunction(snes, x, f));
   PetscBool new_pattern, remapped;
   PetscCall(potential->refresh_pattern(x, &new_pattern, &remapped));
-  if (new_pattern) {
-    // A lagged preconditioner (-snes_lag_preconditioner) would otherwise be kept across the
-    // new pattern, holding on to the old matrix; start it afresh instead, and before the new
-    // matrix is made, so that the old AMG hierarchy is not held beside it.
+  if (new_pattern || remapped) {
+    // A changed active set gets a fresh preconditioner, also where it kept the matrix: a lagged
+    // one (-snes_lag_preconditioner) would otherwise be kept across the change, holding on to
+    // the old matrix, and one kept across it cost CG and Newton iterations on the contact-rich
+    // family (docs/performance.md, "Keeping the matrix across active-set changes"). Reset
+    // before a new matrix is made, so that the old AMG hierarchy is not held beside it.
     KSP ksp;
     PC pc;
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCReset(pc));
+  }
+  if (new_pattern) {
     Mat J;
     PetscCall(potential->create_matrix(&J));
     PetscCall(SNESSetJacobian(snes, self->mixed_ ? self->newton_matrix_ : J, J, hessian_callback, self));
@@ -73,9 +77,6 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
     self->J_ = J;
     PetscCall(self->attach_near_null_space(x));
   }
-  // A changed active set gets a fresh preconditioner also where it kept the matrix: one kept
-  // across the change cost CG and Newton iterations on the contact-rich family
-  // (docs/performance.md, "Keeping the matrix across active-set changes").
   PetscCall(self->pc_reuse_.begin_iteration(snes, iteration, new_pattern == PETSC_TRUE || remapped == PETSC_TRUE));
   PetscFunctionReturn(0);
 }
