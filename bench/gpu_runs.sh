@@ -32,8 +32,10 @@
 #                                  build/src/app/dipc: the CUDA PETSc's hypre runs on the GPU only); FAMILY_REFINE,
 #                                  default 1,2,3,4 (about 0.1M, 1M, 3.4M, 8M hexes); FAMILY_STEPS, default 3;
 #                                  FAMILY_MEMBERS, default stack,squeeze,press; FAMILY_EXTRA, more dipc options
-#                                  (e.g. -log_view); FAMILY_TAG, a suffix of the CSVs' tags; each run's whole
-#                                  output is kept beside the CSV
+#                                  (e.g. -log_view); FAMILY_TAG, a suffix of the CSVs' tags; FAMILY_GPUS, the GPU
+#                                  counts (default 1; e.g. "1 2 4", one rank per GPU); FAMILY_ELEMENTS, element
+#                                  counts instead of refine levels; FAMILY_TIMEOUT, seconds per run; each run's
+#                                  whole output is kept beside the CSV
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -105,13 +107,21 @@ case "${1:-}" in
     members=${FAMILY_MEMBERS:-stack,squeeze,press}
     # The rank gets the cores of its GPU's share of the host for its host threads (mpirun alone
     # binds one rank to one core).
-    run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members --refine ${FAMILY_REFINE:-1,2,3,4} \
-      --steps ${FAMILY_STEPS:-3} --ranks 1 --cores-per-rank $(( $(nproc) / gpus )) --tag "${card}_1gpu${FAMILY_TAG:-}" \
-      --out "$out" -- -dipc_backend cuda -vec_type cuda \
-      -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc ${FAMILY_EXTRA:-}
+    # FAMILY_ELEMENTS (approximate element counts, e.g. 20000000) replaces the refine levels.
+    sizes=(--refine ${FAMILY_REFINE:-1,2,3,4})
+    [[ -n ${FAMILY_ELEMENTS:-} ]] && sizes=(--elements $FAMILY_ELEMENTS)
+    # FAMILY_GPUS (e.g. "1 2 4") runs the same sizes on one rank per GPU for each count the
+    # host has; each rank keeps its GPU's share of the cores.
+    for n in ${FAMILY_GPUS:-1}; do
+      ((n <= gpus)) || continue
+      run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members "${sizes[@]}" \
+        --steps ${FAMILY_STEPS:-3} --ranks $n --cores-per-rank $(( $(nproc) / gpus )) --tag "${card}_${n}gpu${FAMILY_TAG:-}" \
+        --out "$out" --timeout ${FAMILY_TIMEOUT:-1800} -- -dipc_backend cuda -vec_type cuda \
+        -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc ${FAMILY_EXTRA:-}
+    done
     cpu_dipc=${FAMILY_CPU_DIPC:-build/src/app/dipc}
     if [[ -x $cpu_dipc ]]; then
-      run python3 bench/contact_family.py --dipc "$cpu_dipc" --members $members --refine ${FAMILY_REFINE:-1,2,3,4} \
+      run python3 bench/contact_family.py --dipc "$cpu_dipc" --members $members "${sizes[@]}" \
         --steps ${FAMILY_STEPS:-3} --ranks $(nproc) --tag "${card}_host_cpu$(nproc)${FAMILY_TAG:-}" --out "$out" -- -dipc_backend cpu \
         ${FAMILY_EXTRA:-}
     else
