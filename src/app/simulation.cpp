@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "app/backend.hpp"
+#include "app/gpu_aware_mpi.hpp"
+#include "app/hypre_device_memory.hpp"
 #include "app/checkpoint.hpp"
 #include "app/library_exit.hpp"
 #include "app/natural_order.hpp"
@@ -329,7 +331,8 @@ struct DeviceUse {
 
 PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const DistributedMesh& mesh, TimeIntegrator& integrator,
                             const RunOptions& options, double velocity_tol, double dt_min, const BackendChoice& backend,
-                            const DeviceUse& device_use, const OpenMpThreads& threads,
+                            const DeviceUse& device_use, const GpuAwareMpi& gpu_aware_mpi,
+                            const std::string& hypre_memory, const OpenMpThreads& threads,
                             const HostThreads& host_threads) {
   PetscFunctionBeginUser;
   int size;
@@ -371,6 +374,8 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
                           "(dipc's estimate %zu B/element before the matrix and preconditioner)\n",
                           device::name(backend.device).c_str(), per_rank.c_str(), max_used / 1048576.0,
                           max_used / std::max(1, ne_max), device_bytes_per_element(false)));
+    PetscCall(PetscPrintf(comm, "  MPI %s\n", gpu_aware_mpi.description.c_str()));
+    if (!hypre_memory.empty()) PetscCall(PetscPrintf(comm, "  %s\n", hypre_memory.c_str()));
   }
   PetscCall(PetscPrintf(comm, "  Vec %s | Mat %s | COO entries %lld | forms: %s\n", vtype, mtype, total_entries,
                         forms.c_str()));
@@ -840,14 +845,18 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   setup_heap.reset();
   StepRecovery recovery(integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
+  GpuAwareMpi gpu_aware_mpi;
+  PetscCall(settle_gpu_aware_mpi(comm, backend.space == MemorySpace::device, &gpu_aware_mpi));
+  std::string hypre_memory;
+  PetscCall(use_block_cache_for_hypre(comm, backend.space == MemorySpace::device, &hypre_memory));
   measured.setup = MPI_Wtime() - measured.setup;
   measured.rss_setup = peak_rss_mib();
   // Everything that reads options (the solvers' setup included) has run: a -dipc_ option that
   // nothing read is misspelt or unknown, and would otherwise be ignored.
   check_no_unknown_options(comm);
   if (options.report) {
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use, threads,
-                           host_threads));
+    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use,
+                           gpu_aware_mpi, hypre_memory, threads, host_threads));
     PetscCall(print_partition(comm, partitioned));
   }
 

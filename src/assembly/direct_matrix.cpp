@@ -642,18 +642,17 @@ PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd) c
 PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
   PetscFunctionBeginUser;
   const std::size_t nd = num_diag_, ns = slot_position_.size();
-  slot_sums_.resize(ns);
-  remote_.sum(values, slot_sums_.data());
   if (kind_ == Kind::device_hypre) {
+    d_slot_sums_.resize(ns);
+    remote_.sum_to_device(values, d_slot_sums_.data());
     double *diag = nullptr, *offd = nullptr;
     PetscCall(hypre_values(J, &diag, &offd));
     device::scatter_split(values, d_position_.data(), num_entries_, diag, nd, offd);
-    if (ns) {
-      d_slot_sums_.upload(slot_sums_);
-      device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
-    }
+    if (ns) device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
     device::synchronize();
   } else {
+    slot_sums_.resize(ns);
+    remote_.sum(values, slot_sums_.data());
     // The blocks' value arrays as PETSc holds them (the ones given at creation).
     Mat A, B;
     PetscCall(aij_blocks(J, &A, &B, nullptr));

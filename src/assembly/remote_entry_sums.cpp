@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "device/mpi_device_buffers.hpp"
+
 namespace dipc {
 
 RemoteEntrySums::~RemoteEntrySums() {
@@ -44,7 +46,32 @@ void RemoteEntrySums::setup(MPI_Comm comm, const std::vector<std::vector<std::ui
   if (on_device_) {
     d_gather_.upload(gather_);
     d_send_.resize(gather_.size());
+    d_received_.resize(received_slot_.size());
+    // Each slot's received values in k order (a counting sort by slot), as sum() adds them.
+    std::vector<std::uint32_t> offsets(num_slots_ + 1, 0), sources(received_slot_.size());
+    for (std::uint32_t slot : received_slot_) ++offsets[slot + 1];
+    for (std::size_t s = 0; s < num_slots_; ++s) offsets[s + 1] += offsets[s];
+    std::vector<std::uint32_t> next(offsets.begin(), offsets.end() - 1);
+    for (std::size_t k = 0; k < received_slot_.size(); ++k)
+      sources[next[received_slot_[k]]++] = static_cast<std::uint32_t>(k);
+    d_slot_offsets_.upload(offsets);
+    d_slot_sources_.upload(sources);
   }
+}
+
+void RemoteEntrySums::exchange(const double* send, double* received) {
+  std::vector<MPI_Request> requests;
+  requests.reserve(to_.size() + from_.size());
+  constexpr int kTag = 1;
+  for (const Neighbour& n : from_) {
+    requests.emplace_back();
+    MPI_Irecv(received + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_, &requests.back());
+  }
+  for (const Neighbour& n : to_) {
+    requests.emplace_back();
+    MPI_Isend(send + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_, &requests.back());
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
 }
 
 void RemoteEntrySums::sum(const double* values, double* sums) {
@@ -55,20 +82,23 @@ void RemoteEntrySums::sum(const double* values, double* sums) {
   } else {
     for (std::size_t k = 0; k < gather_.size(); ++k) send_[k] = values[gather_[k]];
   }
-  std::vector<MPI_Request> requests;
-  requests.reserve(to_.size() + from_.size());
-  constexpr int kTag = 1;
-  for (const Neighbour& n : from_) {
-    requests.emplace_back();
-    MPI_Irecv(received_.data() + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_, &requests.back());
-  }
-  for (const Neighbour& n : to_) {
-    requests.emplace_back();
-    MPI_Isend(send_.data() + n.begin, static_cast<int>(n.count), MPI_DOUBLE, n.rank, kTag, comm_, &requests.back());
-  }
-  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  exchange(send_.data(), received_.data());
   // In the senders' rank order: a fixed order of the terms of every slot.
   for (std::size_t k = 0; k < received_slot_.size(); ++k) sums[received_slot_[k]] += received_[k];
+}
+
+void RemoteEntrySums::sum_to_device(const double* values, double* d_sums) {
+  if (!device::mpi_device_direct()) {
+    host_sums_.resize(num_slots_);
+    sum(values, host_sums_.data());
+    if (num_slots_) device::copy_to_device(d_sums, host_sums_.data(), num_slots_ * sizeof(double));
+    return;
+  }
+  if (!gather_.empty()) device::gather(d_send_.data(), values, d_gather_.data(), gather_.size());
+  // MPI reads the send buffer outside the kernels' stream: it must be complete first.
+  device::synchronize();
+  exchange(d_send_.data(), d_received_.data());
+  device::reduce_coo(d_received_.data(), d_slot_offsets_.data(), d_slot_sources_.data(), num_slots_, d_sums);
 }
 
 }  // namespace dipc

@@ -39,8 +39,17 @@ class RemoteEntrySums {
   // memory, from the values the other ranks hold. values: this rank's entries (host or device
   // memory, as setup() said).
   void sum(const double* values, double* sums);
+  // As sum(), into device memory (d_sums, num_slots of them; setup's on_device). Where MPI takes
+  // device pointers (device::mpi_device_direct()) the values are sent and received as device
+  // buffers and summed there in the same order, bit for bit as sum(); otherwise through sum()
+  // and one copy to the device.
+  void sum_to_device(const double* values, double* d_sums);
 
  private:
+  // Posts this rank's receives into `received` and sends from `send` (host or device memory),
+  // and waits for all of them.
+  void exchange(const double* send, double* received);
+
   struct Neighbour {
     int rank;
     std::size_t begin, count;  // in the send or the receive buffer
@@ -54,6 +63,11 @@ class RemoteEntrySums {
   std::vector<double> send_, received_;
   device::Array<std::uint32_t> d_gather_{"remote entry indices"};
   device::Array<double> d_send_{"remote entry values"};
+  // The device-direct path: received values, and per slot the received ones that add to it
+  // (offsets into sources, each slot's in the senders' order).
+  device::Array<double> d_received_{"received remote entry values"};
+  device::Array<std::uint32_t> d_slot_offsets_{"remote slot offsets"}, d_slot_sources_{"remote slot sources"};
+  std::vector<double> host_sums_;
 };
 
 }  // namespace dipc

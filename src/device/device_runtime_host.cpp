@@ -1,5 +1,6 @@
 // device_runtime.hpp for builds without CUDA: no devices, and every call that would need one
 // throws, naming the option that builds the kernels.
+#include "device/block_cache.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc::device {
@@ -54,5 +55,11 @@ void sort_by_target(std::uint32_t*, std::uint32_t*, std::size_t) { no_cuda("devi
 void add_by_target(double*, const std::uint32_t*, const std::uint32_t*, const double*, std::size_t) {
   no_cuda("device sums by target");
 }
+
+namespace block_cache {
+void* allocate(std::size_t) noexcept { return nullptr; }
+void release(void*) noexcept {}
+Stats stats() { return {}; }
+}  // namespace block_cache
 
 }  // namespace dipc::device

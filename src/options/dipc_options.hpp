@@ -114,6 +114,10 @@ inline constexpr OptionSpec kTable[] = {
     // Read in assembly/hessian_assembler.cpp.
     flag("-dipc_direct_matrix", "DirectMatrix",
          "Make host AIJ (and device hypre) Hessians from dipc's own pattern instead of PETSc's COO preallocation"),
+    // Read in app/hypre_device_memory.cpp.
+    flag("-dipc_hypre_block_cache", "HypreDeviceMemory",
+         "Give hypre's device temporaries from dipc's cache of device blocks instead of a cudaMalloc and cudaFree "
+         "each (GPU hypre only)"),
     one_of("-dipc_pattern_remap", kPatternRemaps, "HessianAssembler",
            "When the contact active set changes: off makes a new matrix; fit keeps the matrix where the new pattern "
            "fits its entries and maps the contact values onto them; candidates also reserves entries for every "
