@@ -15,8 +15,10 @@ namespace dipc {
 namespace {
 // -dipc_direct_matrix (default on): matrices of the types DirectMatrix serves are made from the
 // entries; off, every matrix goes through PETSc's COO preallocation (for comparison).
-// -dipc_pattern_remap (default off): whether a changed pattern that fits the matrix keeps it
-// (hessian_assembler.hpp; docs/performance.md measures the three).
+// -dipc_pattern_remap (default fit): whether a changed pattern that fits the matrix keeps it
+// (hessian_assembler.hpp). docs/performance.md measures the three: on the 1M-hex stack on one
+// H200, fit kept the matrix at 8 of 11 changes with the same Newton and CG counts as off, and
+// "contact patterns" took 2.4 s instead of 4.1-4.5 s.
 PetscErrorCode read_options(MPI_Comm comm, bool* direct, HessianAssembler::Remap* remap) {
   PetscFunctionBeginUser;
   PetscBool flag = PETSC_TRUE;
@@ -30,7 +32,7 @@ PetscErrorCode read_options(MPI_Comm comm, bool* direct, HessianAssembler::Remap
                                      "PatternRemap",
                                      "",
                                      nullptr};
-  PetscEnum choice = static_cast<PetscEnum>(HessianAssembler::Remap::off);
+  PetscEnum choice = static_cast<PetscEnum>(HessianAssembler::Remap::fit);
   PetscOptionsBegin(comm, nullptr, "dipc Hessian matrix", "Mat");
   PetscCall(PetscOptionsBool(direct_option.name, direct_option.help, direct_option.manual, flag, &flag, nullptr));
   PetscCall(PetscOptionsEnum(remap_option.name, remap_option.help, remap_option.manual, remap_names, choice, &choice,

@@ -166,7 +166,7 @@ class HessianAssembler {
   std::vector<long> pattern_versions_;
   bool any_device_ = false;            // terms that write on the device
   bool direct_matrix_allowed_ = true;  // -dipc_direct_matrix, read at setup
-  Remap remap_ = Remap::off;           // -dipc_pattern_remap, read at setup
+  Remap remap_ = Remap::fit;           // -dipc_pattern_remap, read at setup
   Mat J_ = nullptr;                    // not owned
   bool device_matrix_ = false;         // values are summed on the device (device terms and matrix)
   // Each term's values in the raw array: start and count; element terms first.

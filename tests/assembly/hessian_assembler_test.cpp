@@ -208,8 +208,8 @@ TEST(HessianAssembler, PatternChangesOnPetscCooPath) {
 }
 
 // With -dipc_pattern_remap fit the matrix keeps only the current pattern's entries: a pattern
-// that shrinks still fits (the dropped pairs' entries hold zeros), a new pair does not. With
-// the default (off) every change makes a new matrix.
+// that shrinks still fits (the dropped pairs' entries hold zeros), a new pair does not. fit is
+// the default; with off every change makes a new matrix.
 TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
   PetscOptionsSetValue(nullptr, "-dipc_pattern_remap", "fit");
   int rank, size;
@@ -241,13 +241,24 @@ TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
   EXPECT_TRUE(new_matrix);
   PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
 
+  // The default is fit; off makes a new matrix for every change.
   Assembly by_default(rank);
   by_default.pairs.set(all, {});
   by_default.setup(rank);
   by_default.pairs.set(half, {});
   ASSERT_EQ(by_default.assembler.update_patterns(nullptr, &new_matrix), 0);
+  EXPECT_FALSE(new_matrix);
+  EXPECT_EQ(by_default.assembler.remaps(), 1);
+
+  PetscOptionsSetValue(nullptr, "-dipc_pattern_remap", "off");
+  Assembly off(rank);
+  off.pairs.set(all, {});
+  off.setup(rank);
+  PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
+  off.pairs.set(half, {});
+  ASSERT_EQ(off.assembler.update_patterns(nullptr, &new_matrix), 0);
   EXPECT_TRUE(new_matrix);
-  EXPECT_EQ(by_default.assembler.remaps(), 0);
+  EXPECT_EQ(off.assembler.remaps(), 0);
 }
 
 }  // namespace
