@@ -75,7 +75,7 @@ case "${1:-}" in
     # The machine's Open MPI is not CUDA-aware: a CUDA PETSc refuses to start without
     # -use_gpu_aware_mpi 0 (exit 76). The trajectory tests read the scenes of this tree.
     export PETSC_OPTIONS="${PETSC_OPTIONS:-} -use_gpu_aware_mpi 0" DIPC_SOURCE_DIR=${DIPC_SOURCE_DIR:-$PWD}
-    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests direct_matrix_tests; do
+    for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests direct_matrix_tests block_cache_gpu_tests; do
       run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
       echo "$t: exit ${PIPESTATUS[0]}"

@@ -34,15 +34,17 @@ std::size_t size_class(std::size_t bytes) {
   return (bytes + step - 1) & ~(step - 1);
 }
 
-// Gives every cached block back to the driver (the caller holds the lock).
-void empty(Cache& c) {
+// Gives every cached block back to the driver (the caller holds the lock); the bytes freed.
+std::size_t empty_locked(Cache& c) {
+  const std::size_t bytes = c.stats.cached_bytes;
   for (auto& [size, blocks] : c.free_by_class)
     for (void* p : blocks) {
       cudaFree(p);
       c.class_of.erase(p);
-      c.stats.cached_bytes -= size;
     }
   c.free_by_class.clear();
+  c.stats.cached_bytes = 0;
+  return bytes;
 }
 
 }  // namespace
@@ -63,7 +65,7 @@ void* allocate(std::size_t bytes) noexcept {
   void* p = nullptr;
   if (cudaMalloc(&p, size) != cudaSuccess) {
     cudaGetLastError();
-    empty(c);
+    empty_locked(c);
     if (cudaMalloc(&p, size) != cudaSuccess) {
       cudaGetLastError();
       return nullptr;
@@ -83,8 +85,20 @@ void release(void* p) noexcept {
     cudaFree(p);
     return;
   }
-  c.free_by_class[it->second].push_back(p);
-  c.stats.cached_bytes += it->second;
+  const std::size_t size = it->second;
+  if (size > kMaxCachedBlock || c.stats.cached_bytes + size > kMaxCachedBytes) {
+    c.class_of.erase(it);
+    cudaFree(p);
+    return;
+  }
+  c.free_by_class[size].push_back(p);
+  c.stats.cached_bytes += size;
+}
+
+std::size_t empty() noexcept {
+  Cache& c = cache();
+  std::lock_guard<std::mutex> lock(c.mutex);
+  return empty_locked(c);
 }
 
 Stats stats() {

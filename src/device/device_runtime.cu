@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "device/block_cache.hpp"
 #include "device/cuda_check.cuh"
 
 namespace dipc::device {
@@ -43,7 +44,12 @@ MemoryInfo memory_info() {
 void* allocate(std::size_t bytes, const char* what) {
   if (bytes == 0) return nullptr;
   void* p = nullptr;
-  const cudaError_t status = cudaMalloc(&p, bytes);
+  cudaError_t status = cudaMalloc(&p, bytes);
+  // Blocks kept for hypre (block_cache.hpp) are given back before dipc gives up.
+  if (status == cudaErrorMemoryAllocation && block_cache::empty() > 0) {
+    cudaGetLastError();
+    status = cudaMalloc(&p, bytes);
+  }
   if (status != cudaSuccess) {
     cudaGetLastError();
     std::size_t free_bytes = 0, total = 0;

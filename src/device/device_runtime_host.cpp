@@ -59,6 +59,7 @@ void add_by_target(double*, const std::uint32_t*, const std::uint32_t*, const do
 namespace block_cache {
 void* allocate(std::size_t) noexcept { return nullptr; }
 void release(void*) noexcept {}
+std::size_t empty() noexcept { return 0; }
 Stats stats() { return {}; }
 }  // namespace block_cache
 
