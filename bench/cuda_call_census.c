@@ -2,7 +2,9 @@
  * grows when a run goes from one GPU to several (issue 30: "find and remove what grows", where
  * no system profiler runs on the lent GPU machines).
  *
- *   LD_PRELOAD=.../libcuda_call_census.so mpirun -x LD_PRELOAD -n 2 dipc ...
+ *   mpirun -n 2 -x LD_PRELOAD=build-cuda/bench/libcuda_call_census.so dipc ...
+ *
+ * (built with -DDIPC_WITH_CUDA=ON; docs/performance.md, "Two and four GPUs", has what it found).
  *
  * Each wrapped call is timed around the real one (found with dlsym(RTLD_NEXT)), so a
  * synchronising call counts the wait it causes. At exit every process prints one line per
