@@ -52,8 +52,10 @@ bool DeviceElasticPart::hessian(const double* x, double scale, double* values) {
   return device::elastic_evaluate(device_.block(), x, scale, nullptr, nullptr, values, reducer_);
 }
 
-bool DeviceElasticPart::is_valid(const double* x) {
-  return device::min_volume_ratio(device_.block(), x, reducer_) > 0.0;
+bool DeviceElasticPart::is_valid(const double* x) { return min_volume_ratio(x) > 0.0; }
+
+double DeviceElasticPart::min_volume_ratio(const double* x) {
+  return device::min_volume_ratio(device_.block(), x, reducer_);
 }
 
 // ---- lumped inertia -------------------------------------------------------------------------

@@ -37,6 +37,7 @@ class DeviceElasticPart {
   bool gradient(const double* x, double scale, double* g);
   bool hessian(const double* x, double scale, double* values);
   bool is_valid(const double* x);
+  double min_volume_ratio(const double* x);
 
  private:
   DeviceElementData device_;

@@ -1,6 +1,10 @@
 #include "forms/elastic_form.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <vector>
+
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -97,7 +101,25 @@ bool ElasticForm::element_hessian(const double* x, int first, int count, double*
 
 bool ElasticForm::is_valid(const double* x) {
   if (device_) return device_->is_valid(x);
-  return min_volume_ratio(elements_.block(), x, nullptr) > 0.0;
+  double ratio = 0;
+  min_volume_ratio(x, &ratio);
+  return ratio > 0.0;
+}
+
+bool ElasticForm::min_volume_ratio(const double* x, double* ratio) {
+  if (device_) {
+    *ratio = device_->min_volume_ratio(x);
+    return true;
+  }
+  // On the host threads, each over a range of elements; a minimum does not depend on the split.
+  const ElementBlock& block = elements_.block();
+  std::vector<double> chunk_min(static_cast<std::size_t>(host_threads()), std::numeric_limits<double>::max());
+  parallel_chunks(static_cast<std::size_t>(block.num_elements), [&](int c, std::size_t begin, std::size_t end) {
+    const ElementBlock range = element_range(block, static_cast<int>(begin), static_cast<int>(end - begin));
+    chunk_min[static_cast<std::size_t>(c)] = dipc::min_volume_ratio(range, x, nullptr);
+  });
+  *ratio = *std::min_element(chunk_min.begin(), chunk_min.end());
+  return true;
 }
 
 }  // namespace dipc

@@ -28,6 +28,7 @@ class ElasticForm : public Form, public VolumetricSplit {
   }
   bool element_hessian(const double* x, int first, int count, double* values) override;
   bool is_valid(const double* x) override;
+  bool min_volume_ratio(const double* x, double* ratio) override;
   void set_time_step(double h) override { scale_ = h * h; }
   // This form when some element is a mean-dilatation one (its rank-one volumetric term can be
   // split); only on the host: the device part does not hand over B and D.

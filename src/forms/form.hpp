@@ -57,6 +57,11 @@ class Form : public HessianPattern {
   // False if x must be rejected outright (an inverted element at a corner or quadrature
   // point), whatever the energy says.
   virtual bool is_valid(const double* x) { return true; }
+  // Forms over elements: the smallest volume ratio (det F at the corners and Gauss points,
+  // hex8_min_volume_ratio) of their elements at x, in the form's space, into *ratio (+huge for
+  // none). False for forms without elements. The step report's J_min, without a pass over the
+  // mesh on the host in device runs.
+  virtual bool min_volume_ratio(const double* x, double* ratio) { return false; }
   // Hooks: start of a time step (x̂ = predicted positions, local array) and of a Newton
   // iteration.
   virtual void begin_step(const double* x_hat) {}

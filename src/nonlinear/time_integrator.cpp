@@ -383,10 +383,16 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
     PetscCall(VecScale(v_, 1.0 / h));
   }
   PetscCall(potential_.objective(x_, &report->energy));
-  std::vector<double> ratio;
-  PetscCall(element_volume_ratios(&ratio));
-  double local_min = ratio.empty() ? 1e300 : *std::min_element(ratio.begin(), ratio.end());
-  PetscCallMPI(MPI_Allreduce(&local_min, &report->min_volume_ratio, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
+  // J_min where the elements' form evaluates (on the GPU in device runs, on the host threads
+  // otherwise); the host pass over the mesh only for a potential without an element form.
+  bool found = false;
+  PetscCall(potential_.min_volume_ratio(x_, &report->min_volume_ratio, &found));
+  if (!found) {
+    std::vector<double> ratio;
+    PetscCall(element_volume_ratios(&ratio));
+    double local_min = ratio.empty() ? 1e300 : *std::min_element(ratio.begin(), ratio.end());
+    PetscCallMPI(MPI_Allreduce(&local_min, &report->min_volume_ratio, 1, MPI_DOUBLE, MPI_MIN, mesh_->comm));
+  }
   if (contact_) PetscCall(collect_contact_stats(report));
   if (check_invariants_) {
     std::string violated;

@@ -3,6 +3,7 @@
 #include <petsc/private/petscimpl.h>  // PetscObjectStateGet: has x changed since the patterns were asked
 
 #include <algorithm>
+#include <limits>
 #include <tuple>
 #include <utility>
 
@@ -346,6 +347,30 @@ PetscErrorCode IncrementalPotential::is_valid(Vec x, PetscBool* valid) {
   const bool ok = local_valid(xh, xd);
   PetscCall(x_views_.end());
   PetscCall(all_ranks(ok, valid));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IncrementalPotential::min_volume_ratio(Vec x, double* ratio, bool* found) {
+  PetscFunctionBeginUser;
+  ScopedEvent timer(log_events().validity, &times_.validity);
+  PetscCall(gather(x));
+  PetscCall(x_views_.begin(x_local_));
+  const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
+  const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
+  double local = std::numeric_limits<double>::max();
+  int any = 0;
+  for (auto& form : forms_) {
+    double r = 0;
+    if (form->min_volume_ratio(form->memory_space() == MemorySpace::device ? xd : xh, &r)) {
+      local = std::min(local, r);
+      any = 1;
+    }
+  }
+  PetscCall(x_views_.end());
+  int any_rank = 0;
+  PetscCallMPI(MPI_Allreduce(&any, &any_rank, 1, MPI_INT, MPI_MAX, comm_));
+  PetscCallMPI(MPI_Allreduce(&local, ratio, 1, MPI_DOUBLE, MPI_MIN, comm_));
+  *found = any_rank != 0;
   PetscFunctionReturn(0);
 }
 

@@ -94,6 +94,10 @@ class IncrementalPotential {
   PetscErrorCode refresh_pattern(Vec x, PetscBool* changed, PetscBool* remapped);
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
+  // Collective. The smallest volume ratio over the elements of the forms that have them
+  // (Form::min_volume_ratio, each in its own space), over all ranks; *found false where no form
+  // has elements.
+  PetscErrorCode min_volume_ratio(Vec x, double* ratio, bool* found);
   // Prepares the forms for evaluations on the segment x + αp, α ∈ [0, 1] (see Form), then
   // returns min over forms and ranks of the admissible step fraction along p.
   PetscErrorCode max_step(Vec x, Vec p, PetscReal* alpha);

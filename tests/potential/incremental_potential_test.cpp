@@ -20,6 +20,7 @@
 #include "mesh/box_generator.hpp"
 #include "potential/incremental_potential.hpp"
 #include "support/directional_difference.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -126,6 +127,63 @@ INSTANTIATE_TEST_SUITE_P(InertiaAndMaterial, PotentialFiniteDifferences,
                            return std::string(std::get<0>(info.param) ? "lumped_" : "consistent_") +
                                   material_model_name(std::get<1>(info.param));
                          });
+
+// The step report's J_min (IncrementalPotential::min_volume_ratio): the elements' form gives the
+// smallest volume ratio of its elements, on 1 and 4 host threads alike and equal to the element
+// loop's own pass over the local elements, reduced over the ranks; without an element form
+// there is none to give.
+TEST(PotentialMinVolumeRatio, TheElementFormGivesTheElementPassesMinimumOnAnyThreads) {
+  MPI_Comm comm = PETSC_COMM_WORLD;
+  HexMesh whole = generate_box({2, 1, 1}, {8, 4, 4}, {0, 0, 0}, 0, "box");
+  DistributedMesh mesh = distribute_mesh(whole, comm);
+  ElementData elements(mesh, {BodyMaterial{4e5, 3e5, 900}});
+  std::vector<std::unique_ptr<Form>> forms;
+  forms.push_back(std::make_unique<ElasticForm>(elements, 1e-4));
+  IncrementalPotential potential;
+  ASSERT_EQ(potential.setup(mesh, std::move(forms), std::vector<char>(3 * mesh.num_local_nodes(), 0)), 0);
+  GhostExchange exchange;
+  ASSERT_EQ(exchange.setup(mesh, 3), 0);
+  Vec x, xl;
+  exchange.create_global_vec(&x);
+  exchange.create_local_vec(&xl);
+  PetscScalar* xa;
+  VecGetArray(x, &xa);
+  for (int n = 0; n < mesh.num_owned_nodes; ++n)
+    for (int c = 0; c < 3; ++c)
+      xa[3 * n + c] = (1.0 - 0.05 * c) * mesh.coordinates[n][c] + 0.01 * hash_value(mesh.node_input_id[n], c, 4);
+  VecRestoreArray(x, &xa);
+  exchange.to_local(x, xl);
+  const PetscScalar* xla;
+  VecGetArrayRead(xl, &xla);
+  const double local = min_volume_ratio(elements.block(), xla, nullptr);
+  VecRestoreArrayRead(xl, &xla);
+  double expected = 0;
+  MPI_Allreduce(&local, &expected, 1, MPI_DOUBLE, MPI_MIN, comm);
+  ASSERT_GT(expected, 0.0);
+  ASSERT_LT(expected, 1.0);
+
+  for (int threads : {1, 4}) {
+    set_host_threads(threads, 1);
+    double ratio = 0;
+    bool found = false;
+    ASSERT_EQ(potential.min_volume_ratio(x, &ratio, &found), 0);
+    EXPECT_TRUE(found);
+    EXPECT_EQ(ratio, expected) << threads << " host threads";
+  }
+  set_host_threads(1);
+
+  std::vector<double> node_mass(mesh.num_local_nodes(), 1.0);
+  std::vector<std::unique_ptr<Form>> inertia_only;
+  inertia_only.push_back(std::make_unique<LumpedInertiaForm>(node_mass, mesh.num_owned_nodes, mesh.node_offset));
+  IncrementalPotential no_elements;
+  ASSERT_EQ(no_elements.setup(mesh, std::move(inertia_only), std::vector<char>(3 * mesh.num_local_nodes(), 0)), 0);
+  double ratio = 0;
+  bool found = true;
+  ASSERT_EQ(no_elements.min_volume_ratio(x, &ratio, &found), 0);
+  EXPECT_FALSE(found);
+  VecDestroy(&x);
+  VecDestroy(&xl);
+}
 
 // The mean-dilatation element is neo-Hookean only: a body asking for it with another model is
 // refused where the element data are built (the scene parser refuses it earlier).
