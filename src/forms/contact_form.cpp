@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "contact/contact_pair_terms.hpp"
 #include "contact/geometry/barrier.hpp"
@@ -49,13 +50,27 @@ void ContactForm::prepare_segment(const double* x, const double* p) {
   set_.find_candidates(x, p);
   if (space_ != MemorySpace::device) return;
   const double start = MPI_Wtime();
-  device::ContactPairList list;
-  set_.for_each_pair([&](CandidateKind kind, std::size_t i) {
-    append(&list, set_.describe(kind, i));
-    return true;
-  });
-  device_candidates_.upload(list);
+  device_candidates_.upload(candidate_pair_list());
   stats_.transfer_seconds += MPI_Wtime() - start;
+}
+
+device::ContactPairList ContactForm::candidate_pair_list() const {
+  const std::array<std::size_t, kNumCandidateKinds> count = set_.candidate_counts();
+  device::ContactPairList list;
+  list.resize(std::accumulate(count.begin(), count.end(), std::size_t{0}));
+  set_.for_each_pair_slot(
+      [&](CandidateKind kind, std::size_t i, std::size_t slot) { set_pair(&list, slot, set_.describe(kind, i)); });
+  return list;
+}
+
+device::ContactPairList ContactForm::pattern_pair_list() const {
+  const auto& pairs = set_.pattern_pairs();
+  device::ContactPairList list;
+  list.resize(pairs.size());
+  parallel_for(pairs.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) set_pair(&list, k, set_.describe(pairs[k].kind, pairs[k].index));
+  });
+  return list;
 }
 
 bool ContactForm::node_groups(std::vector<NodeGroup>* groups) const {
@@ -81,8 +96,7 @@ void ContactForm::update_pattern(const double* x) {
   // The pattern's device list also changes when exchanges renumber its nodes, so compare the
   // list itself, not only the key.
   const double start = MPI_Wtime();
-  device::ContactPairList list;
-  for (const auto& pe : set_.pattern_pairs()) append(&list, set_.describe(pe.kind, pe.index));
+  device::ContactPairList list = pattern_pair_list();
   if (list != uploaded_pattern_) {
     device_pattern_.upload(list);
     uploaded_pattern_ = std::move(list);
@@ -99,8 +113,8 @@ bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool
                             active, t);
 }
 
-void ContactForm::append(device::ContactPairList* list, const PairInfo& info) const {
-  list->add(info.kind, info.nodes.data(), info.weight, info.eps_x,
+void ContactForm::set_pair(device::ContactPairList* list, std::size_t slot, const PairInfo& info) const {
+  list->set(slot, info.kind, info.nodes.data(), info.weight, info.eps_x,
             info.plane ? static_cast<int>(info.plane - parameters_.planes.data()) : -1);
 }
 

@@ -103,6 +103,11 @@ class ContactForm : public Form {
     std::int64_t first_global;
   };
   std::vector<ActivePair> active_pairs(const double* x) const;
+  // The pair lists the device kernels read, built on the host threads (each pair in its own
+  // slot, so the same list for any number of threads): every candidate pair in the set's order,
+  // and the active pairs of the Hessian's pattern in theirs.
+  device::ContactPairList candidate_pair_list() const;
+  device::ContactPairList pattern_pair_list() const;
   // This rank's active pairs at x per CandidateKind, indexed by its value (output: the per-step
   // contact counts).
   static constexpr int num_pair_kinds = kNumCandidateKinds;
@@ -114,7 +119,7 @@ class ContactForm : public Form {
  private:
   static MemorySpace checked_space(MemorySpace space);  // throws DeviceError without a device
   bool terms(const PairInfo& info, const double* x, bool want_g, bool want_H, bool* active, ContactPairTerms* t) const;
-  void append(device::ContactPairList* list, const PairInfo& info) const;
+  void set_pair(device::ContactPairList* list, std::size_t slot, const PairInfo& info) const;
   device::BarrierConstants barrier_constants() const;
 
   ContactParameters parameters_;

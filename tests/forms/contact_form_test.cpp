@@ -14,6 +14,7 @@
 #include "mesh/box_generator.hpp"
 #include "potential/incremental_potential.hpp"
 #include "support/directional_difference.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 namespace {
@@ -163,6 +164,46 @@ TEST(ContactForm, PlaneContactsKeepTheFirstPattern) {
 
 // The same state gives the same energy and gradient norm on all ranks and on rank 0 alone.
 // On one rank both runs would be the same run: the test needs several.
+// The pair lists the device kernels read (candidates, and the Hessian pattern's active pairs)
+// are built on the host threads, each pair in its own slot: the same lists on 1 and 4 threads,
+// and the lists a serial pass over the set gives.
+TEST(ContactForm, DevicePairListsAreTheSerialOnesOnAnyThreads) {
+  ContactFixture f(0.0005, /*project=*/true);
+  Vec x, zero;
+  f.potential.create_global_vec(&x);
+  VecDuplicate(x, &zero);
+  f.perturbed(x, 5, 1e-4);
+  VecZeroEntries(zero);
+  PetscReal alpha = 0;
+  ASSERT_EQ(f.potential.max_step(x, zero, &alpha), 0);  // the candidates at x
+  PetscBool changed = PETSC_FALSE, remapped = PETSC_FALSE;
+  ASSERT_EQ(f.potential.refresh_pattern(x, &changed, &remapped), 0);  // the active pairs at x
+
+  const ContactSet& set = f.contact->set();
+  const auto describe_into = [&](device::ContactPairList* list, const ContactSet::PairInfo& info) {
+    list->add(info.kind, info.nodes.data(), info.weight, info.eps_x,
+              info.plane ? static_cast<int>(info.plane - f.contact->parameters().planes.data()) : -1);
+  };
+  device::ContactPairList candidates, pattern;
+  set.for_each_pair([&](CandidateKind kind, std::size_t i) {
+    describe_into(&candidates, set.describe(kind, i));
+    return true;
+  });
+  for (const auto& pe : set.pattern_pairs()) describe_into(&pattern, set.describe(pe.kind, pe.index));
+  ASSERT_GT(candidates.size(), 0u);
+  ASSERT_GT(pattern.size(), 0u);
+  ASSERT_LT(pattern.size(), candidates.size());
+
+  for (int threads : {1, 4}) {
+    set_host_threads(threads, 1);
+    EXPECT_TRUE(f.contact->candidate_pair_list() == candidates) << threads << " host threads";
+    EXPECT_TRUE(f.contact->pattern_pair_list() == pattern) << threads << " host threads";
+  }
+  set_host_threads(1);
+  VecDestroy(&x);
+  VecDestroy(&zero);
+}
+
 TEST(ContactForm, SameEnergyAndGradientOnAnyRankCount) {
   double values[2][2];
   int rank, size;

@@ -33,6 +33,10 @@ struct ContactPairList {
   std::size_t size() const { return kind.size(); }
   void clear();
   void add(PairKind pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x, int pair_plane);
+  // n pairs, to be written with set() (each pair its own slot, e.g. from several threads).
+  void resize(std::size_t n);
+  void set(std::size_t i, PairKind pair_kind, const std::int32_t pair_nodes[4], double pair_weight, double pair_eps_x,
+           int pair_plane);
   bool operator==(const ContactPairList& o) const;
   bool operator!=(const ContactPairList& o) const { return !(*this == o); }
 };

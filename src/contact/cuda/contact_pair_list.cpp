@@ -2,6 +2,8 @@
 // and the uploads of pair lists and obstacles (plain Array copies).
 #include "contact/cuda/contact_kernels.hpp"
 
+#include <algorithm>
+
 #include "contact/obstacle_nodes.hpp"
 
 namespace dipc::device {
@@ -15,6 +17,19 @@ void ContactPairList::add(PairKind pair_kind, const std::int32_t pair_nodes[4], 
   weight.push_back(pair_weight);
   eps_x.push_back(pair_eps_x);
   plane.push_back(pair_plane);
+}
+
+void ContactPairList::resize(std::size_t n) {
+  kind.resize(n), nodes.resize(4 * n), weight.resize(n), eps_x.resize(n), plane.resize(n);
+}
+
+void ContactPairList::set(std::size_t i, PairKind pair_kind, const std::int32_t pair_nodes[4], double pair_weight,
+                          double pair_eps_x, int pair_plane) {
+  kind[i] = pair_kind;
+  std::copy(pair_nodes, pair_nodes + 4, nodes.begin() + 4 * static_cast<std::ptrdiff_t>(i));
+  weight[i] = pair_weight;
+  eps_x[i] = pair_eps_x;
+  plane[i] = pair_plane;
 }
 
 bool ContactPairList::operator==(const ContactPairList& o) const {

@@ -156,6 +156,15 @@ class ContactSet {
   // f must be safe to call from several threads at once.
   template <class F>
   void for_each_pair_chunk(F&& f) const;
+  // The same pair by pair: f(kind, index, slot) on the host threads, slot the pair's place in
+  // for_each_pair's order (for lists in which each pair writes its own place).
+  template <class F>
+  void for_each_pair_slot(F&& f) const;
+  // The candidate lists' sizes, in CandidateKind order.
+  std::array<std::size_t, kNumCandidateKinds> candidate_counts() const {
+    return {vertex_face_.size(),          edge_edge_.size(),          vertex_plane_.size(),
+            vertex_obstacle_face_.size(), edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
+  }
   // What keep(kind, index, out) appends to out for every candidate, on the host threads, joined
   // in for_each_pair's order (for any number of threads).
   template <class T, class Keep>
@@ -270,11 +279,6 @@ class ContactSet {
   // Active pairs at the last update_pattern (their order defines the COO pattern).
   std::vector<PatternEntry> pattern_pairs_;
   std::vector<std::array<std::int64_t, 5>> pattern_key_;  // (kind, global nodes) per active pair
-  // The candidate lists' sizes, in CandidateKind order.
-  std::array<std::size_t, kNumCandidateKinds> candidate_counts() const {
-    return {vertex_face_.size(),          edge_edge_.size(),          vertex_plane_.size(),
-            vertex_obstacle_face_.size(), edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
-  }
   long pattern_version_ = 0;
   // Device space: the planes and obstacle vertex positions (and the segment times of those
   // positions), the broad phase over the uploaded surface and the ext-local node of each of its
@@ -302,6 +306,18 @@ void ContactSet::for_each_pair_chunk(F&& f) const {
     parallel_chunks(count[kind], [&](int chunk, std::size_t begin, std::size_t end) {
       f(static_cast<CandidateKind>(kind), begin, end, chunk);
     });
+}
+
+template <class F>
+void ContactSet::for_each_pair_slot(F&& f) const {
+  const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
+  std::size_t first = 0;
+  for (int kind = 0; kind < kNumCandidateKinds; ++kind) {
+    parallel_for(count[kind], [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) f(static_cast<CandidateKind>(kind), i, first + i);
+    });
+    first += count[kind];
+  }
 }
 
 template <class T, class Keep>
