@@ -27,12 +27,17 @@
 #   bench/gpu_runs.sh repro        every variant twice, 3 steps: do Newton and CG counts repeat? Candidates
 #                                  for a reproducible device AMG (CUDA PETSc build; REPRO_SIZES, default
 #                                  300000; AMG_VARIANTS picks variants by name)
+#   bench/gpu_runs.sh census       CUDA runtime and MPI calls per rank (bench/cuda_call_census.c, CENSUS_LIB, default
+#                                  $DEVICE_BIN/libcuda_call_census.so) in one step of a box of CENSUS_ELEMENTS (default
+#                                  300000) per rank, on 1 and 2 ranks (sharing the GPU on a one-GPU host: the counts
+#                                  compare, the seconds do not)
 #   bench/gpu_runs.sh family       the contact-rich family (bench/contact_family.py: stack, squeeze, press), device-resident
 #                                  on 1 GPU and on all CPU cores with a CPU build (FAMILY_CPU_DIPC, default
 #                                  build/src/app/dipc: the CUDA PETSc's hypre runs on the GPU only); FAMILY_REFINE,
 #                                  default 1,2,3,4 (about 0.1M, 1M, 3.4M, 8M hexes); FAMILY_STEPS, default 3;
 #                                  FAMILY_MEMBERS, default stack,squeeze,press; FAMILY_EXTRA, more dipc options
-#                                  (e.g. -log_view); FAMILY_TAG, a suffix of the CSVs' tags; FAMILY_GPUS, the GPU
+#                                  (e.g. -log_view, which makes a GPU run call MPI_Allreduce ~44,000 times per step:
+#                                  leave it out of multi-GPU timings); FAMILY_TAG, a suffix of the CSVs' tags; FAMILY_GPUS, the GPU
 #                                  counts (default 1; e.g. "1 2 4", one rank per GPU); FAMILY_ELEMENTS, element
 #                                  counts instead of refine levels; FAMILY_TIMEOUT, seconds per run; each run's
 #                                  whole output is kept beside the CSV
@@ -42,6 +47,10 @@ set -uo pipefail
 # setup (8x slower per Newton iteration at 100K elements, README "GPU"). Override the matrix
 # type with DEVICE_MAT and the preconditioner options with DEVICE_PC (e.g. "-pc_type gamg").
 device_mat=${DEVICE_MAT:-hypre}
+# The lent machines' Open MPI is not CUDA-aware: a CUDA PETSc refuses to start there without
+# -use_gpu_aware_mpi 0. GPU_AWARE_MPI=1 leaves it out, for runs under a CUDA-aware MPI
+# (scripts/build_cuda_aware_mpi.sh; the run header's "MPI" line says which path a run took).
+staged=$([[ ${GPU_AWARE_MPI:-0} == 1 ]] || echo "-use_gpu_aware_mpi 0")
 device_pc=${DEVICE_PC:-}
 out=${OUT:-bench/results/raw}
 mkdir -p "$out"
@@ -64,7 +73,7 @@ sweep() {
     [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
     csvs+=("$out/amg_$name.csv")
     run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps $steps -dipc_backend cuda \
-      -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 ${v#*|} -csv "$out/amg_$name.csv" | tail -2
+      -vec_type cuda -mat_type $device_mat $staged ${v#*|} -csv "$out/amg_$name.csv" | tail -2
   done
   combine_variants "$out/$table.csv" "${csvs[@]}"
 }
@@ -74,7 +83,7 @@ case "${1:-}" in
     # Full output goes to $out/gpu_tests.log; the summary lines and exit codes to the screen.
     # The machine's Open MPI is not CUDA-aware: a CUDA PETSc refuses to start without
     # -use_gpu_aware_mpi 0 (exit 76). The trajectory tests read the scenes of this tree.
-    export PETSC_OPTIONS="${PETSC_OPTIONS:-} -use_gpu_aware_mpi 0" DIPC_SOURCE_DIR=${DIPC_SOURCE_DIR:-$PWD}
+    export PETSC_OPTIONS="${PETSC_OPTIONS:-} $staged" DIPC_SOURCE_DIR=${DIPC_SOURCE_DIR:-$PWD}
     for t in element_kernels_gpu_tests contact_kernels_gpu_tests contact_form_gpu_tests contact_broad_phase_gpu_tests coo_reduction_gpu_tests direct_matrix_tests block_cache_gpu_tests; do
       run mpirun -n 1 "$bin/$t" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "^\[  (PASSED|FAILED|SKIPPED) |Failure" | tail -12
@@ -89,7 +98,7 @@ case "${1:-}" in
       echo "app_gpu_trajectory_tests on $n ranks: exit ${PIPESTATUS[0]}"
     done ;;
   setup)
-    device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0)
+    device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat $staged)
     # Each rank bound to its GPU's share of the cores, where the setup's host threads run.
     cores=$(( $(nproc) / gpus ))
     for d in ${SETUP_BASE:-} "$bin/dipc"; do
@@ -101,6 +110,14 @@ case "${1:-}" in
         run python3 bench/setup.py --dipc "$d" --elements 4000000 --ranks 4 --partitioners metis,rcb \
           --cores-per-rank $cores --tag "${tag}_4gpu" --out "$out" --timeout 300 -- "${device_opts[@]}"
       fi
+    done ;;
+  census)
+    for n in 1 2; do
+      export CENSUS_FILE=$out/census_box_$n
+      run mpirun -n $n -x LD_PRELOAD=${CENSUS_LIB:-$bin/libcuda_call_census.so} -x CENSUS_FILE \
+        "$bin/bench_step_breakdown" -elements $((n * ${CENSUS_ELEMENTS:-300000})) -steps 1 -dipc_backend cuda -vec_type cuda \
+        -mat_type $device_mat $staged $device_pc | tail -2
+      grep -E "Memcpy|Malloc|Free|Synchronize|MPI_(Allreduce|Waitall)" "$out/census_box_$n.0"
     done ;;
   family)
     card=$(nvidia-smi --query-gpu=name --format=csv,noheader | head -1 | awk '{print tolower($2)}')
@@ -117,7 +134,7 @@ case "${1:-}" in
       run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members "${sizes[@]}" \
         --steps ${FAMILY_STEPS:-3} --ranks $n --cores-per-rank $(( $(nproc) / gpus )) --tag "${card}_${n}gpu${FAMILY_TAG:-}" \
         --out "$out" --timeout ${FAMILY_TIMEOUT:-1800} -- -dipc_backend cuda -vec_type cuda \
-        -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc ${FAMILY_EXTRA:-}
+        -mat_type $device_mat $staged $device_pc ${FAMILY_EXTRA:-}
     done
     cpu_dipc=${FAMILY_CPU_DIPC:-build/src/app/dipc}
     if [[ -x $cpu_dipc ]]; then
@@ -153,17 +170,17 @@ case "${1:-}" in
     done ;;
   device)
     run mpirun -n 1 "$bin/bench_step_breakdown" -elements 100000,1000000 -steps 2 -dipc_backend cuda \
-      -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -csv "$out/breakdown_device.csv" | tail -3 ;;
+      -vec_type cuda -mat_type $device_mat $staged $device_pc -csv "$out/breakdown_device.csv" | tail -3 ;;
   weak)
     for n in ${WEAK_GPUS:-1 2 4}; do
       [[ $n -le $gpus ]] || continue
       run mpirun -n $n "$bin/bench_step_breakdown" -elements $((n * 1000000)) -steps ${WEAK_STEPS:-2} -dipc_backend cuda \
-        -vec_type cuda -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -csv "$out/weak_$n.csv" | tail -2
+        -vec_type cuda -mat_type $device_mat $staged $device_pc -csv "$out/weak_$n.csv" | tail -2
     done ;;
   mission)
     for r in 1 2; do
       run mpirun -n 1 "$bin/dipc" scenes/block_on_plane.json -dipc_refine $r -dipc_backend cuda -vec_type cuda \
-        -mat_type $device_mat -use_gpu_aware_mpi 0 $device_pc -dipc_no_output | tail -26
+        -mat_type $device_mat $staged $device_pc -dipc_no_output | tail -26
     done ;;
   amgsweep)
     # Each variant: a name and the options it adds to the defaults of newton_solver.cpp.
