@@ -10,11 +10,14 @@ namespace dipc {
 namespace {
 
 // hypre's HYPRE_SetGpuAwareMPI where the process has it (a hypre of 2.31 or later, loaded with
-// PETSc), so that builds against an older hypre, or none, need no link to it.
+// PETSc) and PETSc has initialised hypre (HYPRE_Initialized: a run whose solvers use no hypre
+// leaves it alone), so that builds against an older hypre, or none, need no link to it.
 bool tell_hypre(bool direct) {
   using SetGpuAwareMpi = int (*)(int);
+  using Initialized = int (*)();
   void* symbol = dlsym(RTLD_DEFAULT, "HYPRE_SetGpuAwareMPI");
-  if (!symbol) return false;
+  void* initialized = dlsym(RTLD_DEFAULT, "HYPRE_Initialized");
+  if (!symbol || !initialized || !reinterpret_cast<Initialized>(initialized)()) return false;
   reinterpret_cast<SetGpuAwareMpi>(symbol)(direct ? 1 : 0);
   return true;
 }

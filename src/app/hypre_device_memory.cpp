@@ -37,10 +37,13 @@ PetscErrorCode use_block_cache_for_hypre(MPI_Comm comm, bool device_backend, std
   using FreeFunc = void (*)(void*);
   void* set_malloc = dlsym(RTLD_DEFAULT, "hypre_SetUserDeviceMalloc");
   void* set_free = dlsym(RTLD_DEFAULT, "hypre_SetUserDeviceMfree");
+  void* initialized = dlsym(RTLD_DEFAULT, "HYPRE_Initialized");
   if (!set_malloc || !set_free) {
     *description = "hypre device temporaries: cudaMalloc and cudaFree (this hypre has no allocator hooks)";
     PetscFunctionReturn(0);
   }
+  // Only a hypre that PETSc has initialised (its solvers use it): hypre's hooks live in its handle.
+  if (!initialized || !reinterpret_cast<int (*)()>(initialized)()) PetscFunctionReturn(0);
   reinterpret_cast<int (*)(MallocFunc)>(set_malloc)(cached_malloc);
   reinterpret_cast<int (*)(FreeFunc)>(set_free)(cached_free);
   hooks_given = true;
