@@ -83,6 +83,10 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matr
   int local = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, dofs_.comm));
   *new_matrix = any != 0 && remap_ == Remap::off;
+  // require_exact_pattern(): the same on every rank (a remap is collective).
+  const bool exact = exact_next_;
+  exact_next_ = false;
+  if (exact) *new_matrix = any != 0 || !matrix_exact_;
   if (!any || *new_matrix) {
     awaiting_rebuild_ = *new_matrix;
     PetscFunctionReturn(0);
@@ -103,6 +107,7 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matr
   if (!*new_matrix) {
     size_raw_values();
     ++remaps_;
+    matrix_exact_ = false;
   }
   PetscCall(PetscLogEventEnd(log_events().pattern_remap, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -347,6 +352,7 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
     PetscCall(map_changing_part(groups, &fits));
   }
   awaiting_rebuild_ = false;
+  matrix_exact_ = true;
   PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the changing Hessian terms' entries are not all in their reserve");
 
   // The matrix's entries: the element blocks', the fixed part's that no block holds, the reserve.

@@ -99,6 +99,12 @@ class HessianAssembler {
   // -dipc_pattern_remap is off); *new_matrix on every rank when a pattern changed and was not
   // mapped, and then rebuild_pattern() (or a new matrix) must follow before the next assembly.
   PetscErrorCode update_patterns(const double* x, bool* new_matrix);
+  // The next update_patterns() keeps the matrix only where its entries are exactly those it was
+  // made with and no pattern changed since (no remap, no change), else asks for a new matrix. At
+  // the start of a time step, so that a step's matrices depend on its state, not on the steps
+  // before: a run restarted from a checkpoint then makes the same matrices as the run that went
+  // on (with -dipc_pattern_remap fit a kept matrix holds the entries of pairs no longer active).
+  void require_exact_pattern() { exact_next_ = true; }
   // Collective. The matrix in use takes the terms' current pattern (its handle stays).
   PetscErrorCode rebuild_pattern() { return rebuild_pattern(false); }
 
@@ -195,6 +201,8 @@ class HessianAssembler {
   ReservedBlocks reserve_;
   long remaps_ = 0;
   bool awaiting_rebuild_ = false;  // update_patterns() asked for a new matrix, not yet made
+  bool matrix_exact_ = true;       // no pattern remapped onto the matrix since it was made
+  bool exact_next_ = false;        // require_exact_pattern() before the next update_patterns()
   DirichletElimination dirichlet_;
   std::size_t num_unique_ = 0;  // the matrix's entries on this rank
   LargePageVector<PetscScalar> unique_values_;

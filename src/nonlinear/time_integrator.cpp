@@ -316,6 +316,9 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
   const double previous_min_distance2_before = previous_min_distance2_;
 
   PetscCall(VecCopy(x_, x_n_));
+  // The step's matrices depend on its state alone, so that a restart from a checkpoint of this
+  // step makes the same ones (a kept matrix can hold entries of earlier steps' pairs).
+  potential_.require_exact_pattern();
   // Obstacles stand where they were at the step's start until reach_prescribed_positions moves
   // them (also after a failed attempt, which leaves them at its end).
   if (contact_) contact_->set().start_obstacle_step(time_);

@@ -92,6 +92,9 @@ class IncrementalPotential {
   // (-dipc_pattern_remap: HessianAssembler), so that the caller can set the preconditioner up
   // afresh.
   PetscErrorCode refresh_pattern(Vec x, PetscBool* changed, PetscBool* remapped);
+  // The next refresh keeps the matrix only where its entries are exactly the current pattern's
+  // (HessianAssembler::require_exact_pattern): at each time step's start.
+  void require_exact_pattern() { assembler_.require_exact_pattern(); }
   // True on every rank iff every form accepts x on every rank.
   PetscErrorCode is_valid(Vec x, PetscBool* valid);
   // Collective. The smallest volume ratio over the elements of the forms that have them
