@@ -106,215 +106,89 @@ cudaError_t cudaMemcpy(void* dst, const void* src, size_t bytes, enum cudaMemcpy
         t, (long)bytes);
   return e;
 }
-cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, enum cudaMemcpyKind kind, cudaStream_t s) {
-  REAL(cudaMemcpyAsync);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMemcpyAsync(dst, src, bytes, kind, s);
-  count(MEMCPY_ASYNC, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaMemset(void* p, int value, size_t bytes) {
-  REAL(cudaMemset);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMemset(p, value, bytes);
-  count(MEMSET, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaMemsetAsync(void* p, int value, size_t bytes, cudaStream_t s) {
-  REAL(cudaMemsetAsync);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMemsetAsync(p, value, bytes, s);
-  count(MEMSET_ASYNC, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaMalloc(void** p, size_t bytes) {
-  REAL(cudaMalloc);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMalloc(p, bytes);
-  count(MALLOC, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaFree(void* p) {
-  REAL(cudaFree);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaFree(p);
-  count(FREE, t, 0);
-  return e;
-}
-cudaError_t cudaMallocHost(void** p, size_t bytes) {
-  REAL(cudaMallocHost);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMallocHost(p, bytes);
-  count(MALLOC_HOST, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaFreeHost(void* p) {
-  REAL(cudaFreeHost);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaFreeHost(p);
-  count(FREE_HOST, t, 0);
-  return e;
-}
-cudaError_t cudaHostAlloc(void** p, size_t bytes, unsigned int flags) {
-  REAL(cudaHostAlloc);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaHostAlloc(p, bytes, flags);
-  count(HOST_ALLOC, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaMallocAsync(void** p, size_t bytes, cudaStream_t s) {
-  REAL(cudaMallocAsync);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaMallocAsync(p, bytes, s);
-  count(MALLOC_ASYNC, t, (long)bytes);
-  return e;
-}
-cudaError_t cudaFreeAsync(void* p, cudaStream_t s) {
-  REAL(cudaFreeAsync);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaFreeAsync(p, s);
-  count(FREE_ASYNC, t, 0);
-  return e;
-}
-cudaError_t cudaStreamSynchronize(cudaStream_t s) {
-  REAL(cudaStreamSynchronize);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaStreamSynchronize(s);
-  count(STREAM_SYNC, t, 0);
-  return e;
-}
-cudaError_t cudaDeviceSynchronize(void) {
-  REAL(cudaDeviceSynchronize);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaDeviceSynchronize();
-  count(DEVICE_SYNC, t, 0);
-  return e;
-}
-cudaError_t cudaEventSynchronize(cudaEvent_t ev) {
-  REAL(cudaEventSynchronize);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaEventSynchronize(ev);
-  count(EVENT_SYNC, t, 0);
-  return e;
-}
-cudaError_t cudaLaunchKernel(const void* f, dim3 grid, dim3 block, void** args, size_t shared, cudaStream_t s) {
-  REAL(cudaLaunchKernel);
-  const long t = now_ns();
-  const cudaError_t e = real_cudaLaunchKernel(f, grid, block, args, shared, s);
-  count(LAUNCH, t, 0);
-  return e;
-}
 
-/* MPI through its profiling interface. */
+/* The other runtime calls: one timed wrapper each, (params) and (args) as the runtime declares
+ * them, and the bytes the call moves or allocates (0 where none). */
+#define CENSUS_CUDA(kind, name, params, args, bytes) \
+  cudaError_t name params {                          \
+    REAL(name);                                      \
+    const long t = now_ns();                         \
+    const cudaError_t e = real_##name args;          \
+    count(kind, t, (long)(bytes));                   \
+    return e;                                        \
+  }
+CENSUS_CUDA(MEMCPY_ASYNC, cudaMemcpyAsync,
+            (void* dst, const void* src, size_t bytes, enum cudaMemcpyKind kind, cudaStream_t s),
+            (dst, src, bytes, kind, s), bytes)
+CENSUS_CUDA(MEMSET, cudaMemset, (void* p, int value, size_t bytes), (p, value, bytes), bytes)
+CENSUS_CUDA(MEMSET_ASYNC, cudaMemsetAsync, (void* p, int value, size_t bytes, cudaStream_t s), (p, value, bytes, s),
+            bytes)
+CENSUS_CUDA(MALLOC, cudaMalloc, (void** p, size_t bytes), (p, bytes), bytes)
+CENSUS_CUDA(FREE, cudaFree, (void* p), (p), 0)
+CENSUS_CUDA(MALLOC_HOST, cudaMallocHost, (void** p, size_t bytes), (p, bytes), bytes)
+CENSUS_CUDA(FREE_HOST, cudaFreeHost, (void* p), (p), 0)
+CENSUS_CUDA(HOST_ALLOC, cudaHostAlloc, (void** p, size_t bytes, unsigned int flags), (p, bytes, flags), bytes)
+CENSUS_CUDA(MALLOC_ASYNC, cudaMallocAsync, (void** p, size_t bytes, cudaStream_t s), (p, bytes, s), bytes)
+CENSUS_CUDA(FREE_ASYNC, cudaFreeAsync, (void* p, cudaStream_t s), (p, s), 0)
+CENSUS_CUDA(STREAM_SYNC, cudaStreamSynchronize, (cudaStream_t s), (s), 0)
+CENSUS_CUDA(DEVICE_SYNC, cudaDeviceSynchronize, (void), (), 0)
+CENSUS_CUDA(EVENT_SYNC, cudaEventSynchronize, (cudaEvent_t ev), (ev), 0)
+CENSUS_CUDA(LAUNCH, cudaLaunchKernel, (const void* f, dim3 grid, dim3 block, void** args, size_t shared, cudaStream_t s),
+            (f, grid, block, args, shared, s), 0)
+
+/* MPI through its profiling interface: MPI_X calls PMPI_X; bytes are those this rank passes
+ * (count times the datatype's size) where the call has one count. */
 static long type_bytes(MPI_Datatype type, int n) {
   int size = 0;
   PMPI_Type_size(type, &size);
   return (long)size * n;
 }
-int MPI_Allreduce(const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Allreduce(s, r, n, type, op, comm);
-  count(MPI_ALLREDUCE, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Iallreduce(const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, MPI_Comm comm, MPI_Request* q) {
-  const long t = now_ns();
-  const int e = PMPI_Iallreduce(s, r, n, type, op, comm, q);
-  count(MPI_IALLREDUCE, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Reduce(const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, int root, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Reduce(s, r, n, type, op, root, comm);
-  count(MPI_REDUCE, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Bcast(void* b, int n, MPI_Datatype type, int root, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Bcast(b, n, type, root, comm);
-  count(MPI_BCAST, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Barrier(MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Barrier(comm);
-  count(MPI_BARRIER, t, 0);
-  return e;
-}
-int MPI_Allgather(const void* s, int sn, MPI_Datatype st, void* r, int rn, MPI_Datatype rt, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Allgather(s, sn, st, r, rn, rt, comm);
-  count(MPI_ALLGATHER, t, type_bytes(st, sn));
-  return e;
-}
-int MPI_Allgatherv(const void* s, int sn, MPI_Datatype st, void* r, const int* rn, const int* displs,
-                   MPI_Datatype rt, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Allgatherv(s, sn, st, r, rn, displs, rt, comm);
-  count(MPI_ALLGATHERV, t, type_bytes(st, sn));
-  return e;
-}
-int MPI_Alltoall(const void* s, int sn, MPI_Datatype st, void* r, int rn, MPI_Datatype rt, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Alltoall(s, sn, st, r, rn, rt, comm);
-  count(MPI_ALLTOALL, t, type_bytes(st, sn));
-  return e;
-}
-int MPI_Alltoallv(const void* s, const int* sn, const int* sd, MPI_Datatype st, void* r, const int* rn,
-                  const int* rd, MPI_Datatype rt, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Alltoallv(s, sn, sd, st, r, rn, rd, rt, comm);
-  count(MPI_ALLTOALLV, t, 0);
-  return e;
-}
-int MPI_Isend(const void* b, int n, MPI_Datatype type, int to, int tag, MPI_Comm comm, MPI_Request* q) {
-  const long t = now_ns();
-  const int e = PMPI_Isend(b, n, type, to, tag, comm, q);
-  count(MPI_ISEND, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Irecv(void* b, int n, MPI_Datatype type, int from, int tag, MPI_Comm comm, MPI_Request* q) {
-  const long t = now_ns();
-  const int e = PMPI_Irecv(b, n, type, from, tag, comm, q);
-  count(MPI_IRECV, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Send(const void* b, int n, MPI_Datatype type, int to, int tag, MPI_Comm comm) {
-  const long t = now_ns();
-  const int e = PMPI_Send(b, n, type, to, tag, comm);
-  count(MPI_SEND, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Recv(void* b, int n, MPI_Datatype type, int from, int tag, MPI_Comm comm, MPI_Status* st) {
-  const long t = now_ns();
-  const int e = PMPI_Recv(b, n, type, from, tag, comm, st);
-  count(MPI_RECV, t, type_bytes(type, n));
-  return e;
-}
-int MPI_Wait(MPI_Request* q, MPI_Status* st) {
-  const long t = now_ns();
-  const int e = PMPI_Wait(q, st);
-  count(MPI_WAIT, t, 0);
-  return e;
-}
-int MPI_Waitall(int n, MPI_Request* q, MPI_Status* st) {
-  const long t = now_ns();
-  const int e = PMPI_Waitall(n, q, st);
-  count(MPI_WAITALL, t, 0);
-  return e;
-}
-int MPI_Waitany(int n, MPI_Request* q, int* index, MPI_Status* st) {
-  const long t = now_ns();
-  const int e = PMPI_Waitany(n, q, index, st);
-  count(MPI_WAITANY, t, 0);
-  return e;
-}
-int MPI_Startall(int n, MPI_Request* q) {
-  const long t = now_ns();
-  const int e = PMPI_Startall(n, q);
-  count(MPI_STARTALL, t, 0);
-  return e;
-}
+#define CENSUS_MPI(kind, name, params, args, bytes) \
+  int name params {                                 \
+    const long t = now_ns();                        \
+    const int e = P##name args;                     \
+    count(kind, t, bytes);                          \
+    return e;                                       \
+  }
+CENSUS_MPI(MPI_ALLREDUCE, MPI_Allreduce,
+           (const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, MPI_Comm comm),
+           (s, r, n, type, op, comm), type_bytes(type, n))
+CENSUS_MPI(MPI_IALLREDUCE, MPI_Iallreduce,
+           (const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, MPI_Comm comm, MPI_Request* q),
+           (s, r, n, type, op, comm, q), type_bytes(type, n))
+CENSUS_MPI(MPI_REDUCE, MPI_Reduce,
+           (const void* s, void* r, int n, MPI_Datatype type, MPI_Op op, int root, MPI_Comm comm),
+           (s, r, n, type, op, root, comm), type_bytes(type, n))
+CENSUS_MPI(MPI_BCAST, MPI_Bcast, (void* b, int n, MPI_Datatype type, int root, MPI_Comm comm), (b, n, type, root, comm),
+           type_bytes(type, n))
+CENSUS_MPI(MPI_BARRIER, MPI_Barrier, (MPI_Comm comm), (comm), 0)
+CENSUS_MPI(MPI_ALLGATHER, MPI_Allgather,
+           (const void* s, int sn, MPI_Datatype st, void* r, int rn, MPI_Datatype rt, MPI_Comm comm),
+           (s, sn, st, r, rn, rt, comm), type_bytes(st, sn))
+CENSUS_MPI(MPI_ALLGATHERV, MPI_Allgatherv,
+           (const void* s, int sn, MPI_Datatype st, void* r, const int* rn, const int* displs, MPI_Datatype rt,
+            MPI_Comm comm),
+           (s, sn, st, r, rn, displs, rt, comm), type_bytes(st, sn))
+CENSUS_MPI(MPI_ALLTOALL, MPI_Alltoall,
+           (const void* s, int sn, MPI_Datatype st, void* r, int rn, MPI_Datatype rt, MPI_Comm comm),
+           (s, sn, st, r, rn, rt, comm), type_bytes(st, sn))
+CENSUS_MPI(MPI_ALLTOALLV, MPI_Alltoallv,
+           (const void* s, const int* sn, const int* sd, MPI_Datatype st, void* r, const int* rn, const int* rd,
+            MPI_Datatype rt, MPI_Comm comm),
+           (s, sn, sd, st, r, rn, rd, rt, comm), 0)
+CENSUS_MPI(MPI_ISEND, MPI_Isend,
+           (const void* b, int n, MPI_Datatype type, int to, int tag, MPI_Comm comm, MPI_Request* q),
+           (b, n, type, to, tag, comm, q), type_bytes(type, n))
+CENSUS_MPI(MPI_IRECV, MPI_Irecv, (void* b, int n, MPI_Datatype type, int from, int tag, MPI_Comm comm, MPI_Request* q),
+           (b, n, type, from, tag, comm, q), type_bytes(type, n))
+CENSUS_MPI(MPI_SEND, MPI_Send, (const void* b, int n, MPI_Datatype type, int to, int tag, MPI_Comm comm),
+           (b, n, type, to, tag, comm), type_bytes(type, n))
+CENSUS_MPI(MPI_RECV, MPI_Recv, (void* b, int n, MPI_Datatype type, int from, int tag, MPI_Comm comm, MPI_Status* st),
+           (b, n, type, from, tag, comm, st), type_bytes(type, n))
+CENSUS_MPI(MPI_WAIT, MPI_Wait, (MPI_Request* q, MPI_Status* st), (q, st), 0)
+CENSUS_MPI(MPI_WAITALL, MPI_Waitall, (int n, MPI_Request* q, MPI_Status* st), (n, q, st), 0)
+CENSUS_MPI(MPI_WAITANY, MPI_Waitany, (int n, MPI_Request* q, int* index, MPI_Status* st), (n, q, index, st), 0)
+CENSUS_MPI(MPI_STARTALL, MPI_Startall, (int n, MPI_Request* q), (n, q), 0)
 
 __attribute__((destructor)) static void report(void) {
   const char* rank = getenv("OMPI_COMM_WORLD_RANK");
