@@ -355,13 +355,11 @@ PetscErrorCode IncrementalPotential::min_volume_ratio(Vec x, double* ratio, bool
   ScopedEvent timer(log_events().validity, &times_.validity);
   PetscCall(gather(x));
   PetscCall(x_views_.begin(x_local_));
-  const double* xh = uses(MemorySpace::host) ? x_views_.in(MemorySpace::host) : nullptr;
-  const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
   double local = std::numeric_limits<double>::max();
   int any = 0;
   for (auto& form : forms_) {
     double r = 0;
-    if (form->min_volume_ratio(form->memory_space() == MemorySpace::device ? xd : xh, &r)) {
+    if (form->min_volume_ratio(x_views_.in(form->memory_space()), &r)) {
       local = std::min(local, r);
       any = 1;
     }
