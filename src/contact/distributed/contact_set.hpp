@@ -310,14 +310,13 @@ void ContactSet::for_each_pair_chunk(F&& f) const {
 
 template <class F>
 void ContactSet::for_each_pair_slot(F&& f) const {
+  // Each kind's pairs start after the earlier kinds'.
   const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
-  std::size_t first = 0;
-  for (int kind = 0; kind < kNumCandidateKinds; ++kind) {
-    parallel_for(count[kind], [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) f(static_cast<CandidateKind>(kind), i, first + i);
-    });
-    first += count[kind];
-  }
+  std::array<std::size_t, kNumCandidateKinds> first{};
+  for (int kind = 1; kind < kNumCandidateKinds; ++kind) first[kind] = first[kind - 1] + count[kind - 1];
+  for_each_pair_chunk([&](CandidateKind kind, std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) f(kind, i, first[static_cast<int>(kind)] + i);
+  });
 }
 
 template <class T, class Keep>
