@@ -9,10 +9,10 @@
 // looked up among the matrix's (TargetPart, on the host threads) and their values sorted by
 // entry on the device where the values are summed there. With -dipc_pattern_remap fit or
 // candidates, a pattern that fits the matrix's entries only remaps those terms' values, keeping
-// the matrix (the Newton solver still sets the preconditioner up afresh). That is off by
-// default: it has been measured on the CPU only since the preconditioner is no longer kept
-// across the change (docs/performance.md, "Contact-rich family"). The fixed part is made once (again only
-// when the owned Dirichlet dofs change). The terms (the potential's forms) write their raw
+// the matrix (the Newton solver still sets the preconditioner up afresh); fit is the default
+// (docs/performance.md, "Two and four GPUs"), and a kept matrix does not outlive its time step
+// (require_exact_pattern). The fixed part is made once (again only when the owned Dirichlet
+// dofs change). The terms (the potential's forms) write their raw
 // values into one array made of parts, each with its own reduction into the matrix's entries:
 //   element part   the element forms' values (elastic, consistent mass), element by element in
 //                  their layouts, first, so that their offsets stay put; summed into the
