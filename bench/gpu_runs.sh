@@ -10,8 +10,9 @@
 #   bench/gpu_runs.sh crossover    seconds per Newton iteration, cpu vs cuda backend, 1 rank
 #   bench/gpu_runs.sh host16       Newton breakdown on 16 ranks: CPU, and GPU assembly with host PETSc
 #   bench/gpu_runs.sh device       Newton breakdown device-resident (needs the CUDA PETSc build)
-#   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, 1M elements per GPU (CUDA PETSc build;
-#                                  WEAK_GPUS, default "1 2 4"; WEAK_STEPS, default 2)
+#   bench/gpu_runs.sh weak         weak scaling 1 -> 2 -> 4 GPUs, WEAK_ELEMENTS (default 1000000) per GPU, each rank
+#                                  bound to its share of the cores (CUDA PETSc build; WEAK_GPUS, default "1 2 4";
+#                                  WEAK_STEPS, default 2)
 #   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
 #                                  AMG_SIZES, default 1000000; AMG_VARIANTS picks variants by name)
@@ -174,7 +175,8 @@ case "${1:-}" in
   weak)
     for n in ${WEAK_GPUS:-1 2 4}; do
       [[ $n -le $gpus ]] || continue
-      run mpirun -n $n "$bin/bench_step_breakdown" -elements $((n * 1000000)) -steps ${WEAK_STEPS:-2} -dipc_backend cuda \
+      run mpirun -n $n --map-by slot:PE=$(( $(nproc) / gpus )) "$bin/bench_step_breakdown" \
+        -elements $((n * ${WEAK_ELEMENTS:-1000000})) -steps ${WEAK_STEPS:-2} -dipc_backend cuda \
         -vec_type cuda -mat_type $device_mat $staged $device_pc -csv "$out/weak_$n.csv" | tail -2
     done ;;
   mission)

@@ -105,7 +105,9 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matr
   *new_matrix = all_fit == 0;
   awaiting_rebuild_ = *new_matrix;
   if (!*new_matrix) {
-    size_raw_values();
+    // A rank whose own patterns kept still keeps its raw layout and maps (the targets it sent
+    // to the device are the ones it has): only the ranks that mapped anew size and send theirs.
+    if (local) size_raw_values();
     ++remaps_;
     matrix_exact_ = false;
   }

@@ -17,6 +17,7 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::length_error("more than 2^31 - 1 changing Hessian entries on one rank: run on more ranks");
   num_raw_ = n;
+  on_device_ = false;
   target_.assign(n, kDropped);
   std::vector<std::size_t> chunk_missing(static_cast<std::size_t>(host_threads()), 0);
   std::atomic<bool> too_far{false};
@@ -50,6 +51,8 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
 }
 
 void TargetPart::keep_on_device() {
+  if (on_device_) return;
+  on_device_ = true;
   d_keys_.upload(target_);
   d_sources_.resize(num_raw_);
   device::sort_by_target(d_keys_.data(), d_sources_.data(), num_raw_);

@@ -36,7 +36,8 @@ class TargetPart {
   // unusable until built again). Throws std::length_error where the values or a target do not
   // fit (2^31 - 1 values, 2^32 - 2 targets).
   std::size_t build(const std::vector<NodeGroup>& groups, const BlockFind& find);
-  // The targets to the device, sorted there for add_on_device; the host's copy is freed.
+  // The targets to the device, sorted there for add_on_device; the host's copy is freed. Once
+  // per build(): a second call keeps the device's targets (the host holds none to send).
   void keep_on_device();
 
   // unique[target[k]] += raw[k], k ascending (raw: the part's first raw value).
@@ -47,6 +48,7 @@ class TargetPart {
   static constexpr std::uint32_t kDropped = 0xffffffffu;
   std::vector<std::uint32_t> target_;
   std::size_t num_raw_ = 0;
+  bool on_device_ = false;  // keep_on_device() ran since build()
   device::Array<std::uint32_t> d_keys_{"changing part's targets, sorted"};
   device::Array<std::uint32_t> d_sources_{"changing part's raw values by target"};
 };

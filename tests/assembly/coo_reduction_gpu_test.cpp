@@ -3,7 +3,8 @@
 // elastic and a consistent-mass layout: the same sums in the same order, so the same bits; the
 // node-block pattern built on the device against the host build, array for array; the
 // Hessian's other device steps (add_at, eliminate) against their host loops; TargetPart's
-// device sums (values sorted by target) against its host loop. Skips where no GPU is present.
+// device sums (values sorted by target) against its host loop, also after a repeated
+// keep_on_device(). Skips where no GPU is present.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -53,6 +54,9 @@ TEST(TargetPartGpu, DeviceSumsEqualHostSumsBitForBit) {
   device::Array<double> d_raw("raw"), d_values("values");
   d_raw.upload(raw);
   d_values.upload(start);
+  part.keep_on_device();
+  // A second call keeps the targets: on several ranks, a rank whose own contact pattern kept
+  // still while another's changed went through it again, and sorted an empty upload.
   part.keep_on_device();
   part.add_on_device(d_raw.data(), d_values.data());
   std::vector<double> device_values(start.size());
