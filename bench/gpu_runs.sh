@@ -92,12 +92,18 @@ case "${1:-}" in
     done
     # Two ranks on one GPU run about 13x slower than one (README, "Limits"): the 2-rank
     # trajectories took over 10 minutes on a one-GPU H200 host, so they run where there are two
-    # GPUs, or when GPU_TEST_RANKS asks for them.
+    # GPUs, or when GPU_TEST_RANKS asks for them. Elsewhere two ranks share the GPU for the
+    # short ones (ShortContactScenes), which reach the paths that only several ranks take.
     for n in ${GPU_TEST_RANKS:-$( ((gpus >= 2)) && echo 1 2 || echo 1 )}; do
       run mpirun -n $n "$bin/app_gpu_trajectory_tests" --gtest_color=no 2>&1 | tee -a "$out/gpu_tests.log" |
         grep -E "relative|FAIL|PASSED|SKIP|another rank"
       echo "app_gpu_trajectory_tests on $n ranks: exit ${PIPESTATUS[0]}"
-    done ;;
+    done
+    if [[ -z ${GPU_TEST_RANKS:-} ]] && ((gpus < 2)); then
+      run mpirun -n 2 "$bin/app_gpu_trajectory_tests" --gtest_color=no --gtest_filter='ShortContactScenes/*' 2>&1 |
+        tee -a "$out/gpu_tests.log" | grep -E "relative|FAIL|PASSED|SKIP|another rank"
+      echo "app_gpu_trajectory_tests ShortContactScenes on 2 ranks sharing the GPU: exit ${PIPESTATUS[0]}"
+    fi ;;
   setup)
     device_opts=(-dipc_backend cuda -vec_type cuda -mat_type $device_mat $staged)
     # Each rank bound to its GPU's share of the cores, where the setup's host threads run.
