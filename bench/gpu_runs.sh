@@ -15,7 +15,8 @@
 #                                  WEAK_STEPS, default 2)
 #   bench/gpu_runs.sh mission      the 8000- and 64,000-hex block falling onto a plane, 1 GPU (CUDA PETSc build)
 #   bench/gpu_runs.sh amgsweep     Newton breakdown device-resident under BoomerAMG/CG variants (CUDA PETSc build;
-#                                  AMG_SIZES, default 1000000; AMG_VARIANTS picks variants by name)
+#                                  AMG_SIZES, default 1000000, per GPU; AMG_VARIANTS picks variants by name;
+#                                  AMG_GPUS, e.g. "1 2", the GPU counts, default 1)
 #   bench/gpu_runs.sh reuse        the same, 10 steps, AMG reuse (-dipc_pc_reuse) and looser CG (CUDA PETSc build)
 #   bench/gpu_runs.sh presets      the same, 10 steps, each -dipc_preset and the built-in values before presets
 #                                  (CUDA PETSc build; AMG_SIZES as for amgsweep)
@@ -65,16 +66,23 @@ combine_variants() {
        FNR > 1 { print name "," $0 }' "$@" > "$target.tmp" && mv "$target.tmp" "$target"
 }
 # sweep TABLE STEPS "NAME|OPTIONS"...: one device-resident bench_step_breakdown per variant
-# (AMG_VARIANTS picks some by name), then one table $out/TABLE.csv with the names in front.
+# (AMG_VARIANTS picks some by name) and GPU count (AMG_GPUS, default 1; AMG_SIZES elements per
+# GPU, each rank bound to its share of the cores; variants on n > 1 GPUs are named NAME_nGPU),
+# then one table $out/TABLE.csv with the names in front.
 sweep() {
-  local table=$1 steps=$2 csvs=() v name
+  local table=$1 steps=$2 csvs=() v name n tag
   shift 2
   for v in "$@"; do
     name=${v%%|*}
     [[ -z "${AMG_VARIANTS:-}" || " $AMG_VARIANTS " == *" $name "* ]] || continue
-    csvs+=("$out/amg_$name.csv")
-    run mpirun -n 1 "$bin/bench_step_breakdown" -elements ${AMG_SIZES:-1000000} -steps $steps -dipc_backend cuda \
-      -vec_type cuda -mat_type $device_mat $staged ${v#*|} -csv "$out/amg_$name.csv" | tail -2
+    for n in ${AMG_GPUS:-1}; do
+      [[ $n -le $gpus ]] || continue
+      tag=$name$( ((n > 1)) && echo "_${n}gpu" )
+      csvs+=("$out/amg_$tag.csv")
+      run mpirun -n $n --map-by slot:PE=$(( $(nproc) / gpus )) "$bin/bench_step_breakdown" \
+        -elements $((n * ${AMG_SIZES:-1000000})) -steps $steps -dipc_backend cuda -vec_type cuda -mat_type $device_mat \
+        $staged ${v#*|} -csv "$out/amg_$tag.csv" | tail -2
+    done
   done
   combine_variants "$out/$table.csv" "${csvs[@]}"
 }
@@ -203,6 +211,9 @@ case "${1:-}" in
       "agg_kt|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1"
       "agg_kt_lag3|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists"
       "agg_kt_lag3_rtol4|-pc_hypre_boomeramg_agg_nl 1 -pc_hypre_boomeramg_keeptranspose 1 -snes_lag_preconditioner 3 -snes_lag_preconditioner_persists -ksp_rtol 1e-4"
+      # Chebyshev smoothing: no inner products, fewer synchronisations per V-cycle level on
+      # several GPUs, where the CG iteration grows 1.3-1.7x from 1 to 2 (docs/performance.md).
+      "cheby|-pc_hypre_boomeramg_relax_type_all Chebyshev"
     )
     sweep amg_sweep 2 "${variants[@]}" ;;
   reuse)
