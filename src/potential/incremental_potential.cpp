@@ -69,6 +69,12 @@ PetscErrorCode IncrementalPotential::setup(const DistributedMesh& mesh, std::vec
     any_step_limit_ = any_step_limit_ || form->limits_step();
     any_pattern_change_ = any_pattern_change_ || form->pattern_may_change();
   }
+  // Extra nodes are other ranks' nodes (form.hpp): on one rank every node is local, so its
+  // forms are not asked, and the segment is not copied to the host for them (in a GPU run,
+  // x and p at every Newton iteration, and a pass over the whole contact surface).
+  int num_ranks = 1;
+  PetscCallMPI(MPI_Comm_size(comm_, &num_ranks));
+  any_extra_nodes_ = any_extra_nodes_ && num_ranks > 1;
   // Global dof ids (3 per node) index PETSc's vectors and matrix as PetscInt.
   PetscCheck(3 * static_cast<std::int64_t>(mesh.num_global_nodes) - 1 <= static_cast<std::int64_t>(PETSC_MAX_INT),
              comm_, PETSC_ERR_SUP,

@@ -123,7 +123,8 @@ class IncrementalPotential {
 
   const std::vector<std::unique_ptr<Form>>& forms() const { return forms_; }
   // What the forms need beyond element and nodal terms (set by setup): nodes of other ranks
-  // (contact's ghost surfaces), a bound on the step (CCD), a pattern that changes after setup.
+  // (contact's ghost surfaces; never on one rank), a bound on the step (CCD), a pattern that
+  // changes after setup.
   // Without them the potential skips those hooks and their reductions over the ranks.
   bool has_extra_nodes() const { return any_extra_nodes_; }
   bool has_step_limit() const { return any_step_limit_; }

@@ -12,6 +12,7 @@
 #include "math/aabb.hpp"
 #include "math/vector3.hpp"
 #include "partition/ghost_exchange.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -149,18 +150,23 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
     aabb_inflate(&b, parameters_.dhat);
     return b;
   };
-  std::vector<SurfacePrimitiveRecord> owned;
-  std::vector<Aabb> boxes;
-  for (std::size_t i = 0; i < owned_edges_; ++i) {
-    const Primitive& e = edges_[i];
-    owned.push_back({0, e.gid, e.body, {global_node(e.node[0]), global_node(e.node[1]), -1}, e.rest_length2});
-    boxes.push_back(swept_box(e, 2));
-  }
-  for (std::size_t i = 0; i < owned_faces_; ++i) {
-    const Primitive& f = faces_[i];
-    owned.push_back({1, f.gid, f.body, {global_node(f.node[0]), global_node(f.node[1]), global_node(f.node[2])}, 0.0});
-    boxes.push_back(swept_box(f, 3));
-  }
+  // Each primitive's record and box in its own slot, on the host threads (a pass over the whole
+  // owned surface at every exchange).
+  std::vector<SurfacePrimitiveRecord> owned(owned_edges_ + owned_faces_);
+  std::vector<Aabb> boxes(owned.size());
+  parallel_for(owned.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (i < owned_edges_) {
+        const Primitive& e = edges_[i];
+        owned[i] = {0, e.gid, e.body, {global_node(e.node[0]), global_node(e.node[1]), -1}, e.rest_length2};
+        boxes[i] = swept_box(e, 2);
+      } else {
+        const Primitive& f = faces_[i - owned_edges_];
+        owned[i] = {1, f.gid, f.body, {global_node(f.node[0]), global_node(f.node[1]), global_node(f.node[2])}, 0.0};
+        boxes[i] = swept_box(f, 3);
+      }
+    }
+  });
   const std::vector<SurfacePrimitiveRecord> received = exchange_ghost_surface(comm_, owned, boxes);
 
   // Rebuild the ghost primitives in the exchange's order and the extra nodes in order of first

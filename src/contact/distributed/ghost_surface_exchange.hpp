@@ -25,9 +25,13 @@ struct SurfacePrimitiveRecord {
 };
 
 // Collective over comm. Sends each other rank the records of `owned` whose box (boxes[i], one
-// per record) overlaps that rank's surface box (the union of its own boxes; a rank without
-// primitives reaches nothing), and returns the records received from all ranks sorted by
-// (is_face, gid), so the result does not depend on the order of arrival.
+// per record) overlaps that rank's reach, and returns the records received from all ranks
+// sorted by (is_face, gid), so the result does not depend on the order of arrival. A rank's
+// reach is its surface seen through a grid of about 64 cells over its surface box: the union of
+// its boxes in each cell (a rank without primitives reaches nothing). Every record whose box
+// overlaps one of the receiver's boxes arrives; of the others, only those near a cell's box
+// (the cell's union of boxes is larger than the boxes), where one box for a whole rank sent
+// whatever lay between its bodies.
 std::vector<SurfacePrimitiveRecord> exchange_ghost_surface(MPI_Comm comm,
                                                            const std::vector<SurfacePrimitiveRecord>& owned,
                                                            const std::vector<Aabb>& boxes);
