@@ -15,8 +15,9 @@ namespace {
 
 // About this many cells describe a rank's surface: with one rank's bodies spread over the
 // scene, their common box held most of the other ranks' surfaces (the 125,000-hex stack on 2
-// ranks sent 75-100 % of each rank's surface, which the other's broad phase then searched), and
-// 64 cells keep the Allgather small (48 B a cell) at any rank count.
+// ranks sent 75-100 % of each rank's surface, which the other's broad phase then searched).
+// 64 to 256 cells (a flat surface takes more) of 48 B each are what every rank gathers from
+// every other.
 constexpr double kTargetCells = 64;
 constexpr int kMaxCellsPerAxis = 64;
 
@@ -38,8 +39,8 @@ int cell_of(const Aabb& b, const Aabb& grid_box, const std::array<int, 3>& n) {
   int index = 0;
   for (int k = 0; k < 3; ++k) {
     const double extent = grid_box.hi[k] - grid_box.lo[k];
-    const double t = extent > 0 ? (0.5 * (b.lo[k] + b.hi[k]) - grid_box.lo[k]) / extent : 0.0;
-    const int c = std::clamp(static_cast<int>(t * n[k]), 0, n[k] - 1);
+    const double t = extent > 0 ? (0.5 * (b.lo[k] + b.hi[k]) - grid_box.lo[k]) / extent * n[k] : 0.0;
+    const int c = t >= n[k] ? n[k] - 1 : t > 0 ? static_cast<int>(t) : 0;  // a NaN centre lands in cell 0
     index = index * n[k] + c;
   }
   return index;
@@ -90,6 +91,10 @@ std::vector<SurfacePrimitiveRecord> exchange_ghost_surface(MPI_Comm comm,
   std::vector<std::vector<SurfacePrimitiveRecord>> send(size);
   for (int s = 0; s < size; ++s) {
     if (s == rank || counts[s] == 0) continue;
+    // Ranks whose surfaces are far apart (most of them, on many ranks) are skipped whole.
+    Aabb theirs = aabb_empty();
+    for (int t = displs[s]; t < displs[s + 1]; ++t) aabb_merge(&theirs, reach[static_cast<std::size_t>(t)]);
+    if (!aabbs_overlap(theirs, mine)) continue;
     // Per cell of this rank, the cells of rank s that its box overlaps; a box then is tested
     // against those alone.
     std::vector<std::vector<int>> near(reach_mine.size());
