@@ -1,8 +1,8 @@
 #include "app/gpu_aware_mpi.hpp"
 
-#include <dlfcn.h>
 #include <petscdevice.h>
 
+#include "app/hypre_functions.hpp"
 #include "device/mpi_device_buffers.hpp"
 
 namespace dipc {
@@ -10,15 +10,11 @@ namespace dipc {
 namespace {
 
 // hypre's HYPRE_SetGpuAwareMPI where the process has it (a hypre of 2.31 or later, loaded with
-// PETSc) and PETSc has initialised hypre (HYPRE_Initialized: a run whose solvers use no hypre
-// leaves it alone), so that builds against an older hypre, or none, need no link to it.
+// PETSc) and PETSc has initialised hypre (hypre_functions.hpp).
 bool tell_hypre(bool direct) {
-  using SetGpuAwareMpi = int (*)(int);
-  using Initialized = int (*)();
-  void* symbol = dlsym(RTLD_DEFAULT, "HYPRE_SetGpuAwareMPI");
-  void* initialized = dlsym(RTLD_DEFAULT, "HYPRE_Initialized");
-  if (!symbol || !initialized || !reinterpret_cast<Initialized>(initialized)()) return false;
-  reinterpret_cast<SetGpuAwareMpi>(symbol)(direct ? 1 : 0);
+  const auto set_gpu_aware_mpi = hypre_function<int (*)(int)>("HYPRE_SetGpuAwareMPI");
+  if (!set_gpu_aware_mpi || !hypre_initialized()) return false;
+  set_gpu_aware_mpi(direct ? 1 : 0);
   return true;
 }
 

@@ -1,7 +1,6 @@
 #include "app/hypre_device_memory.hpp"
 
-#include <dlfcn.h>
-
+#include "app/hypre_functions.hpp"
 #include "device/block_cache.hpp"
 #include "options/dipc_options.hpp"
 
@@ -35,17 +34,16 @@ PetscErrorCode use_block_cache_for_hypre(MPI_Comm comm, bool device_backend, std
   }
   using MallocFunc = void (*)(void**, std::size_t);
   using FreeFunc = void (*)(void*);
-  void* set_malloc = dlsym(RTLD_DEFAULT, "hypre_SetUserDeviceMalloc");
-  void* set_free = dlsym(RTLD_DEFAULT, "hypre_SetUserDeviceMfree");
-  void* initialized = dlsym(RTLD_DEFAULT, "HYPRE_Initialized");
+  const auto set_malloc = hypre_function<int (*)(MallocFunc)>("hypre_SetUserDeviceMalloc");
+  const auto set_free = hypre_function<int (*)(FreeFunc)>("hypre_SetUserDeviceMfree");
   if (!set_malloc || !set_free) {
     *description = "hypre device temporaries: cudaMalloc and cudaFree (this hypre has no allocator hooks)";
     PetscFunctionReturn(0);
   }
   // Only a hypre that PETSc has initialised (its solvers use it): hypre's hooks live in its handle.
-  if (!initialized || !reinterpret_cast<int (*)()>(initialized)()) PetscFunctionReturn(0);
-  reinterpret_cast<int (*)(MallocFunc)>(set_malloc)(cached_malloc);
-  reinterpret_cast<int (*)(FreeFunc)>(set_free)(cached_free);
+  if (!hypre_initialized()) PetscFunctionReturn(0);
+  set_malloc(cached_malloc);
+  set_free(cached_free);
   hooks_given = true;
   *description = "hypre device temporaries: dipc's block cache (-dipc_hypre_block_cache 0: cudaMalloc each)";
 #else
