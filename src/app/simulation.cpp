@@ -387,6 +387,10 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
   if (!options.preset.empty())
     PetscCall(PetscPrintf(comm, "  solver preset %s (-dipc_preset; options given explicitly win over it)\n",
                           options.preset.c_str()));
+  if (options.check_invariants)
+    PetscCall(PetscPrintf(comm, "  invariant checks on (-dipc_check_invariants): each step stops the run on an inverted "
+                                "element%s\n",
+                          scene.contact.enabled ? ", an edge-triangle crossing or a distance at or below zero" : ""));
   // The user's -snes_ options are honoured; -snes_rtol/atol/stol let PETSc's tests end a solve.
   std::string snes;
   for (const auto& o : integrator.user_snes_options()) snes += (snes.empty() ? "" : " ") + o;
