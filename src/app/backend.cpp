@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "app/node_place.hpp"
+#include "assembly/element_block_part.hpp"
 #include "assembly/element_loops.hpp"
 #include "device/device_runtime.hpp"
 
@@ -65,27 +66,33 @@ BackendChoice choose_backend(MPI_Comm comm, const std::string& requested, long e
 }
 
 std::size_t device_bytes_per_element(bool matrix_on_device) {
-  // A hex mesh has about one node per element (3 dofs). Per element: connectivity, λ, μ and
-  // the 576 elastic COO values (8 B each) plus the 192 of a consistent mass; per node: the
-  // reference coordinates and 11 mirrored or scratch arrays of 3 doubles (x, gradient, segment
-  // x/p/w, inertia x̂ and mass, body force, ...). A device matrix holds each of the ~81
-  // nonzeros of a row once (value + column index), 3 rows per node, twice over for the
-  // preconditioner setup's copy. The COO values are summed into those unique entries on the
-  // device through the node-block map (NodeBlockReduction): 4 B per element node pair (64 per
-  // element and element form) and, per node block (27 per node), 4 B per element form, 2 B of
-  // mask and 8 B of start; 8 B per unique entry for the sums, and PETSc's COO maps of the unique
-  // entries (8 B each way).
-  std::size_t bytes = 8 * 4 + 2 * 8 + (kElasticCooPerElement + kMassCooPerElement) * 8 + 3 * 8 + 11 * 3 * 8;
+  // A hex mesh has about one node per element (3 dofs). Per element: connectivity, λ, μ and a
+  // consistent mass's own 192 values (8 B each, scenes with one); per node: the reference
+  // coordinates and 11 mirrored or scratch arrays of 3 doubles (x, gradient, segment x/p/w,
+  // inertia x̂ and mass, body force, ...).
+  std::size_t bytes = 8 * 4 + 2 * 8 + kMassCooPerElement * 8 + 3 * 8 + 11 * 3 * 8;
   constexpr std::size_t unique_per_element = 3 * 81, blocks_per_element = 27, element_forms = 2;
-  if (matrix_on_device)
+  if (matrix_on_device) {
+    // A device matrix holds each of the ~81 nonzeros of a row once (value + column index), 3
+    // rows per node, twice over for the preconditioner setup's copy. The element forms' values
+    // are computed and summed chunk by chunk (one chunk's buffer, check_device_memory) into the
+    // unique entries through the node-block map (NodeBlockReduction): 4 B per element node pair
+    // (64 per element and element form) and, per node block (27 per node), 4 B per element form,
+    // 2 B of mask and 8 B of start; 8 B per unique entry for the sums, and PETSc's COO maps of
+    // the unique entries (8 B each way).
     bytes += 2 * unique_per_element * (8 + 4) + element_forms * 64 * 4 +
              blocks_per_element * (element_forms * 4 + 2 + 8) + unique_per_element * (8 + 2 * 8);
+  } else {
+    // The element forms' values (576 elastic, 192 consistent mass) cross to the host matrix.
+    bytes += (kElasticCooPerElement + kMassCooPerElement) * 8;
+  }
   return bytes;
 }
 
 void check_device_memory(MPI_Comm comm, long elements, bool matrix_on_device) {
   const device::MemoryInfo info = device::memory_info();
-  const double need = static_cast<double>(elements) * device_bytes_per_element(matrix_on_device);
+  const double need = static_cast<double>(elements) * device_bytes_per_element(matrix_on_device) +
+                     (matrix_on_device ? static_cast<double>(ElementBlockPart::kDeviceChunkBytes) : 0.0);
   // The rank short of the most memory, named with its share (MPI_MAXLOC over need − free).
   int rank;
   MPI_Comm_rank(comm, &rank);

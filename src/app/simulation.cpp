@@ -371,9 +371,10 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
     if (size > 16) per_rank += ",…";
     PetscCall(PetscPrintf(comm,
                           "  GPU %s (devices by rank: %s) | setup used %.1f MiB on the fullest rank, %.0f B/element "
-                          "(dipc's estimate %zu B/element before the matrix and preconditioner)\n",
+                          "(the bound dipc checks before the setup: %zu B/element%s)\n",
                           device::name(backend.device).c_str(), per_rank.c_str(), max_used / 1048576.0,
-                          max_used / std::max(1, ne_max), device_bytes_per_element(false)));
+                          max_used / std::max(1, ne_max), device_bytes_per_element(device_use.matrix_on_device),
+                          device_use.matrix_on_device ? " with the matrix and its copy for the preconditioner" : ""));
     PetscCall(PetscPrintf(comm, "  MPI %s\n", gpu_aware_mpi.description.c_str()));
     if (!hypre_memory.empty()) PetscCall(PetscPrintf(comm, "  %s\n", hypre_memory.c_str()));
   }

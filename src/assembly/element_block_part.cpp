@@ -34,7 +34,23 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
       blocks_ = NodeBlockReduction::build(inputs, owned_begin, owned_end);
     }
     chunked_ = chunked;
-    if (chunked_) blocks_.index_elements();
+    device_sums_ = device_sums;
+    if (chunked_ && !device_sums_) blocks_.index_elements();
+    if (chunked_ && device_sums_) {
+      // Each chunk's blocks, found once: with elements and nodes numbered along the partition,
+      // a chunk of elements reaches a narrow band of the blocks, and its sums run over that band.
+      for (std::size_t m = 0; m < inputs.size(); ++m) {
+        const std::size_t num_elements = static_cast<std::size_t>(inputs[m].pattern.num_elements);
+        const std::size_t per = kDeviceChunkBytes / (sizeof(double) * element_values(inputs[m].pattern.layout));
+        const std::size_t chunk = std::max<std::size_t>(1, std::min(per, num_elements));
+        chunk_elements_.push_back(static_cast<std::uint32_t>(chunk));
+        chunk_block_begin_.emplace_back();
+        chunk_block_end_.emplace_back();
+        device::element_chunk_block_ranges(blocks_.num_blocks(), map(m), chunk_elements_[m],
+                                           (num_elements + chunk - 1) / chunk, &chunk_block_begin_[m],
+                                           &chunk_block_end_[m]);
+      }
+    }
   } catch (const std::length_error& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
@@ -60,16 +76,39 @@ void ElementBlockPart::reduce(const double* raw, double* unique) const {
   if (!chunked_) blocks_.reduce(raw, unique);
 }
 
+device::ElementBlockMap ElementBlockPart::map(std::size_t m) const {
+  return {blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(), d_block_sources_[m].data()};
+}
+
 void ElementBlockPart::reduce_on_device(const double* d_raw, double* d_unique) const {
+  if (chunked_) return;
   std::vector<device::ElementBlockMap> maps;
-  for (std::size_t m = 0; m < blocks_.forms.size(); ++m)
-    maps.push_back(
-        {blocks_.forms[m].layout, blocks_.forms[m].raw_begin, d_block_offsets_[m].data(), d_block_sources_[m].data()});
+  for (std::size_t m = 0; m < blocks_.forms.size(); ++m) maps.push_back(map(m));
   device::reduce_element_blocks(d_raw, blocks_.num_blocks(), d_block_mask_.data(), d_block_start_.data(), maps.data(),
                                 static_cast<int>(maps.size()), d_unique);
 }
 
+bool ElementBlockPart::add_chunks_on_device(std::size_t m, HessianPattern& form, const double* d_x,
+                                            double* d_unique) {
+  ElementPattern pattern;
+  form.element_pattern(&pattern);
+  const std::size_t chunk = chunk_elements_[m];
+  d_chunk_values_.resize(chunk * element_values(pattern.layout));
+  const device::ElementBlockMap form_map = map(m);
+  bool ok = true;
+  for (std::size_t c = 0, first = 0; first < static_cast<std::size_t>(pattern.num_elements); ++c, first += chunk) {
+    const std::size_t count = std::min(chunk, static_cast<std::size_t>(pattern.num_elements) - first);
+    ok = form.element_hessian(d_x, static_cast<int>(first), static_cast<int>(count), d_chunk_values_.data()) && ok;
+    device::add_element_block_chunk(d_chunk_values_.data(), static_cast<std::uint32_t>(first),
+                                    static_cast<std::uint32_t>(count), chunk_block_begin_[m][c],
+                                    chunk_block_end_[m][c], d_block_mask_.data(), d_block_start_.data(), form_map,
+                                    d_unique);
+  }
+  return ok;
+}
+
 bool ElementBlockPart::add_chunks(std::size_t m, HessianPattern& form, const double* x, double* unique) {
+  if (device_sums_) return add_chunks_on_device(m, form, x, unique);
   // Small enough to stay in cache (9.4 MB of elastic values), large enough that the calls cost
   // nothing.
   constexpr int kChunk = 2048;

@@ -7,14 +7,18 @@
 // block, 4 B per element form, 2 B of mask and 8 B of start, where the values are summed (the
 // host, or the device with a device matrix); the summed values take 8 B per entry.
 //
-// A host matrix of host element forms sums their values element chunk by chunk (no array of
-// all their raw values exists); the device sums them all at once, through the maps' sources.
+// Element forms sum their values element chunk by chunk where they run where the matrix does
+// (no array of all their raw values exists: 4.6 KB per hex): a host matrix of host forms on
+// the host threads, a device matrix of device forms on the device, through the maps' sources
+// over the blocks each chunk reaches. Otherwise the values are summed all at once.
 #pragma once
 #include <petscsys.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "assembly/cuda/element_kernels.hpp"
 #include "assembly/hessian_pattern.hpp"
 #include "assembly/node_block_reduction.hpp"
 #include "device/device_runtime.hpp"
@@ -25,12 +29,13 @@ class ElementBlockPart {
  public:
   // The node blocks of the element forms' patterns on a rank that owns the global nodes
   // [owned_begin, owned_end). device_sums: the device sums the values, so the maps are built
-  // there and stay there (the host keeps the pattern); chunked: the host sums them element
-  // chunk by chunk (add_chunks).
+  // there and stay there (the host keeps the pattern); chunked: the values are summed element
+  // chunk by chunk (add_chunks), on the device where device_sums.
   PetscErrorCode build(const std::vector<NodeBlockReduction::Input>& inputs, bool device_sums, bool chunked,
                        std::int64_t owned_begin, std::int64_t owned_end);
   bool built() const { return built_; }
   bool chunked() const { return chunked_; }
+  bool sums_on_device() const { return device_sums_; }
   const NodeBlockReduction& blocks() const { return blocks_; }
   // Puts the maps on the device where they are not yet (blocks built on the host for a matrix
   // that now lives on the device), then frees the host's copy; the blocks' layout stays.
@@ -41,14 +46,26 @@ class ElementBlockPart {
   void reduce(const double* raw, double* unique) const;
   void reduce_on_device(const double* d_raw, double* d_unique) const;
   // Element form m's values, computed by `form` at x chunk by chunk, added into unique (zeroed
-  // before the first form); false if the form rejects x.
+  // before the first form); false if the form rejects x. x and unique are in the memory space
+  // where the values are summed (sums_on_device()).
   bool add_chunks(std::size_t m, HessianPattern& form, const double* x, double* unique);
+  // Elements per chunk on the device: their values fill at most kDeviceChunkBytes.
+  static constexpr std::size_t kDeviceChunkBytes = std::size_t{512} << 20;
 
  private:
+  bool add_chunks_on_device(std::size_t m, HessianPattern& form, const double* d_x, double* d_unique);
+  device::ElementBlockMap map(std::size_t m) const;  // form m's maps on the device
+
   bool built_ = false;
   bool chunked_ = false;
+  bool device_sums_ = false;
   NodeBlockReduction blocks_;
   std::vector<double> chunk_values_;
+  // Device chunks: per form, elements per chunk and each chunk's range of blocks; the values of
+  // one chunk.
+  std::vector<std::uint32_t> chunk_elements_;
+  std::vector<std::vector<std::uint64_t>> chunk_block_begin_, chunk_block_end_;
+  device::Array<double> d_chunk_values_{"element Hessian values of a chunk"};
   device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
   device::Array<std::uint64_t> d_block_start_{"node-block starts"};
   std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form

@@ -123,7 +123,7 @@ PetscErrorCode HessianAssembler::build_element_part() {
   term_begin_.assign(terms_.size(), 0);
   term_size_.assign(terms_.size(), 0);
   element_map_.assign(terms_.size(), -1);
-  bool all_host = true;
+  bool all_host = true, all_device = true;
   std::size_t raw = 0;
   for (std::size_t t = 0; t < terms_.size(); ++t) {
     ElementPattern pattern;
@@ -132,6 +132,7 @@ PetscErrorCode HessianAssembler::build_element_part() {
                "form %s gives node blocks but says its pattern may change", terms_[t].name.c_str());
     element_map_[t] = static_cast<int>(inputs.size());
     all_host = all_host && terms_[t].space == MemorySpace::host;
+    all_device = all_device && terms_[t].space == MemorySpace::device;
     term_begin_[t] = raw;
     term_size_[t] = static_cast<std::size_t>(element_values(pattern.layout)) *
                     static_cast<std::size_t>(pattern.num_elements);
@@ -139,9 +140,10 @@ PetscErrorCode HessianAssembler::build_element_part() {
     raw += term_size_[t];
   }
   num_element_raw_ = raw;
-  // A host matrix of host element terms sums their values element chunk by chunk.
+  // Element terms that run where the matrix is sum their values element chunk by chunk there
+  // (no array of all of them: 576 values per hex). Otherwise their values cross in one block.
   const bool device_sums = device_matrix_ && !inputs.empty();
-  const bool chunked = !inputs.empty() && all_host && !device_matrix_;
+  const bool chunked = !inputs.empty() && (device_matrix_ ? all_device : all_host);
   const std::int64_t owned_end = dofs_.node_offset + dofs_.num_owned_nodes;
   PetscCall(elements_.build(inputs, device_sums, chunked, dofs_.node_offset, owned_end));
   PetscFunctionReturn(0);
@@ -307,13 +309,13 @@ void HessianAssembler::size_raw_values() {
   if (device_matrix_)
     LargePageVector<PetscScalar>().swap(values_);
   else
-    values_.assign(num_raw_entries_ - host_raw_offset(), 0.0);
+    values_.assign(num_raw_entries_ - raw_offset(), 0.0);
   if (any_device_) {
-    d_values_.resize(num_raw_entries_);
+    d_values_.resize(num_raw_entries_ - raw_offset());
     // The Dirichlet diagonal's raw values are summed, then overwritten by the elimination:
     // zeroed, so that no uninitialised memory is read.
     if (changing_raw_begin_ > dirichlet_raw_begin_)
-      device::zero(d_values_.data() + dirichlet_raw_begin_,
+      device::zero(d_values_.data() + (dirichlet_raw_begin_ - raw_offset()),
                    (changing_raw_begin_ - dirichlet_raw_begin_) * sizeof(double));
   }
   // The maps go to the device where the values are summed there (device terms and a device
@@ -424,25 +426,34 @@ PetscErrorCode HessianAssembler::begin_values() {
              "Hessian requested into a matrix in another memory space than the pattern's");
   PetscCheck(!awaiting_rebuild_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "Hessian requested before the new matrix that update_patterns() asked for");
-  if (elements_.chunked()) unique_values_.assign(num_unique_, 0.0);
+  PetscCheck(!elements_.chunked() || elements_.sums_on_device() == device_matrix_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "the element terms' values are summed chunk by chunk in another memory space than the matrix's");
+  // Chunks add onto the entries from 0.
+  if (elements_.chunked() && device_matrix_) {
+    d_unique_values_.resize(num_unique_);
+    device::zero(d_unique_values_.data(), num_unique_ * sizeof(double));
+  } else if (elements_.chunked()) {
+    unique_values_.assign(num_unique_, 0.0);
+  }
   PetscFunctionReturn(0);
 }
 
 bool HessianAssembler::add_element_chunks(std::size_t t, const double* x) {
-  return elements_.add_chunks(static_cast<std::size_t>(element_map_[t]), *terms_[t].pattern, x, unique_values_.data());
+  double* unique = device_matrix_ ? d_unique_values_.data() : unique_values_.data();
+  return elements_.add_chunks(static_cast<std::size_t>(element_map_[t]), *terms_[t].pattern, x, unique);
 }
 
 double* HessianAssembler::values_for(std::size_t t) {
   // A term evaluated away from the matrix writes its block where it runs, and the block crosses
   // once (values_written): device terms into d_values_ (sized whenever there are device terms),
   // host terms into host_block_.
-  if (terms_[t].space == MemorySpace::device) return d_values_.data() + term_begin_[t];
+  // Both arrays start after the element part when that is summed chunk by chunk.
+  if (terms_[t].space == MemorySpace::device) return d_values_.data() + (term_begin_[t] - raw_offset());
   if (device_matrix_) {
     host_block_.resize(term_size_[t]);
     return host_block_.data();
   }
-  // values_ starts after the element part when that is summed chunk by chunk.
-  return values_.data() + (term_begin_[t] - host_raw_offset());
+  return values_.data() + (term_begin_[t] - raw_offset());
 }
 
 void HessianAssembler::values_written(std::size_t t) {
@@ -450,9 +461,9 @@ void HessianAssembler::values_written(std::size_t t) {
   const std::size_t begin = term_begin_[t], bytes = term_size_[t] * sizeof(double);
   if (on_device == device_matrix_ || bytes == 0) return;
   if (on_device)
-    device::copy_to_host(values_.data() + (begin - host_raw_offset()), d_values_.data() + begin, bytes);
+    device::copy_to_host(values_.data() + (begin - raw_offset()), d_values_.data() + (begin - raw_offset()), bytes);
   else
-    device::copy_to_device(d_values_.data() + begin, host_block_.data(), bytes);
+    device::copy_to_device(d_values_.data() + (begin - raw_offset()), host_block_.data(), bytes);
 }
 
 PetscErrorCode HessianAssembler::insert_values() {
@@ -474,10 +485,12 @@ double* HessianAssembler::sum_values() {
   if (device_matrix_) {
     d_unique_values_.resize(num_unique_);
     double* unique = d_unique_values_.data();
+    // Nothing when chunked: add_element_chunks summed them onto entries zeroed by begin_values.
     elements_.reduce_on_device(d_values_.data(), unique);
-    if (num_extra > 0) device::zero(unique + num_block_entries, num_extra * sizeof(double));
-    fixed_.add_on_device(d_values_.data() + num_element_raw_, unique);
-    changing_.add_on_device(d_values_.data() + changing_raw_begin_, unique);
+    if (num_extra > 0 && !elements_.chunked())
+      device::zero(unique + num_block_entries, num_extra * sizeof(double));
+    fixed_.add_on_device(d_values_.data() + (num_element_raw_ - raw_offset()), unique);
+    changing_.add_on_device(d_values_.data() + (changing_raw_begin_ - raw_offset()), unique);
     dirichlet_.apply_on_device(unique);
     return unique;
   }
@@ -485,8 +498,8 @@ double* HessianAssembler::sum_values() {
   double* unique = unique_values_.data();
   elements_.reduce(values_.data(), unique);  // nothing when chunked: add_element_chunks summed them
   if (!elements_.chunked()) std::fill(unique + num_block_entries, unique + num_unique_, 0.0);
-  fixed_.add(values_.data() + (num_element_raw_ - host_raw_offset()), unique);
-  changing_.add(values_.data() + (changing_raw_begin_ - host_raw_offset()), unique);
+  fixed_.add(values_.data() + (num_element_raw_ - raw_offset()), unique);
+  changing_.add(values_.data() + (changing_raw_begin_ - raw_offset()), unique);
   dirichlet_.apply(unique);
   return unique;
 }

@@ -18,7 +18,8 @@
 //                  their layouts, first, so that their offsets stay put; summed into the
 //                  distinct node blocks (ElementBlockPart, built once: their patterns never
 //                  change, and are never expanded to 576 scalar entries per hex), the matrix's
-//                  first entries;
+//                  first entries; where the element forms run where the matrix is, they are
+//                  computed and summed element chunk by chunk and the raw arrays leave them out;
 //   fixed part     the COO terms whose pattern never changes (the lumped mass) in their order,
 //                  then the owned Dirichlet diagonal (in the pattern only: the elimination sets
 //                  its value); summed over their small lists (CooPart) onto the blocks, or onto
@@ -164,7 +165,8 @@ class HessianAssembler {
   // The raw values summed into the matrix's entries, eliminated; returns them (device memory
   // for a device matrix).
   double* sum_values();
-  std::size_t host_raw_offset() const { return elements_.chunked() ? num_element_raw_ : 0; }
+  // The raw arrays (host and device) leave the element part out when it is summed chunk by chunk.
+  std::size_t raw_offset() const { return elements_.chunked() ? num_element_raw_ : 0; }
   bool pattern_changed() const;
 
   Dofs dofs_;
@@ -182,10 +184,10 @@ class HessianAssembler {
   std::size_t dirichlet_raw_begin_ = 0;  // the Dirichlet diagonal's raw values
   std::size_t changing_raw_begin_ = 0;   // the changing part's raw values, to the end
   std::size_t num_raw_entries_ = 0;      // element, fixed (with the Dirichlet diagonal), changing part
-  // The raw values on the host: only for a host matrix, and without the element part's when it
-  // is summed chunk by chunk (values_ then starts at the COO part). With a device matrix the host
-  // keeps neither these nor the maps, only the block of the largest host term (friction) in
-  // host_block_. d_values_ holds all of them wherever device terms exist.
+  // The raw values on the host: only for a host matrix. With a device matrix the host keeps
+  // neither these nor the maps, only the block of the largest host term (friction) in
+  // host_block_. d_values_ holds them wherever device terms exist. Both leave the element part
+  // out when it is summed chunk by chunk (they then start at the COO part: raw_offset()).
   LargePageVector<PetscScalar> values_;
   std::vector<PetscScalar> host_block_;
   device::Array<double> d_values_{"Hessian COO values"};

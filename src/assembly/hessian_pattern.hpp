@@ -59,11 +59,11 @@ class HessianPattern {
   // coo_pattern() (576 entries per hex, the bulk of the setup's time and memory). Such a
   // pattern must not change (pattern_may_change() false).
   virtual bool element_pattern(ElementPattern* pattern) const { return false; }
-  // Host element forms: the values of elements [first, first + count) only, as hessian() writes
-  // them from element `first` on, so that a host matrix sums them chunk by chunk and no array
-  // of every element's values (576 per hex) exists. Returns false if x is not admissible (as
-  // Form::value). A form that returns true from element_pattern() and evaluates on the host
-  // must implement it.
+  // Element forms: the values of elements [first, first + count) only, as hessian() writes
+  // them from element `first` on, so that the matrix sums them chunk by chunk and no array of
+  // every element's values (576 per hex) exists. x and values are in the form's memory space
+  // (host or device). Returns false if x is not admissible (as Form::value). A form that
+  // returns true from element_pattern() must implement it.
   virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
   // Called before every Hessian evaluation at x (a host array), before pattern_version() is

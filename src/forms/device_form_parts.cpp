@@ -52,6 +52,11 @@ bool DeviceElasticPart::hessian(const double* x, double scale, double* values) {
   return device::elastic_evaluate(device_.block(), x, scale, nullptr, nullptr, values, reducer_);
 }
 
+bool DeviceElasticPart::hessian(const double* x, double scale, int first, int count, double* values) {
+  return device::elastic_evaluate(element_range(device_.block(), first, count), x, scale, nullptr, nullptr, values,
+                                  reducer_);
+}
+
 bool DeviceElasticPart::is_valid(const double* x) { return min_volume_ratio(x) > 0.0; }
 
 double DeviceElasticPart::min_volume_ratio(const double* x) {
@@ -119,6 +124,12 @@ bool DeviceConsistentInertiaPart::gradient(const double* x, double* g) {
 
 bool DeviceConsistentInertiaPart::hessian(double* values) {
   device::copy_on_device(values, hessian_.data(), hessian_.size() * sizeof(double));
+  return true;
+}
+
+bool DeviceConsistentInertiaPart::hessian(int first, int count, double* values) {
+  device::copy_on_device(values, hessian_.data() + kMassCooPerElement * static_cast<std::size_t>(first),
+                         kMassCooPerElement * static_cast<std::size_t>(count) * sizeof(double));
   return true;
 }
 

@@ -36,6 +36,8 @@ class DeviceElasticPart {
   bool value(const double* x, double scale, double* energy);
   bool gradient(const double* x, double scale, double* g);
   bool hessian(const double* x, double scale, double* values);
+  // Elements [first, first + count) only, their values from element `first` on.
+  bool hessian(const double* x, double scale, int first, int count, double* values);
   bool is_valid(const double* x);
   double min_volume_ratio(const double* x);
 
@@ -70,6 +72,7 @@ class DeviceConsistentInertiaPart {
   bool value(const double* x, double* energy);
   bool gradient(const double* x, double* g);
   bool hessian(double* values);
+  bool hessian(int first, int count, double* values);  // elements [first, first + count) only
 
  private:
   DeviceElementData device_;

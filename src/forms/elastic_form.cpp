@@ -73,6 +73,7 @@ bool ElasticForm::hessian(const double* x, double* values) {
 }
 
 bool ElasticForm::element_hessian(const double* x, int first, int count, double* values) {
+  if (device_) return device_->hessian(x, scale_, first, count, values);
   const ElementBlock range = element_range(elements_.block(), first, count);
   bool ok;
   if (split_) {

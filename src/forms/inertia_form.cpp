@@ -115,6 +115,7 @@ bool ConsistentInertiaForm::hessian(const double* x, double* values) {
 }
 
 bool ConsistentInertiaForm::element_hessian(const double*, int first, int count, double* values) {
+  if (device_) return device_->hessian(first, count, values);
   const std::size_t begin = 64 * static_cast<std::size_t>(first), end = begin + 64 * static_cast<std::size_t>(count);
   std::size_t k = 0;
   for (std::size_t m = begin; m < end; ++m)

@@ -298,7 +298,7 @@ bool IncrementalPotential::assemble_values(LocalViews& x) {
   bool ok = true;
   for (std::size_t f = 0; f < forms_.size(); ++f) {
     if (assembler_.sums_element_chunks(f)) {
-      ok = assembler_.add_element_chunks(f, x.in(MemorySpace::host)) && ok;
+      ok = assembler_.add_element_chunks(f, x.in(forms_[f]->memory_space())) && ok;
       continue;
     }
     const MemorySpace space = forms_[f]->memory_space();

@@ -1,6 +1,7 @@
 // device::reduce_coo against CooReduction::reduce on a random element-like pattern, and
 // device::reduce_element_blocks against NodeBlockReduction::reduce on random elements of an
-// elastic and a consistent-mass layout: the same sums in the same order, so the same bits; the
+// elastic and a consistent-mass layout: the same sums in the same order, so the same bits, also
+// summed element chunk by chunk (add_element_block_chunk); the
 // node-block pattern built on the device against the host build, array for array; the
 // Hessian's other device steps (add_at, eliminate) against their host loops; TargetPart's
 // device sums (values sorted by target) against its host loop, also after a repeated
@@ -168,6 +169,66 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
   ASSERT_GT(host.size(), 0u);
   EXPECT_EQ(std::memcmp(device_sums.data(), host.data(), host.size() * sizeof(double)), 0);
   for (std::size_t k = 0; k < host.size(); ++k) ASSERT_EQ(device_sums[k], host[k]) << "entry " << k;
+}
+
+// The element sums chunk by chunk (device::add_element_block_chunk over the blocks that
+// element_chunk_block_ranges gives each chunk), form after form, onto entries from 0: the whole
+// reduction's bits, for chunks of one element, of a few, and of all.
+TEST(CooReductionGpu, NodeBlockSumsChunkByChunkEqualTheWholeSumsBitForBit) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  std::mt19937_64 rng(13);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
+  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
+  const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
+  const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
+  const NodeBlockReduction blocks = NodeBlockReduction::build(
+      {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7},
+       {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 7 + elastic_raw}},
+      1000, 2500);
+  const std::vector<double> raw = spread_values(rng, 7 + elastic_raw + mass_raw);
+  std::vector<double> host(blocks.num_entries());
+  blocks.reduce(raw.data(), host.data());
+  ASSERT_GT(host.size(), 0u);
+
+  device::Array<double> d_chunk("chunk"), d_unique("unique");
+  device::Array<std::uint16_t> d_mask("mask");
+  device::Array<std::uint64_t> d_start("start");
+  d_mask.upload(blocks.block_mask);
+  d_start.upload(blocks.block_start);
+  std::vector<device::Array<std::uint32_t>> d_off, d_src;
+  std::vector<device::ElementBlockMap> maps;
+  for (const auto& form : blocks.forms) {
+    d_off.emplace_back("offsets");
+    d_off.back().upload(form.offsets);
+    d_src.emplace_back("sources");
+    d_src.back().upload(form.sources);
+  }
+  for (std::size_t m = 0; m < blocks.forms.size(); ++m)
+    maps.push_back({blocks.forms[m].layout, blocks.forms[m].raw_begin, d_off[m].data(), d_src[m].data()});
+  const std::size_t num_elements[2] = {elastic.size() / 8, mass.size() / 8};
+  for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{300}, std::size_t{5000}}) {
+    d_unique.resize(blocks.num_entries());
+    d_unique.set_zero();
+    for (std::size_t m = 0; m < maps.size(); ++m) {
+      const std::size_t per = element_values(maps[m].layout), size = std::min(chunk, num_elements[m]);
+      const std::size_t num_chunks = (num_elements[m] + size - 1) / size;
+      std::vector<std::uint64_t> begin, end;
+      device::element_chunk_block_ranges(blocks.num_blocks(), maps[m], static_cast<std::uint32_t>(size), num_chunks,
+                                         &begin, &end);
+      ASSERT_EQ(begin.size(), num_chunks);
+      for (std::size_t c = 0; c < num_chunks; ++c) {
+        const std::size_t first = c * size, count = std::min(size, num_elements[m] - first);
+        d_chunk.upload(raw.data() + maps[m].raw_begin + per * first, per * count);
+        device::add_element_block_chunk(d_chunk.data(), static_cast<std::uint32_t>(first),
+                                        static_cast<std::uint32_t>(count), begin[c], end[c], d_mask.data(),
+                                        d_start.data(), maps[m], d_unique.data());
+      }
+    }
+    const std::vector<double> chunked = d_unique.to_host();
+    ASSERT_EQ(chunked.size(), host.size());
+    EXPECT_EQ(std::memcmp(chunked.data(), host.data(), host.size() * sizeof(double)), 0) << "chunks of " << chunk;
+  }
 }
 
 // NodeBlockReduction::build_on_device against build(): two forms (elastic, and consistent mass

@@ -354,6 +354,49 @@ __global__ void reduce_element_blocks_kernel(const double* __restrict__ raw, std
   unique[block_start[k] + __popc(mask & ((1u << bit) - 1u))] = sum;
 }
 
+// One thread per (block k of the chunk's range, bit 3i + j): the chunk's sources of entry
+// (k, bit), in order, added onto its sum so far.
+__global__ void add_element_block_chunk_kernel(const double* __restrict__ chunk, std::uint32_t first,
+                                               std::uint32_t last, std::size_t block_begin, std::size_t num_blocks,
+                                               const std::uint16_t* __restrict__ block_mask,
+                                               const std::uint64_t* __restrict__ block_start, ElementBlockMap map,
+                                               double* __restrict__ unique) {
+  const std::size_t t = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (t / 9 >= num_blocks) return;
+  const std::size_t k = block_begin + t / 9;
+  const int bit = static_cast<int>(t % 9);
+  const unsigned mask = block_mask[k];
+  if (!(mask >> bit & 1u) || !(element_block_mask(map.layout) >> bit & 1u)) return;
+  const int i = bit / 3, j = bit % 3;
+  const std::size_t per = static_cast<std::size_t>(element_values(map.layout));
+  double* const entry = unique + block_start[k] + __popc(mask & ((1u << bit) - 1u));
+  double sum = *entry;
+  bool any = false;
+  for (std::uint32_t s = map.d_offsets[k]; s < map.d_offsets[k + 1]; ++s) {
+    const std::uint32_t src = map.d_sources[s];
+    const std::uint32_t e = src >> 6;
+    if (e < first) continue;
+    if (e >= last) break;  // sources ascend by element within a block
+    sum += chunk[per * (e - first) +
+                 element_value_offset(map.layout, static_cast<int>(src >> 3 & 7u), i, static_cast<int>(src & 7u), j)];
+    any = true;
+  }
+  if (any) *entry = sum;
+}
+
+// One thread per block: the chunks of its sources' elements take it into their ranges.
+__global__ void element_chunk_block_ranges_kernel(std::size_t num_blocks, ElementBlockMap map,
+                                                  std::uint32_t chunk_elements, unsigned long long* begin,
+                                                  unsigned long long* end) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k >= num_blocks) return;
+  for (std::uint32_t s = map.d_offsets[k]; s < map.d_offsets[k + 1]; ++s) {
+    const std::uint32_t c = (map.d_sources[s] >> 6) / chunk_elements;
+    atomicMin(begin + c, static_cast<unsigned long long>(k));
+    atomicMax(end + c, static_cast<unsigned long long>(k + 1));
+  }
+}
+
 }  // namespace
 
 void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
@@ -367,6 +410,36 @@ void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const st
   reduce_element_blocks_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(d_raw, num_blocks, d_block_mask, d_block_start,
                                                                          all, d_unique);
   DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void add_element_block_chunk(const double* d_chunk, std::uint32_t first, std::uint32_t count, std::size_t block_begin,
+                             std::size_t block_end, const std::uint16_t* d_block_mask,
+                             const std::uint64_t* d_block_start, const ElementBlockMap& map, double* d_unique) {
+  if (block_end <= block_begin || count == 0) return;
+  const std::size_t num_blocks = block_end - block_begin;
+  add_element_block_chunk_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(
+      d_chunk, first, first + count, block_begin, num_blocks, d_block_mask, d_block_start, map, d_unique);
+  DIPC_CUDA_CHECK_LAUNCH();
+}
+
+void element_chunk_block_ranges(std::size_t num_blocks, const ElementBlockMap& map, std::uint32_t chunk_elements,
+                                std::size_t num_chunks, std::vector<std::uint64_t>* begin,
+                                std::vector<std::uint64_t>* end) {
+  std::vector<unsigned long long> lo(num_chunks, ~0ull), hi(num_chunks, 0ull);
+  Array<unsigned long long> d_lo("element chunk block ranges"), d_hi("element chunk block ranges");
+  d_lo.upload(lo);
+  d_hi.upload(hi);
+  if (num_blocks > 0 && num_chunks > 0) {
+    element_chunk_block_ranges_kernel<<<blocks_for(num_blocks, 256), 256>>>(num_blocks, map, chunk_elements,
+                                                                           d_lo.data(), d_hi.data());
+    DIPC_CUDA_CHECK_LAUNCH();
+  }
+  d_lo.download(lo.data());
+  d_hi.download(hi.data());
+  begin->assign(num_chunks, 0);
+  end->assign(num_chunks, 0);
+  for (std::size_t c = 0; c < num_chunks; ++c)
+    if (lo[c] < hi[c]) (*begin)[c] = lo[c], (*end)[c] = hi[c];
 }
 
 bool elastic_evaluate(const ElementBlock& block, const double* d_x, double scale, double* energy, double* d_gradient,

@@ -6,6 +6,8 @@
 // current device. Scalars come back to the host through the Reducer, nothing else does.
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "assembly/element_loops.hpp"
 #include "device/device_runtime.hpp"
@@ -54,5 +56,25 @@ constexpr int kMaxElementBlockMaps = 4;
 void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
                            const std::uint64_t* d_block_start, const ElementBlockMap* maps, int num_maps,
                            double* d_unique);
+
+// The element sums without an array of every element's values (576 per hex: 4.6 KB per element,
+// the largest item of a device run's memory): an element form's values are computed for a
+// chunk of elements at a time and added onto the entries, chunk after chunk and form after form.
+//
+// map's elements [first, first + count), whose values d_chunk holds from element `first` on (the
+// map's raw_begin is not read), added onto d_unique for the blocks [block_begin, block_end),
+// which hold every source of those elements (element_chunk_block_ranges). An entry of no source
+// in the chunk is left alone. Sources ascend by element within a block (node_block_pattern.hpp),
+// so summing the chunks in element order, and the forms in map order, onto entries that start
+// at 0 adds the values in reduce_element_blocks' order: the same bits.
+void add_element_block_chunk(const double* d_chunk, std::uint32_t first, std::uint32_t count, std::size_t block_begin,
+                             std::size_t block_end, const std::uint16_t* d_block_mask,
+                             const std::uint64_t* d_block_start, const ElementBlockMap& map, double* d_unique);
+// For map's elements split into chunks of chunk_elements, chunk c = [c chunk_elements, ...): the
+// range of blocks [begin[c], end[c]) that holds every source of its elements (empty, begin ==
+// end, for a chunk of none). Once per build: the sums run over these ranges only.
+void element_chunk_block_ranges(std::size_t num_blocks, const ElementBlockMap& map, std::uint32_t chunk_elements,
+                                std::size_t num_chunks, std::vector<std::uint64_t>* begin,
+                                std::vector<std::uint64_t>* end);
 
 }  // namespace dipc::device

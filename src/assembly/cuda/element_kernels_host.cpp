@@ -24,5 +24,13 @@ void reduce_element_blocks(const double*, std::size_t, const std::uint16_t*, con
                            const ElementBlockMap*, int, double*) {
   no_cuda();
 }
+void add_element_block_chunk(const double*, std::uint32_t, std::uint32_t, std::size_t, std::size_t,
+                             const std::uint16_t*, const std::uint64_t*, const ElementBlockMap&, double*) {
+  no_cuda();
+}
+void element_chunk_block_ranges(std::size_t, const ElementBlockMap&, std::uint32_t, std::size_t,
+                                std::vector<std::uint64_t>*, std::vector<std::uint64_t>*) {
+  no_cuda();
+}
 
 }  // namespace dipc::device
