@@ -25,6 +25,7 @@ refine levels; the element count of the row is what dipc reports).
 
 Each run is
   mpirun -n RANKS dipc member.json -dipc_steps STEPS -dipc_no_output [-dipc_refine R] [extra]
+(with --keep-output DIR, -dipc_output DIR/<member>_<refine|elements><size> instead of -dipc_no_output)
 and from its output:
   newton_its, ksp_its     summed over the step lines (a step cut into sub-steps counts all of them)
   max_contact_pairs       the largest "contacts N" of the step lines (active pairs after the step)
@@ -201,7 +202,11 @@ def run_one(args, member, size_kind, size, workdir):
         scene, options, refine = os.path.join(SCENES, member + ".json"), ["-dipc_refine", size], size
     else:
         scene, options, refine = scaled_scene(member, size, workdir), [], ""
-    cmd = [scene, "-dipc_steps", args.steps, "-dipc_no_output"] + options + args.extra
+    # Output costs time and disk: none, unless --keep-output asks for it (its time is the
+    # timing table's "output" row, outside the per-Newton figures).
+    output = (["-dipc_output", os.path.join(args.keep_output, "%s_%s%s" % (member, size_kind, size))]
+              if args.keep_output else ["-dipc_no_output"])
+    cmd = [scene, "-dipc_steps", args.steps] + output + options + args.extra
     start = time.time()
     with GpuSampler() as gpu:
         text, status, full = run_dipc(args.dipc, args.ranks, cmd, timeout=args.timeout,
@@ -293,6 +298,8 @@ def main():
     ap.add_argument("--timeout", type=float, default=1800, help="seconds per run")
     ap.add_argument("--cores-per-rank", type=int, default=None,
                     help="bind each rank to this many cores (mpirun --map-by slot:PE=K)")
+    ap.add_argument("--keep-output", metavar="DIR",
+                    help="write each run's output (XDMF/HDF5) into DIR/<member>_<refine|elements><size>")
     ap.add_argument("extra", nargs="*", help="after --: more dipc options")
     args = ap.parse_args()
     members = args.members.split(",")

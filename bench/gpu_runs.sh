@@ -42,7 +42,12 @@
 #                                  leave it out of multi-GPU timings); FAMILY_TAG, a suffix of the CSVs' tags; FAMILY_GPUS, the GPU
 #                                  counts (default 1; e.g. "1 2 4", one rank per GPU); FAMILY_ELEMENTS, element
 #                                  counts instead of refine levels; FAMILY_TIMEOUT, seconds per run; each run's
-#                                  whole output is kept beside the CSV
+#                                  whole output is kept beside the CSV; FAMILY_OUTPUT=DIR keeps the runs' XDMF/HDF5
+#   bench/gpu_runs.sh bigrun       one big contact-rich run on all the host's GPUs (issue 31): BIG_MEMBER (default
+#                                  stack) scaled to BIG_ELEMENTS (default 20000000), BIG_STEPS (default 3), invariant
+#                                  checks on, its output in $OUT/bigrun_output, a family CSV row (tag *_bigrun), and
+#                                  the last step's surface per body (dipc-surface, where DEVICE_BIN has it) for
+#                                  bench/render_surface.py; BIG_GPUS, BIG_EXTRA (more dipc options), BIG_TIMEOUT
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -144,9 +149,11 @@ case "${1:-}" in
     [[ -n ${FAMILY_ELEMENTS:-} ]] && sizes=(--elements $FAMILY_ELEMENTS)
     # FAMILY_GPUS (e.g. "1 2 4") runs the same sizes on one rank per GPU for each count the
     # host has; each rank keeps its GPU's share of the cores.
+    keep=()
+    [[ -n ${FAMILY_OUTPUT:-} ]] && keep=(--keep-output "$FAMILY_OUTPUT")
     for n in ${FAMILY_GPUS:-1}; do
       ((n <= gpus)) || continue
-      run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members "${sizes[@]}" \
+      run python3 bench/contact_family.py --dipc "$bin/dipc" --members $members "${sizes[@]}" "${keep[@]}" \
         --steps ${FAMILY_STEPS:-3} --ranks $n --cores-per-rank $(( $(nproc) / gpus )) --tag "${card}_${n}gpu${FAMILY_TAG:-}" \
         --out "$out" --timeout ${FAMILY_TIMEOUT:-1800} -- -dipc_backend cuda -vec_type cuda \
         -mat_type $device_mat $staged $device_pc ${FAMILY_EXTRA:-}
@@ -159,6 +166,22 @@ case "${1:-}" in
     else
       echo "family: no CPU build at $cpu_dipc (FAMILY_CPU_DIPC): CPU runs skipped" >&2
     fi ;;
+  bigrun)
+    # The 20.1M-hex stack on 4 H200s took 16 s to its first step and 171 s for 3 steps with its
+    # output (docs/performance.md, "Four H200s, measured"); the surface files are a few per cent
+    # of the output, small enough to copy off the machine.
+    big_out=$out/bigrun_output
+    FAMILY_MEMBERS=${BIG_MEMBER:-stack} FAMILY_ELEMENTS=${BIG_ELEMENTS:-20000000} FAMILY_GPUS=${BIG_GPUS:-$gpus} \
+      FAMILY_STEPS=${BIG_STEPS:-3} FAMILY_CPU_DIPC=/nonexistent FAMILY_TAG=_bigrun FAMILY_OUTPUT=$big_out \
+      FAMILY_TIMEOUT=${BIG_TIMEOUT:-1800} FAMILY_EXTRA="-dipc_check_invariants ${BIG_EXTRA:-}" bash "$0" family
+    for h5 in "$big_out"/*/*.h5; do
+      [[ -e $h5 && $h5 != *checkpoint* ]] || continue
+      if [[ -x $bin/dipc-surface ]]; then
+        run "$bin/dipc-surface" "$h5" "$out/$(basename "$(dirname "$h5")")_surface.vtp" --split-bodies
+      else
+        echo "bigrun: no dipc-surface in $bin: no surface written" >&2
+      fi
+    done ;;
   assembly)
     run mpirun -n 16 "$bin/bench_assembly_throughput" -sizes 10000,100000,1000000,4000000 -repeat 5 \
       -csv "$out/assembly_throughput.csv" ;;
@@ -251,5 +274,5 @@ case "${1:-}" in
       "$out/repro_1.csv" "$out/repro_2.csv" | tee "$out/repro_summary.txt"
     # The per-variant CSVs are in repro_1/2.csv now (and the device tool returns at most 8 files).
     for v in "${variants[@]}"; do rm -f "$out/amg_${v%%|*}.csv"; done ;;
-  *) sed -n '2,32p' "$0"; exit 2 ;;
+  *) sed -n '2,/^set -uo/p' "$0" | sed '$d'; exit 2 ;;
 esac
