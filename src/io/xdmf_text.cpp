@@ -8,7 +8,6 @@
 #include <sstream>
 
 namespace dipc {
-namespace {
 
 std::string xml_escaped(const std::string& text) {
   std::string out;
@@ -24,6 +23,8 @@ std::string xml_escaped(const std::string& text) {
   }
   return out;
 }
+
+namespace {
 
 struct DataItem {
   std::string dimensions;

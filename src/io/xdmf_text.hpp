@@ -11,6 +11,10 @@
 
 namespace dipc {
 
+// text with the five XML special characters as entities, for attribute values and content
+// (also the VTK files of dipc-surface).
+std::string xml_escaped(const std::string& text);
+
 struct XdmfObstacle {
   std::string name;
   int nodes_per_cell = 3;  // 3 Triangle, 4 Quadrilateral

@@ -19,6 +19,7 @@
 
 #include "io/hdf5_handle.hpp"
 #include "io/hdf5_rows.hpp"
+#include "io/xdmf_text.hpp"
 #include "mesh/boundary_faces.hpp"
 #include "mesh/mesh_error.hpp"
 
@@ -235,20 +236,6 @@ std::uint64_t write_vtp(const std::string& path, const QuadSurface& s, double ti
       "  <AppendedData encoding=\"raw\">\n"
       "   _";
   return write_file(path, xml, &data, "\n  </AppendedData>\n</VTKFile>\n");
-}
-
-std::string xml_escaped(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 struct Block {
