@@ -48,6 +48,11 @@
 #                                  checks on, its output in $OUT/bigrun_output, a family CSV row (tag *_bigrun), and
 #                                  the last step's surface per body (dipc-surface, where DEVICE_BIN has it) for
 #                                  bench/render_surface.py; BIG_GPUS, BIG_EXTRA (more dipc options), BIG_TIMEOUT
+#   bench/gpu_runs.sh amgstats     BoomerAMG's hierarchy (levels, rows and nonzeros per level, complexities) for
+#                                  the stack at AMGSTATS_ELEMENTS (default 1000000) per GPU on 1 GPU and on all the
+#                                  host's GPUs (AMGSTATS_GPUS), 2 steps: why a V-cycle costs 5x on 4 GPUs what it
+#                                  costs on 1 (docs/performance.md, "Four H200s, measured"); summary in
+#                                  $OUT/amgstats_summary.txt, each run's whole log beside it
 set -uo pipefail
 # Device-resident runs assemble straight into hypre's device matrix (-mat_type hypre) and run
 # BoomerAMG there; -mat_type aijcusparse also works, but PCHYPRE then converts the matrix at every
@@ -182,6 +187,20 @@ case "${1:-}" in
         echo "bigrun: no dipc-surface in $bin: no surface written" >&2
       fi
     done ;;
+  amgstats)
+    for n in ${AMGSTATS_GPUS:-1 $gpus}; do
+      FAMILY_MEMBERS=stack FAMILY_ELEMENTS=$((n * ${AMGSTATS_ELEMENTS:-1000000})) FAMILY_GPUS=$n FAMILY_STEPS=2 \
+        FAMILY_CPU_DIPC=/nonexistent FAMILY_TAG=_amgstats FAMILY_TIMEOUT=${AMGSTATS_TIMEOUT:-300} \
+        FAMILY_EXTRA="-pc_hypre_boomeramg_print_statistics 1" bash "$0" family
+    done
+    # hypre prints one table per setup; the first setup of each run (its levels' rows and
+    # nonzeros, and the complexities) goes into the summary.
+    for log in "$out"/contact_family_*_amgstats_stack_*.log; do
+      echo "== $log"
+      awk '/BoomerAMG SETUP PARAMETERS/ { n++ } n == 1' "$log" |
+        grep -E "Num MPI tasks|Num levels|^ *[0-9]+ +[0-9]+ +[0-9]+ |Complexity|operator =|memory =" | head -40
+    done > "$out/amgstats_summary.txt"
+    cat "$out/amgstats_summary.txt" ;;
   assembly)
     run mpirun -n 16 "$bin/bench_assembly_throughput" -sizes 10000,100000,1000000,4000000 -repeat 5 \
       -csv "$out/assembly_throughput.csv" ;;
