@@ -28,6 +28,7 @@
 #include "app/setup_heap.hpp"
 #include "app/stop_signals.hpp"
 #include "assembly/device_matrix.hpp"
+#include "device/allocation_ledger.hpp"
 #include "device/device_runtime.hpp"
 #include "io/stats_csv.hpp"
 #include "io/xdmf_writer.hpp"
@@ -375,6 +376,10 @@ PetscErrorCode print_header(MPI_Comm comm, const Scene& scene, const Distributed
                           device::name(backend.device).c_str(), per_rank.c_str(), max_used / 1048576.0,
                           max_used / std::max(1, ne_max), device_bytes_per_element(device_use.matrix_on_device),
                           device_use.matrix_on_device ? " with the matrix and its copy for the preconditioner" : ""));
+    // Where dipc's own share goes, on rank 0 (PETSc's vectors and matrix and hypre's hierarchy
+    // are the rest of "setup used").
+    PetscCall(PetscPrintf(comm, "  dipc's device arrays on rank 0 after the setup: %s\n",
+                          device::allocation_ledger().per_element(static_cast<std::size_t>(ne), 6).c_str()));
     PetscCall(PetscPrintf(comm, "  MPI %s\n", gpu_aware_mpi.description.c_str()));
     if (!hypre_memory.empty()) PetscCall(PetscPrintf(comm, "  %s\n", hypre_memory.c_str()));
   }

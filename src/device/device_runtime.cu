@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "device/allocation_ledger.hpp"
 #include "device/block_cache.hpp"
 #include "device/cuda_check.cuh"
 
@@ -59,11 +60,14 @@ void* allocate(std::size_t bytes, const char* what) {
                   bytes / 1048576.0, what, cudaGetErrorString(status), free_bytes / 1048576.0, total / 1048576.0);
     throw DeviceError(msg);
   }
+  allocation_ledger().add(p, bytes, what);
   return p;
 }
 
 void release(void* p) noexcept {
-  if (p) cudaFree(p);
+  if (!p) return;
+  allocation_ledger().remove(p);
+  cudaFree(p);
 }
 
 void copy_to_device(void* dst, const void* src, std::size_t bytes) {
