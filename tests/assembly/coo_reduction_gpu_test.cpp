@@ -127,24 +127,39 @@ std::vector<std::int32_t> random_elements(std::mt19937_64& rng, int count, int f
   return nodes;
 }
 
+// Two element forms on a rank owning nodes [1000, 2500): elastic elements over nodes [0, 2500)
+// and consistent-mass elements over [2000, 3000), so that some blocks hold the mass's diagonal
+// only; their values behind 7 values of something else, as in the potential's raw array; and
+// the host's sums of them.
+struct TwoFormSums {
+  explicit TwoFormSums(std::uint64_t seed) : rng(seed) {
+    l2g = shuffled_global_ids(rng, 3000);
+    elastic = random_elements(rng, 2000, 0, 2500);
+    mass = random_elements(rng, 600, 2000, 1000);
+    const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
+    const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
+    blocks = NodeBlockReduction::build(
+        {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7},
+         {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass},
+          7 + elastic_raw}},
+        1000, 2500);
+    raw = spread_values(rng, 7 + elastic_raw + mass_raw);
+    host.resize(blocks.num_entries());
+    blocks.reduce(raw.data(), host.data());
+  }
+  std::mt19937_64 rng;
+  std::vector<std::int64_t> l2g;
+  std::vector<std::int32_t> elastic, mass;
+  NodeBlockReduction blocks;
+  std::vector<double> raw, host;
+};
+
 TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
-  std::mt19937_64 rng(12);
-  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
-  // Elastic elements over nodes [0, 2500), mass elements over [2000, 3000): some blocks hold the
-  // mass's diagonal only.
-  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
-  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
-  const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
-  const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
-  // The forms' values behind 7 values of something else, as in the potential's raw array.
-  const NodeBlockReduction blocks = NodeBlockReduction::build(
-      {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7},
-       {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 7 + elastic_raw}},
-      1000, 2500);
-  const std::vector<double> raw = spread_values(rng, 7 + elastic_raw + mass_raw);
-  std::vector<double> host(blocks.num_entries());
-  blocks.reduce(raw.data(), host.data());
+  const TwoFormSums sums(12);
+  const NodeBlockReduction& blocks = sums.blocks;
+  const std::vector<double>& raw = sums.raw;
+  const std::vector<double>& host = sums.host;
 
   device::Array<double> d_raw("raw"), d_unique("unique");
   device::Array<std::uint16_t> d_mask("mask");
@@ -176,19 +191,10 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
 // reduction's bits, for chunks of one element, of a few, and of all.
 TEST(CooReductionGpu, NodeBlockSumsChunkByChunkEqualTheWholeSumsBitForBit) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
-  std::mt19937_64 rng(13);
-  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
-  const std::vector<std::int32_t> elastic = random_elements(rng, 2000, 0, 2500);
-  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
-  const std::size_t elastic_raw = kElasticCooPerElement * elastic.size() / 8;
-  const std::size_t mass_raw = kMassCooPerElement * mass.size() / 8;
-  const NodeBlockReduction blocks = NodeBlockReduction::build(
-      {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 7},
-       {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 7 + elastic_raw}},
-      1000, 2500);
-  const std::vector<double> raw = spread_values(rng, 7 + elastic_raw + mass_raw);
-  std::vector<double> host(blocks.num_entries());
-  blocks.reduce(raw.data(), host.data());
+  const TwoFormSums sums(13);
+  const NodeBlockReduction& blocks = sums.blocks;
+  const std::vector<double>& raw = sums.raw;
+  const std::vector<double>& host = sums.host;
   ASSERT_GT(host.size(), 0u);
 
   device::Array<double> d_chunk("chunk"), d_unique("unique");
@@ -206,7 +212,7 @@ TEST(CooReductionGpu, NodeBlockSumsChunkByChunkEqualTheWholeSumsBitForBit) {
   }
   for (std::size_t m = 0; m < blocks.forms.size(); ++m)
     maps.push_back({blocks.forms[m].layout, blocks.forms[m].raw_begin, d_off[m].data(), d_src[m].data()});
-  const std::size_t num_elements[2] = {elastic.size() / 8, mass.size() / 8};
+  const std::size_t num_elements[2] = {sums.elastic.size() / 8, sums.mass.size() / 8};
   for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{300}, std::size_t{5000}}) {
     d_unique.resize(blocks.num_entries());
     d_unique.set_zero();
