@@ -48,10 +48,6 @@ bool DeviceElasticPart::gradient(const double* x, double scale, double* g) {
   return device::elastic_evaluate(device_.block(), x, scale, nullptr, g, nullptr, reducer_);
 }
 
-bool DeviceElasticPart::hessian(const double* x, double scale, double* values) {
-  return device::elastic_evaluate(device_.block(), x, scale, nullptr, nullptr, values, reducer_);
-}
-
 bool DeviceElasticPart::hessian(const double* x, double scale, int first, int count, double* values) {
   return device::elastic_evaluate(element_range(device_.block(), first, count), x, scale, nullptr, nullptr, values,
                                   reducer_);
@@ -119,11 +115,6 @@ bool DeviceConsistentInertiaPart::value(const double* x, double* energy) {
 
 bool DeviceConsistentInertiaPart::gradient(const double* x, double* g) {
   device::consistent_inertia_gradient(device_.block(), element_mass_.data(), x_hat_.data(), x, g);
-  return true;
-}
-
-bool DeviceConsistentInertiaPart::hessian(double* values) {
-  device::copy_on_device(values, hessian_.data(), hessian_.size() * sizeof(double));
   return true;
 }
 

@@ -35,8 +35,7 @@ class DeviceElasticPart {
   explicit DeviceElasticPart(const ElementData& elements) : device_(elements) {}
   bool value(const double* x, double scale, double* energy);
   bool gradient(const double* x, double scale, double* g);
-  bool hessian(const double* x, double scale, double* values);
-  // Elements [first, first + count) only, their values from element `first` on.
+  // The values of elements [first, first + count), from element `first` on.
   bool hessian(const double* x, double scale, int first, int count, double* values);
   bool is_valid(const double* x);
   double min_volume_ratio(const double* x);
@@ -71,8 +70,7 @@ class DeviceConsistentInertiaPart {
   void begin_step(const double* x_hat);  // host array of all local dofs
   bool value(const double* x, double* energy);
   bool gradient(const double* x, double* g);
-  bool hessian(double* values);
-  bool hessian(int first, int count, double* values);  // elements [first, first + count) only
+  bool hessian(int first, int count, double* values);  // elements [first, first + count)
 
  private:
   DeviceElementData device_;

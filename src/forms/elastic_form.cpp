@@ -68,7 +68,6 @@ void ElasticForm::coo_pattern(std::vector<PetscInt>* rows, std::vector<PetscInt>
 }
 
 bool ElasticForm::hessian(const double* x, double* values) {
-  if (device_) return device_->hessian(x, scale_, values);
   return element_hessian(x, 0, elements_.num_elements(), values);
 }
 

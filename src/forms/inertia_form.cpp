@@ -110,7 +110,6 @@ void ConsistentInertiaForm::coo_pattern(std::vector<PetscInt>* rows, std::vector
 }
 
 bool ConsistentInertiaForm::hessian(const double* x, double* values) {
-  if (device_) return device_->hessian(values);
   return element_hessian(x, 0, elements_.num_elements(), values);
 }
 
