@@ -256,6 +256,10 @@ case "${1:-}" in
       # Chebyshev smoothing: no inner products, fewer synchronisations per V-cycle level on
       # several GPUs, where the CG iteration grows 1.3-1.7x from 1 to 2 (docs/performance.md).
       "cheby|-pc_hypre_boomeramg_relax_type_all Chebyshev"
+      # Fewer or thinner coarse levels: each level of a V-cycle makes about five halo exchanges on
+      # several GPUs, each a synchronisation, whatever the level's size (docs/performance.md).
+      "maxlev6|-pc_hypre_boomeramg_max_levels 6"
+      "pmax2|-pc_hypre_boomeramg_P_max 2"
     )
     sweep amg_sweep 2 "${variants[@]}" ;;
   reuse)

@@ -543,39 +543,17 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   upload_ints(hypre_CSRMatrixI(diag), diag_i_);
   upload_ints(hypre_CSRMatrixI(offd), offd_i_);
 
-  // The rows of node blocks alone, written on the device; then the host's rows and positions
-  // scattered in. Entries of other ranks' rows keep kRemote.
-  d_position_.resize(num_entries_);
-  device::fill(d_position_.data(), kRemote, num_entries_);
-  if (blocks && !device_block_row_.empty()) {
-    device::Array<std::int64_t> d_block_row("matrix block rows"), d_col("matrix block columns"),
-        d_col_map("matrix column map");
-    device::Array<std::uint64_t> d_row_start("matrix block row starts"), d_start("matrix block starts");
-    device::Array<std::uint16_t> d_mask("matrix block masks");
-    d_block_row.upload(device_block_row_);
-    d_row_start.upload(blocks->row_start.data(), blocks->row_start.size());
-    d_col.upload(blocks->block_col);
-    d_mask.upload(blocks->block_mask);
-    d_start.upload(blocks->block_start);
+  // The rows of node blocks alone, written on the device from compact copies of the blocks,
+  // kept to write their values at every assembly (set_values); then the host's rows.
+  PetscCall(upload_block_rows(blocks, m));
+  if (block_rows_.num_rows) {
+    device::Array<std::int64_t> d_col_map("matrix column map");
     d_col_map.upload(col_map);
-    device::BlockRows rows;
-    rows.num_rows = static_cast<std::size_t>(m);
-    rows.row_begin = begin;
-    rows.block_row = d_block_row.data();
-    rows.row_start = d_row_start.data();
-    rows.col = d_col.data();
-    rows.mask = d_mask.data();
-    rows.start = d_start.data();
-    rows.diag_i = hypre_CSRMatrixI(diag);
-    rows.offd_i = hypre_CSRMatrixI(offd);
-    rows.col_map = d_col_map.data();
-    rows.col_map_size = col_map.size();
-    rows.num_diag = num_diag_;
-    rows.diag_j = hypre_CSRMatrixJ(diag);
-    rows.offd_j = hypre_CSRMatrixJ(offd);
-    rows.position = d_position_.data();
-    device::write_block_rows(rows);
-    device::synchronize();  // before the uploaded arrays go
+    block_rows_.diag_i = hypre_CSRMatrixI(diag);
+    block_rows_.offd_i = hypre_CSRMatrixI(offd);
+    device::write_block_rows(block_rows_, d_col_map.data(), col_map.size(), hypre_CSRMatrixJ(diag),
+                             hypre_CSRMatrixJ(offd));
+    device::synchronize();  // before the column map goes
   }
   const auto scatter = [](auto* out, const std::vector<std::uint32_t>& index, const auto& value) {
     if (index.empty()) return;
@@ -601,9 +579,15 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
       }
     });
     scatter(hypre_CSRMatrixJ(offd), index, columns);
+  }
+  {
+    // The host's rows' own entries: (entry, position) pairs, their values scattered at every
+    // assembly.
     std::vector<std::uint32_t> entries, positions;
+    entries.reserve(side_position_.size()), positions.reserve(side_position_.size());
     for (const auto& [entry, p] : side_position_) entries.push_back(entry), positions.push_back(p);
-    scatter(d_position_.data(), entries, positions);
+    d_side_entry_.upload(entries);
+    d_side_position_.upload(positions);
   }
   if (num_diag_) device::zero(hypre_CSRMatrixData(diag), num_diag_ * sizeof(double));
   if (num_offd_) device::zero(hypre_CSRMatrixData(offd), num_offd_ * sizeof(double));
@@ -626,15 +610,68 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd) const {
+PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows) {
+  PetscFunctionBeginUser;
+  block_rows_ = device::BlockRows{};
+  const bool any = blocks && std::any_of(device_block_row_.begin(), device_block_row_.end(),
+                                         [](std::int64_t s) { return s >= 0; });
+  if (!any) {
+    for (auto* a : {&d_block_row_start_, &d_block_col_, &d_block_start_}) a->resize(0);
+    d_block_row_.resize(0), d_block_mask_.resize(0);
+    blocks_id_ = 0;
+    PetscFunctionReturn(0);
+  }
+  const std::vector<std::int32_t> block_row(device_block_row_.begin(), device_block_row_.end());
+  d_block_row_.upload(block_row);
+  // The element blocks are the same for a run's matrices (only which rows are blocks alone
+  // changes with the contact entries): narrowed and copied once, not at every new pattern
+  // (27.5M blocks at 1M hexes).
+  if (blocks->id != blocks_id_) PetscCall(upload_blocks(*blocks));
+  block_rows_.num_rows = static_cast<std::size_t>(num_rows);
+  block_rows_.row_begin = row_begin_;
+  block_rows_.block_row = d_block_row_.data();
+  block_rows_.row_start = d_block_row_start_.data();
+  block_rows_.col = d_block_col_.data();
+  block_rows_.mask = d_block_mask_.data();
+  block_rows_.start = d_block_start_.data();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
+  PetscFunctionBeginUser;
+  // 32 bits hold them: a rank's entries (hence its blocks) stay below 2^32 (send_remote_entries
+  // checks) and its node block rows below 2^31; the column nodes are checked here.
+  bool fits = true;
+  const auto narrowed = [&fits](const auto& wide) {
+    std::vector<std::uint32_t> out(wide.size());
+    for (std::size_t k = 0; k < wide.size(); ++k) {
+      fits = fits && static_cast<std::uint64_t>(wide[k]) <= 0xffffffffu;
+      out[k] = static_cast<std::uint32_t>(wide[k]);
+    }
+    return out;
+  };
+  d_block_row_start_.upload(narrowed(blocks.row_start));
+  d_block_col_.upload(narrowed(blocks.block_col));
+  d_block_start_.upload(narrowed(blocks.block_start));
+  PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "a device matrix's node blocks need node ids and a rank's entries below 2^32: run on more ranks");
+  d_block_mask_.upload(blocks.block_mask);
+  blocks_id_ = blocks.id;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectMatrix::hypre_values(Mat J, double** diag, double** offd, const int** diag_i,
+                                          const int** offd_i) const {
   PetscFunctionBeginUser;
 #if PetscDefined(HAVE_HYPRE_DEVICE)
   hypre_ParCSRMatrix* A = nullptr;
   PetscCall(MatHYPREGetParCSR(J, &A));
   *diag = hypre_CSRMatrixData(hypre_ParCSRMatrixDiag(A));
   *offd = hypre_CSRMatrixData(hypre_ParCSRMatrixOffd(A));
+  *diag_i = hypre_CSRMatrixI(hypre_ParCSRMatrixDiag(A));
+  *offd_i = hypre_CSRMatrixI(hypre_ParCSRMatrixOffd(A));
 #else
-  (void)J, (void)diag, (void)offd;
+  (void)J, (void)diag, (void)offd, (void)diag_i, (void)offd_i;
 #endif
   PetscFunctionReturn(0);
 }
@@ -646,8 +683,11 @@ PetscErrorCode DirectMatrix::set_values(Mat J, const double* values) {
     d_slot_sums_.resize(ns);
     remote_.sum_to_device(values, d_slot_sums_.data());
     double *diag = nullptr, *offd = nullptr;
-    PetscCall(hypre_values(J, &diag, &offd));
-    device::scatter_split(values, d_position_.data(), num_entries_, diag, nd, offd);
+    PetscCall(hypre_values(J, &diag, &offd, &block_rows_.diag_i, &block_rows_.offd_i));
+    // Block rows, the host's rows and the received slots (which lie in the host's rows) are
+    // disjoint entries of the matrix: the three writes do not meet.
+    device::write_block_row_values(block_rows_, values, diag, offd);
+    device::scatter_split(values, d_side_entry_.data(), d_side_position_.data(), d_side_entry_.size(), diag, nd, offd);
     if (ns) device::add_split(d_slot_sums_.data(), d_slot_position_.data(), d_slot_keep_.data(), ns, diag, nd, offd);
     device::synchronize();
   } else {

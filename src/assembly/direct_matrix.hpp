@@ -5,7 +5,8 @@
 // keeps a permutation and offsets (16 B) per entry beside the matrix. At 125,000 hexes on one
 // rank it was 78 % of the setup (3.6 of 4.6 s) and at 1M hexes on one H100 most of the 28 s
 // (docs/performance.md, "Setup"). Here each rank sorts only its rows' short column lists once,
-// hands PETSc (or hypre) arrays it does not copy, and keeps one 4 B position per entry.
+// hands PETSc (or hypre) arrays it does not copy, and keeps one 4 B position per entry (on the
+// device, only for the rows that are not node blocks alone: see below).
 //
 // Entries of rows another rank owns (the ghost rows of a rank's elements) go to their owner
 // once at creation, which adds them to its pattern; at every assembly their values travel to
@@ -19,8 +20,10 @@
 //                 device (MatCreateFromParCSR), the diagonal first in each row of its diagonal
 //                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
 //                 through its ascending column map. The rows made of node blocks alone (nearly
-//                 all) are written on the device (device::write_block_rows); the host counts
-//                 them and writes the others.
+//                 all) are written on the device (device::write_block_rows), and their values
+//                 at every assembly by the same walk over the blocks (10 B per block kept,
+//                 against 4 B per entry, 36 per full block); the host counts them and writes
+//                 the others, whose entries keep their positions.
 // Values are given in the entry order of create(): host memory for host_aij, device memory for
 // device_hypre.
 #pragma once
@@ -32,6 +35,7 @@
 
 #include "assembly/large_page_vector.hpp"
 #include "assembly/node_block_reduction.hpp"
+#include "assembly/cuda/block_rows.hpp"
 #include "assembly/remote_entry_sums.hpp"
 #include "device/device_runtime.hpp"
 
@@ -79,8 +83,8 @@ class DirectMatrix {
   void finish_offd_positions();
   PetscErrorCode make_host_aij(Mat like, Mat* J);
   PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
-  // device_hypre: J's value arrays on the device.
-  PetscErrorCode hypre_values(Mat J, double** diag, double** offd) const;
+  // device_hypre: J's value arrays and row starts on the device.
+  PetscErrorCode hypre_values(Mat J, double** diag, double** offd, const int** diag_i, const int** offd_i) const;
   // host_aij: J's diagonal and off-diagonal blocks (offd null on a SEQAIJ) and the latter's
   // global columns.
   static PetscErrorCode aij_blocks(Mat J, Mat* diag, Mat* offd, const PetscInt** garray);
@@ -113,7 +117,19 @@ class DirectMatrix {
   RemoteEntrySums remote_;  // the values of this rank's entries of other ranks' rows, to their slots
   std::size_t num_diag_ = 0, num_offd_ = 0;
   std::vector<double> slot_sums_;
-  device::Array<std::uint32_t> d_position_{"matrix positions"}, d_slot_position_{"matrix slot positions"};
+  // device_hypre: the rows of node blocks alone are walked again at every assembly
+  // (device::write_block_row_values) from the matrix's compact copies of the blocks, 10 B per
+  // block instead of a 4 B position per entry; the host's rows' own entries keep theirs.
+  PetscErrorCode upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows);
+  PetscErrorCode upload_blocks(const NodeBlockReduction& blocks);
+  std::uint64_t blocks_id_ = 0;  // the NodeBlockReduction the device copies below are of (0: none)
+  device::BlockRows block_rows_;
+  device::Array<std::int32_t> d_block_row_{"matrix block rows"};
+  device::Array<std::uint32_t> d_block_row_start_{"matrix block row starts"}, d_block_col_{"matrix block columns"},
+      d_block_start_{"matrix block entry starts"};
+  device::Array<std::uint16_t> d_block_mask_{"matrix block masks"};
+  device::Array<std::uint32_t> d_side_entry_{"matrix host-row entries"}, d_side_position_{"matrix host-row positions"};
+  device::Array<std::uint32_t> d_slot_position_{"matrix slot positions"};
   device::Array<std::uint8_t> d_slot_keep_{"matrix slot flags"};
   device::Array<double> d_slot_sums_{"matrix slot sums"};
 };

@@ -1,5 +1,7 @@
 #include "assembly/node_block_reduction.hpp"
 
+#include <atomic>
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -73,6 +75,11 @@ RowSlots row_slots(const std::vector<NodeBlockReduction::Input>& inputs, std::in
   return r;
 }
 }  // namespace
+
+std::uint64_t NodeBlockReduction::next_id() {
+  static std::atomic<std::uint64_t> made{0};
+  return ++made;
+}
 
 NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
                                              std::int64_t owned_end) {

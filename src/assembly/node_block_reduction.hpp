@@ -103,6 +103,12 @@ class NodeBlockReduction {
   LargePageVector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)
   LargePageVector<std::uint64_t> block_start;  // first entry of each block; num_blocks() + 1
   std::vector<FormMap> forms;                  // in the order of build()'s inputs
+  // Distinct for every NodeBlockReduction made (a copy keeps its original's): DirectMatrix keeps
+  // its device copy of the blocks across new matrices while the id it copied holds.
+  std::uint64_t id = next_id();
+
+ private:
+  static std::uint64_t next_id();
 };
 
 }  // namespace dipc

@@ -127,11 +127,10 @@ __device__ inline double& split_at(double* diag, std::size_t num_diag, double* o
   return p < num_diag ? diag[p] : offd[p - num_diag];
 }
 
-__global__ void scatter_split_kernel(const double* values, const std::uint32_t* pos, std::size_t n, double* diag,
-                                     std::size_t num_diag, double* offd) {
-  const std::size_t u = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
-  if (u >= n || pos[u] == 0xffffffffu) return;
-  split_at(diag, num_diag, offd, pos[u]) = values[u];
+__global__ void scatter_split_kernel(const double* values, const std::uint32_t* entry, const std::uint32_t* pos,
+                                     std::size_t n, double* diag, std::size_t num_diag, double* offd) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k < n) split_at(diag, num_diag, offd, pos[k]) = values[entry[k]];
 }
 
 __global__ void gather_kernel(double* out, const double* values, const std::uint32_t* index, std::size_t n) {
@@ -294,10 +293,10 @@ void add_by_target(double* values, const std::uint32_t* keys, const std::uint32_
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
-void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n, double* diag, std::size_t num_diag,
-                   double* offd) {
+void scatter_split(const double* values, const std::uint32_t* entry, const std::uint32_t* pos, std::size_t n,
+                   double* diag, std::size_t num_diag, double* offd) {
   if (!n) return;
-  scatter_split_kernel<<<blocks_for(n, 256), 256>>>(values, pos, n, diag, num_diag, offd);
+  scatter_split_kernel<<<blocks_for(n, 256), 256>>>(values, entry, pos, n, diag, num_diag, offd);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

@@ -132,9 +132,9 @@ void eliminate(double* values, const std::size_t* zero, std::size_t num_zero, co
 void add_at(double* values, const std::size_t* index, const double* add, std::size_t n, std::size_t fresh_from);
 // A matrix's values split in two arrays (a diagonal and an off-diagonal block, as AIJ and
 // hypre's ParCSR keep them): position p < num_diag is diag[p], else offd[p - num_diag].
-// store[pos[u]] = values[u] for u < n, skipping pos[u] == 0xffffffff (entries another rank holds).
-void scatter_split(const double* values, const std::uint32_t* pos, std::size_t n, double* diag, std::size_t num_diag,
-                   double* offd);
+// store[pos[k]] = values[entry[k]] for k < n, the positions distinct.
+void scatter_split(const double* values, const std::uint32_t* entry, const std::uint32_t* pos, std::size_t n,
+                   double* diag, std::size_t num_diag, double* offd);
 // out[k] = values[index[k]] for k < n.
 void gather(double* out, const double* values, const std::uint32_t* index, std::size_t n);
 // store[pos[s]] = (keep[s] ? store[pos[s]] : 0) + add[s] for s < n, the positions distinct.

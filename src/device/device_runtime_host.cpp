@@ -41,7 +41,7 @@ void eliminate(double*, const std::size_t*, std::size_t, const std::size_t*, std
   no_cuda("device elimination");
 }
 void add_at(double*, const std::size_t*, const double*, std::size_t, std::size_t) { no_cuda("device add_at"); }
-void scatter_split(const double*, const std::uint32_t*, std::size_t, double*, std::size_t, double*) {
+void scatter_split(const double*, const std::uint32_t*, const std::uint32_t*, std::size_t, double*, std::size_t, double*) {
   no_cuda("device matrix values");
 }
 void gather(double*, const double*, const std::uint32_t*, std::size_t) { no_cuda("device gather"); }

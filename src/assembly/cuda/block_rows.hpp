@@ -10,35 +10,32 @@ namespace dipc::device {
 
 // Row r (of num_rows, global row row_begin + r = 3 node + i) with block_row[r] >= 0 is the
 // i-th row of node block row s = block_row[r]: blocks k in [row_start[s], row_start[s + 1]),
-// column node col[k], entries present mask[k] (bit 3i + j), first entry start[k]. Its diagonal
-// comes first (as hypre's smoothers read a row), then its other columns ascending; those in
-// [row_begin, row_begin + num_rows) go to diag_j from diag_i[r] (relative to row_begin), the
-// others to offd_j from offd_i[r] (their index in the ascending col_map). Each entry's position
-// goes to position[start[k] + rank of its bit in mask[k]]: its diag_j index, or num_diag + its
-// offd_j index. Rows with block_row[r] < 0 are left alone. All pointers are device memory.
+// column node col[k], entries present mask[k] (bit 3i + j), first entry start[k] (an entry's
+// index is start[k] + the rank of its bit in mask[k]). Its diagonal comes first (as hypre's
+// smoothers read a row), then its other columns ascending; those in [row_begin, row_begin +
+// num_rows) are the diagonal block's, from diag_i[r], the others the off-diagonal block's, from
+// offd_i[r]. Rows with block_row[r] < 0 are left alone. All pointers are device memory; the
+// 32-bit arrays are the matrix's own compact copies of NodeBlockReduction's (10 B per block).
 struct BlockRows {
   std::size_t num_rows = 0;
   std::int64_t row_begin = 0;
-  const std::int64_t* block_row = nullptr;
-  const std::uint64_t* row_start = nullptr;
-  const std::int64_t* col = nullptr;
+  const std::int32_t* block_row = nullptr;
+  const std::uint32_t* row_start = nullptr;
+  const std::uint32_t* col = nullptr;
   const std::uint16_t* mask = nullptr;
-  const std::uint64_t* start = nullptr;
+  const std::uint32_t* start = nullptr;
   const int* diag_i = nullptr;
   const int* offd_i = nullptr;
-  const std::int64_t* col_map = nullptr;
-  std::size_t col_map_size = 0;
-  std::size_t num_diag = 0;
-  int* diag_j = nullptr;
-  int* offd_j = nullptr;
-  std::uint32_t* position = nullptr;
 };
-void write_block_rows(const BlockRows& rows);
+// The rows' columns: diag_j relative to row_begin, offd_j as the index in the ascending col_map.
+void write_block_rows(const BlockRows& rows, const std::int64_t* col_map, std::size_t col_map_size, int* diag_j,
+                      int* offd_j);
+// The rows' values at every assembly, walked in the order write_block_rows wrote the columns:
+// each entry's value, values[entry], to its place in diag or offd. This walk replaces a stored
+// 4 B position per entry (992 B per hex, the largest of dipc's device arrays).
+void write_block_row_values(const BlockRows& rows, const double* values, double* diag, double* offd);
 
-// out[i] = value for i < n.
-void fill(std::uint32_t* out, std::uint32_t value, std::size_t n);
 // out[index[k]] = value[k] for k < n (distinct indices).
-void scatter(std::uint32_t* out, const std::uint32_t* index, const std::uint32_t* value, std::size_t n);
 void scatter(int* out, const std::uint32_t* index, const int* value, std::size_t n);
 
 }  // namespace dipc::device

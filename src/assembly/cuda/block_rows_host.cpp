@@ -11,9 +11,8 @@ namespace {
 }
 }  // namespace
 
-void write_block_rows(const BlockRows&) { no_cuda(); }
-void fill(std::uint32_t*, std::uint32_t, std::size_t) { no_cuda(); }
-void scatter(std::uint32_t*, const std::uint32_t*, const std::uint32_t*, std::size_t) { no_cuda(); }
+void write_block_rows(const BlockRows&, const std::int64_t*, std::size_t, int*, int*) { no_cuda(); }
+void write_block_row_values(const BlockRows&, const double*, double*, double*) { no_cuda(); }
 void scatter(int*, const std::uint32_t*, const int*, std::size_t) { no_cuda(); }
 
 }  // namespace dipc::device
