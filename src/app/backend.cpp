@@ -78,10 +78,10 @@ std::size_t device_bytes_per_element(bool matrix_on_device) {
     // are computed and summed chunk by chunk (one chunk's buffer, check_device_memory) into the
     // unique entries through the node-block map (NodeBlockReduction): 4 B per element node pair
     // (64 per element and element form) and, per node block (27 per node), 4 B per element form,
-    // 2 B of mask and 8 B of start; 8 B per unique entry for the sums, and PETSc's COO maps of
-    // the unique entries (8 B each way).
+    // 2 B of mask, 4 B of start and the matrix's 4 B column node (DirectMatrix); 8 B per unique
+    // entry for the sums, and PETSc's COO maps of the unique entries (8 B each way).
     bytes += 2 * unique_per_element * (8 + 4) + element_forms * 64 * 4 +
-             blocks_per_element * (element_forms * 4 + 2 + 8) + unique_per_element * (8 + 2 * 8);
+             blocks_per_element * (element_forms * 4 + 2 + 4 + 4) + unique_per_element * (8 + 2 * 8);
   } else {
     // The element forms' values (576 elastic, 192 consistent mass) cross to the host matrix.
     bytes += (kElasticCooPerElement + kMassCooPerElement) * 8;

@@ -632,9 +632,18 @@ PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks,
   block_rows_.block_row = d_block_row_.data();
   block_rows_.row_start = d_block_row_start_.data();
   block_rows_.col = d_block_col_.data();
-  block_rows_.mask = d_block_mask_.data();
-  block_rows_.start = d_block_start_.data();
+  block_rows_.mask = block_mask_;
+  block_rows_.start = block_start_;
   PetscFunctionReturn(0);
+}
+
+void DirectMatrix::share_blocks(std::uint64_t blocks_id, const std::uint16_t* d_mask, const std::uint32_t* d_start) {
+  const std::uint64_t id = d_mask && d_start ? blocks_id : 0;
+  if (id == shared_id_ && d_mask == shared_mask_ && d_start == shared_start_) return;
+  shared_id_ = id;
+  shared_mask_ = d_mask;
+  shared_start_ = d_start;
+  blocks_id_ = 0;  // changed: the next create() takes the shared arrays or makes its own again
 }
 
 PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
@@ -652,10 +661,16 @@ PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
   };
   d_block_row_start_.upload(narrowed(blocks.row_start));
   d_block_col_.upload(narrowed(blocks.block_col));
-  d_block_start_.upload(narrowed(blocks.block_start));
+  if (blocks.id == shared_id_) {
+    d_block_start_.resize(0), d_block_mask_.resize(0);
+    block_mask_ = shared_mask_, block_start_ = shared_start_;
+  } else {
+    d_block_start_.upload(narrowed(blocks.block_start));
+    d_block_mask_.upload(blocks.block_mask);
+    block_mask_ = d_block_mask_.data(), block_start_ = d_block_start_.data();
+  }
   PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "a device matrix's node blocks need node ids and a rank's entries below 2^32: run on more ranks");
-  d_block_mask_.upload(blocks.block_mask);
   blocks_id_ = blocks.id;
   PetscFunctionReturn(0);
 }

@@ -63,6 +63,11 @@ class DirectMatrix {
   PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J) {
     return create(like, kind, nullptr, rows, cols, n, J);
   }
+  // device_hypre: the node blocks' masks and 32-bit entry starts of the NodeBlockReduction
+  // blocks_id, on the device, where another part keeps them (ElementBlockPart): later create()s of
+  // those blocks use them instead of copies of their own (165 B per hex). They must outlive
+  // this matrix's use.
+  void share_blocks(std::uint64_t blocks_id, const std::uint16_t* d_mask, const std::uint32_t* d_start);
   // Collective. J's values from values[k] for the entries k of create() (on the host for
   // host_aij, on the device for device_hypre). J must be the matrix create() made last.
   PetscErrorCode set_values(Mat J, const double* values);
@@ -123,6 +128,11 @@ class DirectMatrix {
   PetscErrorCode upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows);
   PetscErrorCode upload_blocks(const NodeBlockReduction& blocks);
   std::uint64_t blocks_id_ = 0;  // the NodeBlockReduction the device copies below are of (0: none)
+  std::uint64_t shared_id_ = 0;
+  const std::uint16_t* shared_mask_ = nullptr;
+  const std::uint32_t* shared_start_ = nullptr;
+  const std::uint16_t* block_mask_ = nullptr;   // shared_mask_ or d_block_mask_'s
+  const std::uint32_t* block_start_ = nullptr;  // shared_start_ or d_block_start_'s
   device::BlockRows block_rows_;
   device::Array<std::int32_t> d_block_row_{"matrix block rows"};
   device::Array<std::uint32_t> d_block_row_start_{"matrix block row starts"}, d_block_col_{"matrix block columns"},

@@ -23,9 +23,7 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
       d_block_mask_.resize(on_device.mask.size());
       device::copy_on_device(d_block_mask_.data(), on_device.mask.data(),
                              on_device.mask.size() * sizeof(std::uint16_t));
-      d_block_start_.resize(on_device.start.size());
-      device::copy_on_device(d_block_start_.data(), on_device.start.data(),
-                             on_device.start.size() * sizeof(std::uint64_t));
+      d_block_start_.upload(blocks_.block_start_32());
       for (std::size_t m = 0; m < inputs.size(); ++m) {
         d_block_offsets_.push_back(std::move(on_device.offsets[m]));
         d_block_sources_.push_back(std::move(on_device.sources[m]));
@@ -61,7 +59,7 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
 void ElementBlockPart::keep_on_device() {
   if (!d_block_sources_.empty()) return;
   d_block_mask_.upload(blocks_.block_mask);
-  d_block_start_.upload(blocks_.block_start);
+  d_block_start_.upload(blocks_.block_start_32());
   for (auto& form : blocks_.forms) {
     d_block_offsets_.emplace_back("node-block offsets");
     d_block_offsets_.back().upload(form.offsets);

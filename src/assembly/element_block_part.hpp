@@ -4,8 +4,9 @@
 //
 // Memory, per hex element (576 raw elastic values, 192 more with a consistent mass; about 27
 // node blocks, 243 entries): 4 B per element node pair (64 per hex and element form) and, per
-// block, 4 B per element form, 2 B of mask and 8 B of start, where the values are summed (the
-// host, or the device with a device matrix); the summed values take 8 B per entry.
+// block, 4 B per element form, 2 B of mask and 8 B of start (4 B on the device), where the
+// values are summed (the host, or the device with a device matrix); the summed values take 8 B
+// per entry.
 //
 // Element forms sum their values element chunk by chunk where they run where the matrix does
 // (no array of all their raw values exists: 4.6 KB per hex): a host matrix of host forms on
@@ -37,6 +38,10 @@ class ElementBlockPart {
   bool chunked() const { return chunked_; }
   bool sums_on_device() const { return device_sums_; }
   const NodeBlockReduction& blocks() const { return blocks_; }
+  // The blocks' masks and 32-bit entry starts on the device (null before keep_on_device() where
+  // the blocks were built on the host), which a device matrix's rows share (DirectMatrix).
+  const std::uint16_t* device_masks() const { return d_block_mask_.size() ? d_block_mask_.data() : nullptr; }
+  const std::uint32_t* device_starts() const { return d_block_start_.size() ? d_block_start_.data() : nullptr; }
   // Puts the maps on the device where they are not yet (blocks built on the host for a matrix
   // that now lives on the device), then frees the host's copy; the blocks' layout stays.
   void keep_on_device();
@@ -67,7 +72,7 @@ class ElementBlockPart {
   std::vector<std::vector<std::uint64_t>> chunk_block_begin_, chunk_block_end_;
   device::Array<double> d_chunk_values_{"element Hessian values of a chunk"};
   device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
-  device::Array<std::uint64_t> d_block_start_{"node-block starts"};
+  device::Array<std::uint32_t> d_block_start_{"node-block starts"};
   std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form
 };
 

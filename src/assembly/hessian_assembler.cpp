@@ -405,6 +405,7 @@ PetscErrorCode HessianAssembler::make_matrix(bool template_matrix, const std::ve
     // contents of the matrix in use (whose handle the solvers hold).
     PetscCall(PetscLogEventBegin(log_events().direct_matrix, 0, 0, 0, 0));
     Mat fresh;
+    direct_.share_blocks(elements_.blocks().id, elements_.device_masks(), elements_.device_starts());
     PetscCall(direct_.create(J_, direct_kind_, &elements_.blocks(), extra_rows.data(), extra_cols.data(),
                              extra_rows.size(), &fresh));
     if (template_matrix) {

@@ -81,6 +81,13 @@ std::uint64_t NodeBlockReduction::next_id() {
   return ++made;
 }
 
+std::vector<std::uint32_t> NodeBlockReduction::block_start_32() const {
+  if (num_entries() > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("node blocks: " + std::to_string(num_entries()) +
+                            " Hessian entries on one rank, more than 32-bit starts hold: run on more ranks");
+  return std::vector<std::uint32_t>(block_start.begin(), block_start.end());
+}
+
 NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
                                              std::int64_t owned_end) {
   check_limits(inputs);

@@ -64,6 +64,9 @@ class NodeBlockReduction {
                                             std::int64_t owned_end, device::NodeBlocks* on_device);
 
   std::size_t num_blocks() const { return block_col.size(); }
+  // block_start in 32 bits, as the device keeps it (4 B per block instead of 8). Throws
+  // std::length_error when the rank has 2^32 entries or more (run on more ranks).
+  std::vector<std::uint32_t> block_start_32() const;
   // Scalar entries of all blocks; entries are numbered block by block, bits 3i + j ascending.
   std::size_t num_entries() const { return block_start.empty() ? 0 : static_cast<std::size_t>(block_start.back()); }
   // Global dof ids of every entry, in entry order (3 node + i, 3 node + j). Throws

@@ -163,11 +163,11 @@ TEST(CooReductionGpu, NodeBlockSumsEqualHostSumsBitForBit) {
 
   device::Array<double> d_raw("raw"), d_unique("unique");
   device::Array<std::uint16_t> d_mask("mask");
-  device::Array<std::uint64_t> d_start("start");
+  device::Array<std::uint32_t> d_start("start");
   device::Array<std::uint32_t> d_off0("offsets"), d_src0("sources"), d_off1("offsets"), d_src1("sources");
   d_raw.upload(raw);
   d_mask.upload(blocks.block_mask);
-  d_start.upload(blocks.block_start);
+  d_start.upload(blocks.block_start_32());
   d_off0.upload(blocks.forms[0].offsets);
   d_src0.upload(blocks.forms[0].sources);
   d_off1.upload(blocks.forms[1].offsets);
@@ -199,9 +199,9 @@ TEST(CooReductionGpu, NodeBlockSumsChunkByChunkEqualTheWholeSumsBitForBit) {
 
   device::Array<double> d_chunk("chunk"), d_unique("unique");
   device::Array<std::uint16_t> d_mask("mask");
-  device::Array<std::uint64_t> d_start("start");
+  device::Array<std::uint32_t> d_start("start");
   d_mask.upload(blocks.block_mask);
-  d_start.upload(blocks.block_start);
+  d_start.upload(blocks.block_start_32());
   std::vector<device::Array<std::uint32_t>> d_off, d_src;
   std::vector<device::ElementBlockMap> maps;
   for (const auto& form : blocks.forms) {

@@ -331,7 +331,7 @@ struct ElementBlockMaps {
 // order is NodeBlockReduction::reduce's, so both give the same bits.
 __global__ void reduce_element_blocks_kernel(const double* __restrict__ raw, std::size_t num_blocks,
                                              const std::uint16_t* __restrict__ block_mask,
-                                             const std::uint64_t* __restrict__ block_start, ElementBlockMaps maps,
+                                             const std::uint32_t* __restrict__ block_start, ElementBlockMaps maps,
                                              double* __restrict__ unique) {
   const std::size_t t = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   const std::size_t k = t / 9;
@@ -359,7 +359,7 @@ __global__ void reduce_element_blocks_kernel(const double* __restrict__ raw, std
 __global__ void add_element_block_chunk_kernel(const double* __restrict__ chunk, std::uint32_t first,
                                                std::uint32_t last, std::size_t block_begin, std::size_t num_blocks,
                                                const std::uint16_t* __restrict__ block_mask,
-                                               const std::uint64_t* __restrict__ block_start, ElementBlockMap map,
+                                               const std::uint32_t* __restrict__ block_start, ElementBlockMap map,
                                                double* __restrict__ unique) {
   const std::size_t t = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (t / 9 >= num_blocks) return;
@@ -400,7 +400,7 @@ __global__ void element_chunk_block_ranges_kernel(std::size_t num_blocks, Elemen
 }  // namespace
 
 void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
-                           const std::uint64_t* d_block_start, const ElementBlockMap* maps, int num_maps,
+                           const std::uint32_t* d_block_start, const ElementBlockMap* maps, int num_maps,
                            double* d_unique) {
   if (num_maps > kMaxElementBlockMaps) throw DeviceError("reduce_element_blocks: more element forms than kernel slots");
   if (num_blocks == 0) return;
@@ -414,7 +414,7 @@ void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const st
 
 void add_element_block_chunk(const double* d_chunk, std::uint32_t first, std::uint32_t count, std::size_t block_begin,
                              std::size_t block_end, const std::uint16_t* d_block_mask,
-                             const std::uint64_t* d_block_start, const ElementBlockMap& map, double* d_unique) {
+                             const std::uint32_t* d_block_start, const ElementBlockMap& map, double* d_unique) {
   if (block_end <= block_begin || count == 0) return;
   const std::size_t num_blocks = block_end - block_begin;
   add_element_block_chunk_kernel<<<blocks_for(9 * num_blocks, 256), 256>>>(

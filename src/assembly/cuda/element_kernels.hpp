@@ -54,7 +54,7 @@ constexpr int kMaxElementBlockMaps = 4;
 // from 0 over the maps in order, then their sources in order): d_unique[d_block_start[k] + rank
 // of bit 3i + j in d_block_mask[k]] for the num_blocks blocks. At most kMaxElementBlockMaps maps.
 void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const std::uint16_t* d_block_mask,
-                           const std::uint64_t* d_block_start, const ElementBlockMap* maps, int num_maps,
+                           const std::uint32_t* d_block_start, const ElementBlockMap* maps, int num_maps,
                            double* d_unique);
 
 // The element sums without an array of every element's values (576 per hex: 4.6 KB per element,
@@ -69,7 +69,7 @@ void reduce_element_blocks(const double* d_raw, std::size_t num_blocks, const st
 // at 0 adds the values in reduce_element_blocks' order: the same bits.
 void add_element_block_chunk(const double* d_chunk, std::uint32_t first, std::uint32_t count, std::size_t block_begin,
                              std::size_t block_end, const std::uint16_t* d_block_mask,
-                             const std::uint64_t* d_block_start, const ElementBlockMap& map, double* d_unique);
+                             const std::uint32_t* d_block_start, const ElementBlockMap& map, double* d_unique);
 // For map's elements split into chunks of chunk_elements, chunk c = [c chunk_elements, ...): the
 // range of blocks [begin[c], end[c]) that holds every source of its elements (empty, begin ==
 // end, for a chunk of none). Once per build: the sums run over these ranges only.

@@ -20,12 +20,12 @@ void consistent_inertia_gradient(const ElementBlock&, const double*, const doubl
   no_cuda();
 }
 double dot(const double*, const double*, std::size_t, Reducer&) { no_cuda(); }
-void reduce_element_blocks(const double*, std::size_t, const std::uint16_t*, const std::uint64_t*,
+void reduce_element_blocks(const double*, std::size_t, const std::uint16_t*, const std::uint32_t*,
                            const ElementBlockMap*, int, double*) {
   no_cuda();
 }
 void add_element_block_chunk(const double*, std::uint32_t, std::uint32_t, std::size_t, std::size_t,
-                             const std::uint16_t*, const std::uint64_t*, const ElementBlockMap&, double*) {
+                             const std::uint16_t*, const std::uint32_t*, const ElementBlockMap&, double*) {
   no_cuda();
 }
 void element_chunk_block_ranges(std::size_t, const ElementBlockMap&, std::uint32_t, std::size_t,
