@@ -29,6 +29,8 @@ Each run is
 and from its output:
   newton_its, ksp_its     summed over the step lines (a step cut into sub-steps counts all of them)
   max_contact_pairs       the largest "contacts N" of the step lines (active pairs after the step)
+  max_step_newton         the most Newton iterations of one step line (a cut step's sub-steps
+                          together): the heaviest step, issue 29's measure of item 4
   *_s phases              dipc's timing table (slowest rank per row): assembly (of which COO
                           insertion), line search, contact (ghost surfaces, broad phase, CCD), new
                           matrix patterns, linear solve (KSP + AMG and the rest of the solve),
@@ -83,7 +85,8 @@ FIELDS = (["member", "backend", "ranks", "refine", "elements", "dofs", "steps", 
            "max_contact_pairs", "per_newton_s", "per_step_s"] +
           ["per_newton_" + p for p in SOLVE_PHASES] +
           [c for _, c in TABLE_ROWS] +
-          ["new_patterns", "pattern_remaps", "host_rss_max_mib", "gpu_setup_mib", "gpu_peak_mib", "wall_s", "status"])
+          ["new_patterns", "pattern_remaps", "host_rss_max_mib", "gpu_setup_mib", "gpu_peak_mib", "wall_s", "status",
+           "max_step_newton"])
 
 
 def base_elements(scene):
@@ -163,12 +166,13 @@ def parse(text):
     m = re.search(r"\| elements (\d+) \(.*\| dofs (\d+)", text)
     if m:
         row["elements"], row["dofs"] = int(m.group(1)), int(m.group(2))
-    newton = ksp = pairs = cuts = 0
+    newton = ksp = pairs = cuts = heaviest = 0
     for line in text.splitlines():
         m = re.match(r"step\s+\d+\s+t \S+\s+newton\s+(\d+) \(.*?\)\s+ksp\s+(\d+)", line)
         if not m:
             continue
         newton += int(m.group(1))
+        heaviest = max(heaviest, int(m.group(1)))
         ksp += int(m.group(2))
         c = re.search(r"\| contacts (\d+)", line)
         if c:
@@ -176,7 +180,7 @@ def parse(text):
         c = re.search(r"after (\d+) cut\(s\)", line)
         if c:
             cuts += int(c.group(1))
-    row.update(newton_its=newton, ksp_its=ksp, max_contact_pairs=pairs, dt_cuts=cuts)
+    row.update(newton_its=newton, ksp_its=ksp, max_contact_pairs=pairs, dt_cuts=cuts, max_step_newton=heaviest)
     for name, column in TABLE_ROWS:
         m = re.search(r"^%s\s+([0-9.]+)\s*$" % re.escape(name), text, re.M)
         row[column] = float(m.group(1)) if m else 0.0  # a row dipc leaves out is a phase the run did not have
@@ -237,10 +241,11 @@ def run_one(args, member, size_kind, size, workdir):
 
 def print_row(row, header=False):
     cols = [("member", "%-8s"), ("backend", "%-5s"), ("ranks", "%5s"), ("elements", "%9s"), ("newton_its", "%6s"),
+            ("max_step_newton", "%7s"),
             ("ksp_its", "%6s"), ("max_contact_pairs", "%9s"), ("per_newton_s", "%9s")] + \
            [("per_newton_" + p, "%9s") for p in SOLVE_PHASES] + [("host_rss_max_mib", "%8s"), ("wall_s", "%7s"),
                                                                 ("status", "%6s")]
-    short = {"max_contact_pairs": "pairs", "per_newton_s": "s/newton", "newton_its": "newton", "ksp_its": "ksp",
+    short = {"max_step_newton": "heaviest", "max_contact_pairs": "pairs", "per_newton_s": "s/newton", "newton_its": "newton", "ksp_its": "ksp",
              "host_rss_max_mib": "rss_MiB", "per_newton_assembly_s": "assembly", "per_newton_line_search_s": "lsearch",
              "per_newton_contact_s": "contact", "per_newton_patterns_s": "patterns",
              "per_newton_linear_solve_s": "linsolve"}
