@@ -21,9 +21,10 @@
 //                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
 //                 through its ascending column map. The rows made of node blocks alone (nearly
 //                 all) are written on the device (device::write_block_rows), and their values
-//                 at every assembly by the same walk over the blocks (10 B per block kept,
-//                 against 4 B per entry, 36 per full block); the host counts them and writes
-//                 the others, whose entries keep their positions.
+//                 at every assembly by the same walk over the blocks (the blocks' 4 B column
+//                 nodes kept, and the element part's masks and starts shared, against 4 B per
+//                 entry, 36 per full block); the host counts them and writes the others, whose
+//                 entries keep their positions.
 // Values are given in the entry order of create(): host memory for host_aij, device memory for
 // device_hypre.
 #pragma once
@@ -123,8 +124,9 @@ class DirectMatrix {
   std::size_t num_diag_ = 0, num_offd_ = 0;
   std::vector<double> slot_sums_;
   // device_hypre: the rows of node blocks alone are walked again at every assembly
-  // (device::write_block_row_values) from the matrix's compact copies of the blocks, 10 B per
-  // block instead of a 4 B position per entry; the host's rows' own entries keep theirs.
+  // (device::write_block_row_values) from 32-bit copies of the blocks (the masks and starts
+  // shared where share_blocks gave them) instead of a 4 B position per entry; the host's rows'
+  // own entries keep theirs.
   PetscErrorCode upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows);
   PetscErrorCode upload_blocks(const NodeBlockReduction& blocks);
   std::uint64_t blocks_id_ = 0;  // the NodeBlockReduction the device copies below are of (0: none)

@@ -14,8 +14,9 @@ namespace dipc::device {
 // index is start[k] + the rank of its bit in mask[k]). Its diagonal comes first (as hypre's
 // smoothers read a row), then its other columns ascending; those in [row_begin, row_begin +
 // num_rows) are the diagonal block's, from diag_i[r], the others the off-diagonal block's, from
-// offd_i[r]. Rows with block_row[r] < 0 are left alone. All pointers are device memory; the
-// 32-bit arrays are the matrix's own compact copies of NodeBlockReduction's (10 B per block).
+// offd_i[r]. Rows with block_row[r] < 0 are left alone. All pointers are device memory: 32-bit
+// copies of NodeBlockReduction's arrays, the masks and starts those the element part keeps
+// (DirectMatrix::share_blocks) where it has them.
 struct BlockRows {
   std::size_t num_rows = 0;
   std::int64_t row_begin = 0;
