@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 
@@ -612,9 +613,9 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
 
 PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows) {
   PetscFunctionBeginUser;
-  block_rows_ = device::BlockRows{};
   const bool any = blocks && std::any_of(device_block_row_.begin(), device_block_row_.end(),
                                          [](std::int64_t s) { return s >= 0; });
+  block_rows_.num_rows = 0;  // no rows to write until the arrays below are in place
   if (!any) {
     for (auto* a : {&d_block_row_start_, &d_block_col_, &d_block_start_}) a->resize(0);
     d_block_row_.resize(0), d_block_mask_.resize(0);
@@ -630,10 +631,6 @@ PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks,
   block_rows_.num_rows = static_cast<std::size_t>(num_rows);
   block_rows_.row_begin = row_begin_;
   block_rows_.block_row = d_block_row_.data();
-  block_rows_.row_start = d_block_row_start_.data();
-  block_rows_.col = d_block_col_.data();
-  block_rows_.mask = block_mask_;
-  block_rows_.start = block_start_;
   PetscFunctionReturn(0);
 }
 
@@ -648,8 +645,8 @@ void DirectMatrix::share_blocks(std::uint64_t blocks_id, const std::uint16_t* d_
 
 PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
   PetscFunctionBeginUser;
-  // 32 bits hold them: a rank's entries (hence its blocks) stay below 2^32 (send_remote_entries
-  // checks) and its node block rows below 2^31; the column nodes are checked here.
+  // 32 bits hold them: a rank's blocks stay below its entries, which send_remote_entries keeps
+  // below 2^32, and its node block rows below 2^31; the column nodes are checked here.
   bool fits = true;
   const auto narrowed = [&fits](const auto& wide) {
     std::vector<std::uint32_t> out(wide.size());
@@ -661,16 +658,22 @@ PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
   };
   d_block_row_start_.upload(narrowed(blocks.row_start));
   d_block_col_.upload(narrowed(blocks.block_col));
-  if (blocks.id == shared_id_) {
-    d_block_start_.resize(0), d_block_mask_.resize(0);
-    block_mask_ = shared_mask_, block_start_ = shared_start_;
-  } else {
-    d_block_start_.upload(narrowed(blocks.block_start));
-    d_block_mask_.upload(blocks.block_mask);
-    block_mask_ = d_block_mask_.data(), block_start_ = d_block_start_.data();
-  }
   PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "a device matrix's node blocks need node ids and a rank's entries below 2^32: run on more ranks");
+  if (blocks.id == shared_id_) {
+    d_block_start_.resize(0), d_block_mask_.resize(0);
+    block_rows_.mask = shared_mask_, block_rows_.start = shared_start_;
+  } else {
+    try {
+      d_block_start_.upload(blocks.block_start_32());
+    } catch (const std::length_error& e) {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+    }
+    d_block_mask_.upload(blocks.block_mask);
+    block_rows_.mask = d_block_mask_.data(), block_rows_.start = d_block_start_.data();
+  }
+  block_rows_.row_start = d_block_row_start_.data();
+  block_rows_.col = d_block_col_.data();
   blocks_id_ = blocks.id;
   PetscFunctionReturn(0);
 }

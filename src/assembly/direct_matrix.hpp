@@ -133,9 +133,7 @@ class DirectMatrix {
   std::uint64_t shared_id_ = 0;
   const std::uint16_t* shared_mask_ = nullptr;
   const std::uint32_t* shared_start_ = nullptr;
-  const std::uint16_t* block_mask_ = nullptr;   // shared_mask_ or d_block_mask_'s
-  const std::uint32_t* block_start_ = nullptr;  // shared_start_ or d_block_start_'s
-  device::BlockRows block_rows_;
+  device::BlockRows block_rows_;  // the arrays below (or the shared ones) and this rank's rows
   device::Array<std::int32_t> d_block_row_{"matrix block rows"};
   device::Array<std::uint32_t> d_block_row_start_{"matrix block row starts"}, d_block_col_{"matrix block columns"},
       d_block_start_{"matrix block entry starts"};
