@@ -77,9 +77,9 @@ bool HessianAssembler::pattern_changed() const {
   return false;
 }
 
-PetscErrorCode HessianAssembler::update_patterns(const double* x, bool* new_matrix) {
+PetscErrorCode HessianAssembler::update_patterns(const double* x, const double* x_device, bool* new_matrix) {
   PetscFunctionBeginUser;
-  for (auto& term : terms_) term.pattern->update_pattern(x);
+  for (auto& term : terms_) term.pattern->update_pattern(x, x_device);
   int local = pattern_changed() ? 1 : 0, any = 0;
   PetscCallMPI(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, dofs_.comm));
   *new_matrix = any != 0 && remap_ == Remap::off;

@@ -95,11 +95,12 @@ class HessianAssembler {
   // The caller replaces the matrix: the next create_matrix() rebuilds the pattern.
   void forget_matrix() { J_ = nullptr; }
 
-  // Collective. Lets the terms fix their patterns at x (host array). Where a pattern changed
+  // Collective. Lets the terms fix their patterns at x (host array; x_device the same on the
+  // device, or nullptr: HessianPattern::update_pattern). Where a pattern changed
   // and the matrix holds all its entries, the term's values are mapped onto them (unless
   // -dipc_pattern_remap is off); *new_matrix on every rank when a pattern changed and was not
   // mapped, and then rebuild_pattern() (or a new matrix) must follow before the next assembly.
-  PetscErrorCode update_patterns(const double* x, bool* new_matrix);
+  PetscErrorCode update_patterns(const double* x, const double* x_device, bool* new_matrix);
   // The next update_patterns() keeps the matrix only where its entries are exactly those it was
   // made with and no pattern changed since (no remap, no change), else asks for a new matrix. At
   // the start of a time step, so that a step's matrices depend on its state, not on the steps

@@ -66,9 +66,11 @@ class HessianPattern {
   // returns true from element_pattern() must implement it.
   virtual bool element_hessian(const double* x, int first, int count, double* values) { return false; }
 
-  // Called before every Hessian evaluation at x (a host array), before pattern_version() is
-  // read: a term whose pattern depends on the state (the contact active set) updates it here.
-  virtual void update_pattern(const double* x) {}
+  // Called before every Hessian evaluation at x (a host array; x_device the same values on the
+  // device where the caller has them there, else nullptr), before pattern_version() is read: a
+  // term whose pattern depends on the state (the contact active set) updates it here, on the
+  // device where it evaluates there.
+  virtual void update_pattern(const double* x, const double* x_device) {}
   // Increases whenever coo_pattern() would return a different pattern.
   virtual long pattern_version() const { return 0; }
   // True for terms whose pattern can change after setup (contact's active set, friction's

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "contact/contact_pair_terms.hpp"
 #include "contact/geometry/barrier.hpp"
+#include "logging/log_stages.hpp"
 #include "threads/host_threads.hpp"
 
 namespace dipc {
@@ -46,11 +49,20 @@ void ContactForm::set_kappa_bounds(double average_mass, double bbox_diagonal) {
   if (parameters_.kappa_adaptive && parameters_.kappa < kappa_min_) parameters_.kappa = kappa_min_;
 }
 
+bool ContactForm::update_extra_nodes(const double* x, const double* p) {
+  EventScope event(log_events().ghost_surfaces);
+  return set_.exchange_ghosts(x, p);
+}
+
 void ContactForm::prepare_segment(const double* x, const double* p) {
-  set_.find_candidates(x, p);
+  {
+    EventScope event(log_events().broad_phase);
+    set_.find_candidates(x, p);
+  }
   if (space_ != MemorySpace::device) return;
+  EventScope event(log_events().pair_lists);
   const double start = MPI_Wtime();
-  device_candidates_.upload(candidate_pair_list());
+  set_.describe_on_device(&device_candidates_);
   stats_.transfer_seconds += MPI_Wtime() - start;
 }
 
@@ -85,14 +97,39 @@ bool ContactForm::node_groups(std::vector<NodeGroup>* groups) const {
   return true;
 }
 
-void ContactForm::update_pattern(const double* x) {
-  set_.update_pattern([&](CandidateKind kind, std::size_t i) {
-    bool active;
-    ContactPairTerms t;
-    terms(set_.describe(kind, i), x, false, false, &active, &t);
-    return active;
-  });
+void ContactForm::update_pattern(const double* x, const double* x_device) {
+  {
+    EventScope event(log_events().active_set);
+    if (space_ == MemorySpace::device && x_device) {
+      // The flags of the device candidates (the set's candidates in its order), computed by the
+      // same point function as terms() below, so the same set bit for bit.
+      const std::array<std::size_t, kNumCandidateKinds> count = set_.candidate_counts();
+      std::array<std::size_t, kNumCandidateKinds> first{};
+      for (int k = 1; k < kNumCandidateKinds; ++k) first[k] = first[k - 1] + count[k - 1];
+      const std::size_t n = first[kNumCandidateKinds - 1] + count[kNumCandidateKinds - 1];
+      if (device_candidates_.count != n)
+        throw std::logic_error("ContactForm::update_pattern: the device holds " +
+                               std::to_string(device_candidates_.count) + " candidate pairs, the set " +
+                               std::to_string(n) + " (prepare_segment must follow every broad phase)");
+      device_active_.resize(n);
+      device::contact_active_flags(device_candidates_, set_.device_obstacles(), barrier_constants(), x_device,
+                                   device_active_.data(), reducer_);
+      active_flags_.resize(n);
+      device_active_.download(active_flags_.data());
+      set_.update_pattern([&](CandidateKind kind, std::size_t i) {
+        return active_flags_[first[static_cast<int>(kind)] + i] != 0;
+      });
+    } else {
+      set_.update_pattern([&](CandidateKind kind, std::size_t i) {
+        bool active;
+        ContactPairTerms t;
+        terms(set_.describe(kind, i), x, false, false, &active, &t);
+        return active;
+      });
+    }
+  }
   if (space_ != MemorySpace::device) return;
+  EventScope event(log_events().pair_lists);
   // The pattern's device list also changes when exchanges renumber its nodes, so compare the
   // list itself, not only the key.
   const double start = MPI_Wtime();
@@ -198,6 +235,7 @@ bool ContactForm::hessian(const double* x, double* values) {
 }
 
 double ContactForm::max_step(const double* x, const double* p) {
+  EventScope event(log_events().ccd);
   const double start = MPI_Wtime();
   double t = 1.0;
   if (space_ == MemorySpace::device) {

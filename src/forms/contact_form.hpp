@@ -22,11 +22,13 @@
 //
 // Memory space. On the host (the default) every evaluation loops over the pairs on the CPU. On
 // the device the broad phase runs there too (ContactSet), prepare_segment, which then receives
-// device arrays, uploads the pair list built from the candidates, and value, gradient, hessian
-// and max_step run the CUDA kernels on device arrays; both spaces call the same point
-// functions. update_extra_nodes and update_pattern receive host arrays in both spaces
-// (update_pattern uploads the pattern's pairs when they change), and so do the queries
-// min_distance, active_pairs and the set's count_intersections, which stay on the CPU.
+// device arrays, has the pair list described there from the candidates' indices
+// (ContactSet::describe_on_device), and value, gradient, hessian and max_step run the CUDA
+// kernels on device arrays; both spaces call the same point functions. update_extra_nodes
+// receives host arrays in both spaces; update_pattern receives x on the host and, where the
+// potential has it there, on the device, where the device form flags the active candidates
+// (and uploads the pattern's pairs when they change). The queries min_distance, active_pairs
+// and the set's count_intersections stay on the CPU.
 // Both spaces search every pair's time of impact on [0, 1] and take the minimum, so the step
 // bound is the same bit for bit on the host and the device, and does not depend on the order
 // of the pairs (which differs between rank counts). Searching up to the running minimum
@@ -66,9 +68,9 @@ class ContactForm : public Form {
   bool hessian(const double* x, double* values) override;
   double max_step(const double* x, const double* p) override;
   const std::vector<std::int64_t>* extra_nodes() const override { return &set_.extra_nodes(); }
-  bool update_extra_nodes(const double* x, const double* p) override { return set_.exchange_ghosts(x, p); }
+  bool update_extra_nodes(const double* x, const double* p) override;
   void prepare_segment(const double* x, const double* p) override;
-  void update_pattern(const double* x) override;
+  void update_pattern(const double* x, const double* x_device) override;
   long pattern_version() const override { return set_.pattern_version(); }
   bool pattern_may_change() const override { return true; }
   void reserved_blocks(std::vector<std::array<std::int64_t, 2>>* blocks) const override {
@@ -108,6 +110,9 @@ class ContactForm : public Form {
   // and the active pairs of the Hessian's pattern in theirs.
   device::ContactPairList candidate_pair_list() const;
   device::ContactPairList pattern_pair_list() const;
+  // Device space: the candidates' device list of the last prepare_segment, which the set
+  // describes on the device (ContactSet::describe_on_device) as candidate_pair_list() uploaded.
+  const device::DeviceContactPairs& device_candidates() const { return device_candidates_; }
   // This rank's active pairs at x per CandidateKind, indexed by its value (output: the per-step
   // contact counts).
   static constexpr int num_pair_kinds = kNumCandidateKinds;
@@ -130,6 +135,9 @@ class ContactForm : public Form {
   // from, to upload only changes), and the reducer that brings scalars back.
   device::DeviceContactPairs device_candidates_, device_pattern_;
   device::ContactPairList uploaded_pattern_;
+  // update_pattern on the device: the candidates' active flags there and their host copy.
+  device::Array<std::int32_t> device_active_{"contact active flags"};
+  std::vector<std::int32_t> active_flags_;
   device::Reducer reducer_;
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;

@@ -5,10 +5,12 @@
 
 #include "contact/friction/friction_potential.hpp"
 #include "contact/geometry/barrier.hpp"
+#include "logging/log_stages.hpp"
 
 namespace dipc {
 
 void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
+  EventScope event(log_events().friction_lag);
   pairs_.clear();
   const double dhat2 = contact_.dhat() * contact_.dhat();
   std::vector<std::int64_t> pinned;
@@ -63,6 +65,7 @@ void FrictionForm::slip(const Pair& p, const double* X, double u[2]) const {
 
 void FrictionForm::prepare_segment(const double* x, const double* p) {
   if (!majorize_reversals_) return;
+  EventScope event(log_events().friction);
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     double X[12], X1[12], u0[2], u1[2];
     std::int32_t local[4];
@@ -85,6 +88,7 @@ std::size_t FrictionForm::num_reversing() const {
 }
 
 bool FrictionForm::value(const double* x, double* energy) {
+  EventScope event(log_events().friction);
   double e = 0;
   for (const Pair& p : pairs_) {
     double X[12];
@@ -98,6 +102,7 @@ bool FrictionForm::value(const double* x, double* energy) {
 }
 
 bool FrictionForm::gradient(const double* x, double* g) {
+  EventScope event(log_events().friction);
   for (const Pair& p : pairs_) {
     double X[12], gp[12];
     std::int32_t local[4];
@@ -127,6 +132,7 @@ bool FrictionForm::node_groups(std::vector<NodeGroup>* groups) const {
 }
 
 bool FrictionForm::hessian(const double* x, double* values) {
+  EventScope event(log_events().friction);
   std::size_t offset = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const Pair& p = pairs_[k];

@@ -36,6 +36,13 @@ const LogEvents& log_events() {
     PetscLogEventRegister("dipcSetupState", id, &r.setup_state);
     PetscLogEventRegister("dipcSetupSolver", id, &r.setup_solver);
     PetscLogEventRegister("dipcContactCheck", id, &r.contact_check);
+    PetscLogEventRegister("dipcGhostSurfaces", id, &r.ghost_surfaces);
+    PetscLogEventRegister("dipcBroadPhase", id, &r.broad_phase);
+    PetscLogEventRegister("dipcPairLists", id, &r.pair_lists);
+    PetscLogEventRegister("dipcActiveSet", id, &r.active_set);
+    PetscLogEventRegister("dipcCCD", id, &r.ccd);
+    PetscLogEventRegister("dipcFrictionLag", id, &r.friction_lag);
+    PetscLogEventRegister("dipcFriction", id, &r.friction);
     return r;
   }();
   return e;

@@ -10,12 +10,16 @@ struct LogStages {
 };
 const LogStages& log_stages();
 
-// Events: the potential's evaluations and matrix pattern (IncrementalPotential), and one per
-// phase of the time integrator's setup (TimeIntegrator::setup).
+// Events: the potential's evaluations and matrix pattern (IncrementalPotential), one per
+// phase of the time integrator's setup (TimeIntegrator::setup), and the contact forms' parts.
 struct LogEvents {
   PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix, pattern_remap;
   PetscLogEvent matrix_rows, matrix_make;  // direct_matrix's parts: its rows' pattern, the Mat from it
   PetscLogEvent setup_elements, setup_masses, setup_forms, setup_state, setup_solver, contact_check;
+  // The contact and friction forms' parts (ContactForm, FrictionForm): ghost surfaces, broad
+  // phase, the device pair lists (built on the host, uploaded), the active-set pass, CCD, the
+  // friction lag update and friction's evaluations.
+  PetscLogEvent ghost_surfaces, broad_phase, pair_lists, active_set, ccd, friction_lag, friction;
 };
 const LogEvents& log_events();
 

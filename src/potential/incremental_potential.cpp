@@ -320,7 +320,8 @@ PetscErrorCode IncrementalPotential::update_patterns(Vec x, bool* new_matrix) {
   patterns_x_ = x, patterns_state_ = state;
   const double start = MPI_Wtime();
   const long remaps_before = assembler_.remaps();
-  PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), new_matrix));
+  const double* xd = uses(MemorySpace::device) ? x_views_.in(MemorySpace::device) : nullptr;
+  PetscCall(assembler_.update_patterns(x_views_.in(MemorySpace::host), xd, new_matrix));
   times_.remaps += assembler_.remaps() - remaps_before;
   times_.preallocation += MPI_Wtime() - start;
   PetscFunctionReturn(0);

@@ -163,7 +163,7 @@ void check_changes(const char* mat_type) {
   // Within the reserve: the same matrix, the new values.
   changing.pairs.set(second, {});
   bool new_matrix = true;
-  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_FALSE(new_matrix);
   EXPECT_EQ(changing.assembler.remaps(), 1);
   changing.assemble();
@@ -179,7 +179,7 @@ void check_changes(const char* mat_type) {
 
   // Outside the reserve on rank 0: every rank is asked for a new matrix.
   changing.pairs.set(rank == 0 ? joined(second, outside) : second, {});
-  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_TRUE(new_matrix);
   ASSERT_EQ(changing.assembler.rebuild_pattern(), 0);
   changing.assemble();
@@ -226,7 +226,7 @@ TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
 
   changing.pairs.set(half, {});
   bool new_matrix = true;
-  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_FALSE(new_matrix);
   changing.assemble();
   EXPECT_EQ(changing.assembler.num_entries(), entries);
@@ -237,7 +237,7 @@ TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
   EXPECT_LT(relative_difference(changing.J, fresh.J), 1e-14);
 
   changing.pairs.set(joined(half, draw_pairs(rank, size, 5, 12)), {});
-  ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(changing.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_TRUE(new_matrix);
   PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
 
@@ -246,7 +246,7 @@ TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
   by_default.pairs.set(all, {});
   by_default.setup(rank);
   by_default.pairs.set(half, {});
-  ASSERT_EQ(by_default.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(by_default.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_FALSE(new_matrix);
   EXPECT_EQ(by_default.assembler.remaps(), 1);
 
@@ -256,7 +256,7 @@ TEST(HessianAssembler, FitKeepsTheMatrixForAShrinkingPattern) {
   off.setup(rank);
   PetscOptionsClearValue(nullptr, "-dipc_pattern_remap");
   off.pairs.set(half, {});
-  ASSERT_EQ(off.assembler.update_patterns(nullptr, &new_matrix), 0);
+  ASSERT_EQ(off.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
   EXPECT_TRUE(new_matrix);
   EXPECT_EQ(off.assembler.remaps(), 0);
 }
@@ -280,7 +280,7 @@ TEST(HessianAssembler, FitWhereOnlyOneRanksPatternChanges) {
     const NodePairs now(all.begin(), all.end() - static_cast<std::ptrdiff_t>(rank == 0 ? 3 * round : 0));
     if (rank == 0) changing.pairs.set(now, {});
     bool new_matrix = true;
-    ASSERT_EQ(changing.assembler.update_patterns(nullptr, &new_matrix), 0);
+    ASSERT_EQ(changing.assembler.update_patterns(nullptr, nullptr, &new_matrix), 0);
     EXPECT_FALSE(new_matrix);
     EXPECT_EQ(changing.assembler.remaps(), round);
     changing.assemble();

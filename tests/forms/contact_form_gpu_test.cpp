@@ -2,7 +2,8 @@
 // plane and a box above it, moving into the slab. Both forms see the same hooks on host arrays,
 // except prepare_segment, which the device form gets on device copies of x and p (its broad
 // phase runs there); it evaluates on device copies too. Checked: the same candidates (the same
-// smallest distance over them), the same COO pattern, energy, gradient and Hessian values to
+// smallest distance over them; the device list described there from the pairs' indices equal
+// to the host list uploaded), the same COO pattern, energy, gradient and Hessian values to
 // 1e-12 relative to the largest entry, a pattern change followed on the device, and a CCD step
 // bound no larger than the host's (the host shortens each pair's search to the smallest time so
 // far, see contact_form.hpp). The same with triangle-mesh obstacles (a box hovering over a
@@ -60,15 +61,35 @@ struct TwoForms {
       EXPECT_FALSE(f->update_extra_nodes(x.data(), p.data())) << "one rank has no extra nodes";
     host->prepare_segment(x.data(), p.data());
     gpu->prepare_segment(x_device.data(), p_device.data());
+    expect_candidates_described_as_uploaded();
     std::vector<double> end(x.size());
     for (std::size_t k = 0; k < x.size(); ++k) end[k] = x[k] + p[k];
     EXPECT_EQ(gpu->min_distance(x.data()), host->min_distance(x.data()));
     EXPECT_EQ(gpu->min_distance(end.data()), host->min_distance(end.data()));
   }
 
+  // The device form's candidate list, described on the device from the pairs' indices, equals
+  // its host list uploaded, field by field and bit for bit.
+  void expect_candidates_described_as_uploaded() {
+    device::DeviceContactPairs uploaded;
+    uploaded.upload(gpu->candidate_pair_list());
+    const device::DeviceContactPairs& built = gpu->device_candidates();
+    ASSERT_GT(uploaded.count, 0u) << "no candidate pair: the comparison would be vacuous";
+    ASSERT_EQ(built.count, uploaded.count);
+    EXPECT_EQ(built.hessian_values, uploaded.hessian_values);
+    EXPECT_EQ(built.kind.to_host(), uploaded.kind.to_host());
+    EXPECT_EQ(built.nodes.to_host(), uploaded.nodes.to_host());
+    EXPECT_EQ(built.weight.to_host(), uploaded.weight.to_host());
+    EXPECT_EQ(built.eps_x.to_host(), uploaded.eps_x.to_host());
+    EXPECT_EQ(built.plane.to_host(), uploaded.plane.to_host());
+    EXPECT_EQ(built.hessian_offset.to_host(), uploaded.hessian_offset.to_host());
+  }
+
   // Energy, gradient and Hessian of both forms at x (after update_pattern), compared.
   void expect_same_terms(const std::vector<double>& x) {
-    for (ContactForm* f : {host.get(), gpu.get()}) f->update_pattern(x.data());
+    x_device.upload(x);
+    host->update_pattern(x.data(), nullptr);
+    gpu->update_pattern(x.data(), x_device.data());
     EXPECT_EQ(host->pattern_version(), gpu->pattern_version());
     std::vector<PetscInt> rows, cols, gpu_rows, gpu_cols;
     host->coo_pattern(&rows, &cols);

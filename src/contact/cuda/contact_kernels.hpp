@@ -11,6 +11,7 @@
 // triangle-mesh obstacles name the obstacle's vertices by node id −2 − k (obstacle_nodes.hpp):
 // their positions come from DeviceContactObstacles, and they get no gradient or Hessian entries.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -58,6 +59,36 @@ struct DeviceContactPairs {
 
   void upload(const ContactPairList& pairs);
 };
+
+// What ContactSet::describe builds a candidate pair from, in device memory, so that the
+// candidate list is built there from the pairs' indices alone (build_candidate_pairs): the
+// body's triangles and edges known on the rank (ext-local nodes, owned then ghost), the edges'
+// global ids, squared rest lengths and weights (the mean rest area of the end vertices: set for
+// the rank's own edges, NaN for ghosts, which never decide a pair's weight), the rest areas of
+// the rank's surface vertices (per mesh-local node, NaN elsewhere), and the triangle-mesh
+// obstacles' triangles and edges (obstacle vertex ids), squared edge rest lengths and vertex
+// areas. The body's part is uploaded whenever an exchange changes the ghost surface.
+struct DevicePairSources {
+  Array<std::int32_t> face_nodes{"contact triangle nodes"};  // 3 per triangle
+  Array<std::int32_t> edge_nodes{"contact edge nodes"};      // 2 per edge
+  Array<std::int64_t> edge_gid{"contact edge ids"};
+  Array<double> edge_rest2{"contact edge rest lengths"};
+  Array<double> edge_weight{"contact edge weights"};
+  Array<double> vertex_area{"contact vertex areas"};
+  Array<std::int32_t> obstacle_face_nodes{"obstacle triangle vertices"};  // 3 per triangle
+  Array<std::int32_t> obstacle_edge_nodes{"obstacle edge vertices"};      // 2 per edge
+  Array<double> obstacle_edge_rest2{"obstacle edge rest lengths"};
+  Array<double> obstacle_vertex_area{"obstacle vertex areas"};
+};
+
+// out = the candidate pairs in ContactSet's order, as DeviceContactPairs::upload of the list
+// ContactForm::candidate_pair_list builds on the host would make it (bit for bit, hessian
+// offsets included). index (device, 2 per pair) holds each pair's two list entries, the pairs
+// of CandidateKind k (pair_kind.hpp) in slots [first[k], first[k + 1]): (vertex node, triangle),
+// (edge, edge), (vertex node, plane), (vertex node, obstacle triangle), (edge, obstacle edge),
+// (obstacle vertex, triangle).
+void build_candidate_pairs(const DevicePairSources& sources, const Array<std::int32_t>& index,
+                           const std::array<std::size_t, kNumCandidateKinds + 1>& first, DeviceContactPairs* out);
 
 // The obstacles that pairs refer to. Half-space obstacles: 3 doubles of point and of unit
 // normal per plane (a pair's plane[i] indexes them). Triangle-mesh obstacles: the positions of

@@ -37,5 +37,9 @@ double contact_min_time_of_impact(const DeviceContactPairs&, const DeviceContact
                                   const double*, double, Reducer&) {
   no_cuda("contact CCD on the device");
 }
+void build_candidate_pairs(const DevicePairSources&, const Array<std::int32_t>&,
+                           const std::array<std::size_t, kNumCandidateKinds + 1>&, DeviceContactPairs*) {
+  no_cuda("contact candidate pairs on the device");
+}
 
 }  // namespace dipc::device

@@ -48,7 +48,57 @@ void ContactSet::upload_surface() {
   if (!obstacles_.empty()) append_obstacles(&s);
   device_broad_phase_.upload(s);
   device_surface_nodes_ = std::move(s.vertex_node);
+  upload_pair_sources_body();
   stats_->broad_phase_seconds += MPI_Wtime() - start;
+}
+
+void ContactSet::upload_pair_sources_body() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::int32_t> face_nodes(3 * faces_.size()), edge_nodes(2 * edges_.size());
+  std::vector<std::int64_t> gid(edges_.size());
+  std::vector<double> rest2(edges_.size()), weight(edges_.size(), nan);
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    for (int c = 0; c < 3; ++c) face_nodes[3 * f + c] = faces_[f].node[c];
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    const Primitive& p = edges_[e];
+    edge_nodes[2 * e] = p.node[0], edge_nodes[2 * e + 1] = p.node[1];
+    gid[e] = p.gid;
+    rest2[e] = p.rest_length2;
+    // describe's weight of a pair whose edge this is (the rank's own edges have areas).
+    const auto a0 = node_area_.find(p.node[0]), a1 = node_area_.find(p.node[1]);
+    if (a0 != node_area_.end() && a1 != node_area_.end()) weight[e] = 0.5 * (a0->second + a1->second);
+  }
+  device::DevicePairSources& d = device_pair_sources_;
+  d.face_nodes.upload(face_nodes), d.edge_nodes.upload(edge_nodes), d.edge_gid.upload(gid);
+  d.edge_rest2.upload(rest2), d.edge_weight.upload(weight);
+}
+
+void ContactSet::upload_pair_sources_fixed() {
+  std::vector<double> area(mesh_.local_to_global.size(), std::numeric_limits<double>::quiet_NaN());
+  for (const auto& [node, a] : node_area_)
+    if (static_cast<std::size_t>(node) < area.size()) area[static_cast<std::size_t>(node)] = a;
+  std::vector<std::int32_t> faces, edges;
+  for (const auto& f : obstacles_.faces) faces.insert(faces.end(), f.begin(), f.end());
+  for (const auto& e : obstacles_.edges) edges.insert(edges.end(), e.begin(), e.end());
+  device::DevicePairSources& d = device_pair_sources_;
+  d.vertex_area.upload(area);
+  d.obstacle_face_nodes.upload(faces), d.obstacle_edge_nodes.upload(edges);
+  d.obstacle_edge_rest2.upload(obstacles_.edge_rest_length2), d.obstacle_vertex_area.upload(obstacles_.vertex_area);
+}
+
+void ContactSet::describe_on_device(device::DeviceContactPairs* out) {
+  const std::array<const std::vector<std::array<std::int32_t, 2>>*, kNumCandidateKinds> lists = {
+      &vertex_face_, &edge_edge_, &vertex_plane_, &vertex_obstacle_face_, &edge_obstacle_edge_, &obstacle_vertex_face_};
+  std::array<std::size_t, kNumCandidateKinds + 1> first{};
+  for (int k = 0; k < kNumCandidateKinds; ++k) first[k + 1] = first[k] + lists[k]->size();
+  // Each list straight into its slice (an array of int32 pairs is 2 int32 per pair).
+  static_assert(sizeof(std::array<std::int32_t, 2>) == 2 * sizeof(std::int32_t));
+  device_candidate_index_.resize(2 * first[kNumCandidateKinds]);
+  for (int k = 0; k < kNumCandidateKinds; ++k)
+    if (!lists[k]->empty())
+      device::copy_to_device(device_candidate_index_.data() + 2 * first[k], lists[k]->data(),
+                             lists[k]->size() * sizeof(std::array<std::int32_t, 2>));
+  device::build_candidate_pairs(device_pair_sources_, device_candidate_index_, first, out);
 }
 
 // Every obstacle primitive joins the device search after the body's, in group −1 (never paired

@@ -89,6 +89,7 @@ ContactSet::ContactSet(const DistributedMesh& mesh, const ContactParameters& par
     }
     device_obstacles_.upload_planes(plane_points, plane_normals);
     upload_obstacle_positions();
+    upload_pair_sources_fixed();
     upload_surface();
   }
 }

@@ -55,20 +55,6 @@
 
 namespace dipc {
 
-// The candidate lists ContactSet keeps, in the order for_each_pair visits them and the per-step
-// contact counts report them (ContactForm::pair_kind_name): vertex–triangle, edge–edge,
-// vertex–plane (bodies and planes), then body vertex–obstacle triangle, body edge–obstacle
-// edge, obstacle vertex–body triangle. Each list's pairs are of one PairKind.
-enum class CandidateKind : int {
-  vertex_face = 0,
-  edge_edge = 1,
-  vertex_plane = 2,
-  vertex_obstacle_face = 3,
-  edge_obstacle_edge = 4,
-  obstacle_vertex_face = 5
-};
-constexpr int kNumCandidateKinds = 6;
-
 // Per-step contact timings (this rank's; the caller reduces).
 struct ContactStats {
   double broad_phase_seconds = 0;  // candidate search (device space: with the surface uploads)
@@ -170,6 +156,10 @@ class ContactSet {
   template <class T, class Keep>
   std::vector<T> collect_pairs(Keep&& keep) const;
   PairInfo describe(CandidateKind kind, std::size_t i) const;
+  // Device space: out = the candidate pairs of the last broad phase, described on the device
+  // (device::build_candidate_pairs) from their indices: the same list as ContactForm's
+  // candidate_pair_list uploaded.
+  void describe_on_device(device::DeviceContactPairs* out);
   // Stacked positions of a pair's nodes at x (obstacles at t1) and, for CCD, at the segment's
   // start and end (obstacles from t0 to t1).
   void gather(const double* x, const PairInfo& info, double* X) const;
@@ -242,6 +232,10 @@ class ContactSet {
   void find_candidates_on_host(const double* x, const double* p);
   void find_candidates_on_device(const double* x, const double* p);
   void upload_surface();  // device space: number_surface() and the obstacles to the device broad phase
+  // Device space: what describe() reads, for describe_on_device: the body's part (triangles,
+  // edges) after every change of the surface, the vertex areas and obstacles once.
+  void upload_pair_sources_body();
+  void upload_pair_sources_fixed();
   void append_obstacles(device::BroadPhaseSurface* s) const;
   void upload_obstacle_positions();  // device space
   std::string obstacle_vertex_label(std::int32_t v) const;
@@ -286,6 +280,8 @@ class ContactSet {
   device::DeviceContactObstacles device_obstacles_;
   double uploaded_t0_ = 0, uploaded_t1_ = 0;  // ObstacleSurface starts at t = 0
   device::DeviceBroadPhase device_broad_phase_;
+  device::DevicePairSources device_pair_sources_;
+  device::Array<std::int32_t> device_candidate_index_{"contact candidate indices"};
   std::vector<std::int32_t> device_surface_nodes_;
   int device_body_vertices_ = 0;  // compact vertices before the obstacles' (append_obstacles)
 };
