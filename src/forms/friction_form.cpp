@@ -6,6 +6,7 @@
 #include "contact/friction/friction_potential.hpp"
 #include "contact/geometry/barrier.hpp"
 #include "logging/log_stages.hpp"
+#include "threads/host_threads.hpp"
 
 namespace dipc {
 
@@ -44,6 +45,46 @@ void FrictionForm::update_lag(const double* x_lag, const double* x_start) {
   contact_.set().pin_nodes(std::move(pinned));
   reversing_.assign(pairs_.size(), 0);
   ++pattern_version_;
+  if (on_device()) upload_pairs();
+}
+
+void FrictionForm::upload_pairs() {
+  const std::size_t n = pairs_.size();
+  std::vector<std::int32_t> count(n);
+  std::vector<double> x_start(12 * n);
+  std::vector<contact::LaggedPairFriction> pair(n);
+  std::vector<contact::LaggedPointPlaneFriction> plane(n);
+  std::vector<std::size_t> offset(n);
+  std::size_t values = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Pair& p = pairs_[k];
+    count[k] = p.count;
+    std::copy(p.x_start.begin(), p.x_start.end(), x_start.begin() + 12 * static_cast<std::ptrdiff_t>(k));
+    pair[k] = p.pair, plane[k] = p.plane;
+    offset[k] = values;  // the body nodes' block, as hessian() on the host
+    int slots[4];
+    const std::size_t b = 3 * static_cast<std::size_t>(body_slots(p.global.data(), p.count, slots));
+    values += b * b;
+  }
+  device_.size = n;
+  device_.count.upload(count), device_.x_start.upload(x_start);
+  device_.pair.upload(pair), device_.plane.upload(plane), device_.hessian_offset.upload(offset);
+  device_.reversing.resize(n);
+  device_.reversing.set_zero();
+  device_numbering_ = -1;  // the ids follow at the first evaluation
+}
+
+void FrictionForm::refresh_device_nodes() {
+  const long numbering = contact_.set().numbering_version();
+  if (numbering == device_numbering_) return;
+  const std::size_t n = pairs_.size();
+  std::vector<std::int32_t> nodes(4 * n, -1);  // slot-major, as the kernels read them
+  parallel_for(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k)
+      for (int s = 0; s < pairs_[k].count; ++s) nodes[s * n + k] = contact_.set().local_node(pairs_[k].global[s]);
+  });
+  device_.nodes.upload(nodes);
+  device_numbering_ = numbering;
 }
 
 bool FrictionForm::gather(const Pair& p, const double* x, double* X, std::int32_t* local) const {
@@ -66,6 +107,11 @@ void FrictionForm::slip(const Pair& p, const double* X, double u[2]) const {
 void FrictionForm::prepare_segment(const double* x, const double* p) {
   if (!majorize_reversals_) return;
   EventScope event(log_events().friction);
+  if (on_device()) {
+    refresh_device_nodes();
+    device::mark_friction_reversals(device_, device_obstacle_end(), x, p, eps_u_);
+    return;
+  }
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     double X[12], X1[12], u0[2], u1[2];
     std::int32_t local[4];
@@ -83,12 +129,20 @@ void FrictionForm::prepare_segment(const double* x, const double* p) {
 
 std::size_t FrictionForm::num_reversing() const {
   std::size_t n = 0;
+  if (on_device()) {
+    for (const auto r : device_.reversing.to_host()) n += r != 0;
+    return n;
+  }
   for (const auto r : reversing_) n += r;
   return n;
 }
 
 bool FrictionForm::value(const double* x, double* energy) {
   EventScope event(log_events().friction);
+  if (on_device()) {
+    refresh_device_nodes();
+    return device::friction_energy(device_, device_obstacle_end(), x, reducer_, energy);
+  }
   double e = 0;
   for (const Pair& p : pairs_) {
     double X[12];
@@ -103,6 +157,10 @@ bool FrictionForm::value(const double* x, double* energy) {
 
 bool FrictionForm::gradient(const double* x, double* g) {
   EventScope event(log_events().friction);
+  if (on_device()) {
+    refresh_device_nodes();
+    return device::add_friction_gradient(device_, device_obstacle_end(), x, g, reducer_);
+  }
   for (const Pair& p : pairs_) {
     double X[12], gp[12];
     std::int32_t local[4];
@@ -133,6 +191,12 @@ bool FrictionForm::node_groups(std::vector<NodeGroup>* groups) const {
 
 bool FrictionForm::hessian(const double* x, double* values) {
   EventScope event(log_events().friction);
+  if (on_device()) {
+    refresh_device_nodes();
+    const bool ok = device::friction_hessian_values(device_, device_obstacle_end(), x, values, reducer_);
+    device_.reversing.set_zero();  // one Newton model only, as below
+    return ok;
+  }
   std::size_t offset = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const Pair& p = pairs_[k];

@@ -13,6 +13,11 @@
 // default; docs/performance.md, "Newton iterations on heavy contact steps"). Newton's criterion
 // and the energy are unchanged: only the model that chooses the direction differs.
 //
+// Memory space: the contact form's. On the device the pairs of a lag iteration are uploaded at
+// update_lag (cuda/friction_kernels.hpp), with their ext-local node ids again whenever the
+// contact set renumbers its extra nodes, and value, gradient, hessian and the reversal test of
+// prepare_segment run the kernels, which call the point functions the host loops call.
+//
 // Pairs are kept by global node ids and evaluated on the rank that evaluates the contact pair,
 // so every pair counts once; their nodes stay among the contact form's extra nodes while the
 // lag lasts. Obstacle vertices (contact_obstacles.hpp) keep their obstacle ids: their positions
@@ -23,6 +28,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact/cuda/friction_kernels.hpp"
 #include "contact/friction/lagged_friction.hpp"
 #include "forms/contact_form.hpp"
 
@@ -35,6 +41,7 @@ class FrictionForm : public Form {
   FrictionForm(ContactForm& contact, double mu, double eps_v, double h, bool majorize_reversals)
       : contact_(contact), mu_(mu), eps_v_(eps_v), eps_u_(eps_v * h), majorize_reversals_(majorize_reversals) {}
   std::string name() const override { return "friction (lagged)"; }
+  MemorySpace memory_space() const override { return contact_.memory_space(); }
   bool value(const double* x, double* energy) override;
   bool gradient(const double* x, double* g) override;
   bool node_groups(std::vector<NodeGroup>* groups) const override;
@@ -62,6 +69,12 @@ class FrictionForm : public Form {
     contact::LaggedPointPlaneFriction plane{};
   };
   bool gather(const Pair& p, const double* x, double* X, std::int32_t* local) const;
+  bool on_device() const { return contact_.memory_space() == MemorySpace::device; }
+  // Device space: the pairs to the device (update_lag), and their ext-local ids again where the
+  // contact set renumbered its nodes since.
+  void upload_pairs();
+  void refresh_device_nodes();
+  const double* device_obstacle_end() const { return contact_.set().device_obstacles().vertex_end.data(); }
   // u of pair p at the gathered positions X.
   void slip(const Pair& p, const double* X, double u[2]) const;
 
@@ -71,6 +84,9 @@ class FrictionForm : public Form {
   std::vector<Pair> pairs_;
   std::vector<std::uint8_t> reversing_;  // per pair: majorizer in the next Hessian
   long pattern_version_ = 0;
+  device::DeviceFrictionPairs device_;
+  long device_numbering_ = -1;  // the contact set's numbering_version() of device_.nodes
+  device::Reducer reducer_;
 };
 
 }  // namespace dipc

@@ -4,7 +4,8 @@
 // phase runs there); it evaluates on device copies too. Checked: the same candidates (the same
 // smallest distance over them; the device list described there from the pairs' indices equal
 // to the host list uploaded), the same COO pattern, energy, gradient and Hessian values to
-// 1e-12 relative to the largest entry, a pattern change followed on the device, and a CCD step
+// 1e-12 relative to the largest entry, a pattern change followed on the device, lagged friction
+// over the active pairs (FrictionForm in both spaces, majorizers included), and a CCD step
 // bound no larger than the host's (the host shortens each pair's search to the smallest time so
 // far, see contact_form.hpp). The same with triangle-mesh obstacles (a box hovering over a
 // pyramid and a moving roof, as contact_obstacles_test.cpp): the same active pairs of every
@@ -20,6 +21,7 @@
 #include "contact_test_scene.hpp"
 #include "device/device_runtime.hpp"
 #include "forms/contact_form.hpp"
+#include "forms/friction_form.hpp"
 #include "mesh/box_generator.hpp"
 
 namespace dipc {
@@ -121,6 +123,66 @@ struct TwoForms {
   }
 };
 
+// Lagged friction of both forms' active pairs at x (the step started at x shifted by up to
+// 2e-4 per coordinate, so that pairs slide and stick): FrictionForm on the device against the
+// host, value, gradient and Hessian to 1e-12 of the largest entry, then the same after a segment
+// that reverses the slips (the majorizer's Hessian for the pairs it marks), and the marks used
+// up by that Hessian. x must be where the forms' candidates were last searched. reversals: the
+// segment must mark some pair (where the pairs' slips come from the bodies' motion: with a moving
+// obstacle under them, the obstacle's own displacement over the step can outweigh the reversal).
+void expect_same_friction(TwoForms& f, const std::vector<double>& x, std::uint64_t seed, bool reversals) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> start(x.size()), back(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    start[k] = x[k] - 2e-4 * u(rng);
+    back[k] = 3.0 * (start[k] - x[k]);  // across the start: every sliding pair reverses
+  }
+  FrictionForm host(*f.host, 0.5, 1e-2, 1e-2, true), gpu(*f.gpu, 0.5, 1e-2, 1e-2, true);
+  EXPECT_EQ(gpu.memory_space(), MemorySpace::device);
+  host.update_lag(x.data(), start.data());
+  gpu.update_lag(x.data(), start.data());
+  ASSERT_GT(host.num_pairs(), 0u) << "no friction pair: the comparison would be vacuous";
+  ASSERT_EQ(gpu.num_pairs(), host.num_pairs());
+  std::vector<NodeGroup> groups, gpu_groups;
+  host.node_groups(&groups);
+  gpu.node_groups(&gpu_groups);
+  ASSERT_EQ(gpu_groups.size(), groups.size());
+  std::size_t values = 0;
+  for (const NodeGroup& g : groups) values += 9 * static_cast<std::size_t>(g.count) * g.count;
+  device::Array<double> x_device("test x"), p_device("test p");
+  x_device.upload(x);
+  p_device.upload(back);
+
+  double host_energy = 0, gpu_energy = 0;
+  ASSERT_TRUE(host.value(x.data(), &host_energy));
+  ASSERT_TRUE(gpu.value(x_device.data(), &gpu_energy));
+  EXPECT_GT(host_energy, 0.0);
+  EXPECT_NEAR(gpu_energy, host_energy, 1e-12 * host_energy);
+  std::vector<double> g(x.size(), 0.0);
+  device::Array<double> g_device("test gradient");
+  g_device.resize(x.size());
+  g_device.set_zero();
+  ASSERT_TRUE(host.gradient(x.data(), g.data()));
+  ASSERT_TRUE(gpu.gradient(x_device.data(), g_device.data()));
+  EXPECT_LE(max_difference(g_device.to_host(), g), 1e-12 * max_abs(g));
+  for (bool reversed : {false, true}) {
+    if (reversed) {
+      host.prepare_segment(x.data(), back.data());
+      gpu.prepare_segment(x_device.data(), p_device.data());
+      if (reversals) EXPECT_GT(host.num_reversing(), 0u);
+      EXPECT_EQ(gpu.num_reversing(), host.num_reversing());
+    }
+    std::vector<double> H(values);
+    device::Array<double> H_device("test Hessian");
+    H_device.resize(values);
+    ASSERT_TRUE(host.hessian(x.data(), H.data()));
+    ASSERT_TRUE(gpu.hessian(x_device.data(), H_device.data()));
+    EXPECT_LE(max_difference(H_device.to_host(), H), 1e-12 * max_abs(H)) << (reversed ? "majorizers" : "projected");
+    EXPECT_EQ(gpu.num_reversing(), 0u);
+  }
+}
+
 TEST(ContactFormGpu, DeviceFormMatchesHostForm) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   int size = 1;
@@ -151,6 +213,7 @@ TEST(ContactFormGpu, DeviceFormMatchesHostForm) {
   for (std::size_t k = 0; k < x.size(); ++k) closer[k] = x[k] + 0.5 * p[k];
   f.expect_same_terms(closer);
   EXPECT_GT(f.gpu->pattern_version(), version);
+  expect_same_friction(f, closer, 7, true);
 
   f.x_device.upload(x);
   const double host_step = f.host->max_step(x.data(), p.data());
@@ -247,6 +310,7 @@ TEST(ContactFormGpu, ObstaclesMatchHostForm) {
   }
   for (int k = 0; k < 3; ++k) EXPECT_GT(kinds[k], 0) << "no active body–obstacle pair of kind " << k;
   f.expect_same_terms(x);
+  expect_same_friction(f, x, 11, false);
 
   // CCD with the roof moving: the same bound bit for bit (both search every pair on [0, 1]).
   f.x_device.upload(x);

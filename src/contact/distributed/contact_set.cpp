@@ -206,7 +206,9 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
   if (space_ == MemorySpace::device &&
       !(same(previous_edges, edges_, owned_edges_) && same(previous_faces, faces_, owned_faces_)))
     upload_surface();
-  return extra_nodes_ != previous;
+  const bool renumbered = extra_nodes_ != previous;
+  if (renumbered) ++numbering_version_;
+  return renumbered;
 }
 
 // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.

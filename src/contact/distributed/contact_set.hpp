@@ -89,6 +89,9 @@ class ContactSet {
 
   // ---- surface and extra nodes ----
   const std::vector<std::int64_t>& extra_nodes() const { return extra_nodes_; }
+  // Changes whenever an exchange changes the extra nodes (and so the ext-local ids of the nodes
+  // beyond the mesh's): ids kept elsewhere are stale when it moved.
+  long numbering_version() const { return numbering_version_; }
   // The ghost-surface exchange for the segment x + αp (host arrays); collective. Returns
   // whether the extra nodes changed.
   bool exchange_ghosts(const double* x, const double* p);
@@ -258,6 +261,7 @@ class ContactSet {
   std::vector<Primitive> edges_, faces_;                // owned first, then ghosts (rebuilt by exchanges)
   std::size_t owned_edges_ = 0, owned_faces_ = 0;
   std::vector<std::int64_t> extra_nodes_;
+  long numbering_version_ = 0;
   std::vector<std::int64_t> pinned_;
   // Local ids of the extra nodes. The mesh's own nodes need no map: owned ones are a
   // contiguous range and ghosts are sorted by global id (distributed_mesh.hpp); a hash map of
