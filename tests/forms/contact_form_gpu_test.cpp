@@ -170,7 +170,9 @@ void expect_same_friction(TwoForms& f, const std::vector<double>& x, std::uint64
     if (reversed) {
       host.prepare_segment(x.data(), back.data());
       gpu.prepare_segment(x_device.data(), p_device.data());
-      if (reversals) EXPECT_GT(host.num_reversing(), 0u);
+      if (reversals) {
+        EXPECT_GT(host.num_reversing(), 0u);
+      }
       EXPECT_EQ(gpu.num_reversing(), host.num_reversing());
     }
     std::vector<double> H(values);

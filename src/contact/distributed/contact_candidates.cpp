@@ -53,10 +53,9 @@ void ContactSet::upload_surface() {
 }
 
 void ContactSet::upload_pair_sources_body() {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::int32_t> face_nodes(3 * faces_.size()), edge_nodes(2 * edges_.size());
   std::vector<std::int64_t> gid(edges_.size());
-  std::vector<double> rest2(edges_.size()), weight(edges_.size(), nan);
+  std::vector<double> rest2(edges_.size());
   for (std::size_t f = 0; f < faces_.size(); ++f)
     for (int c = 0; c < 3; ++c) face_nodes[3 * f + c] = faces_[f].node[c];
   for (std::size_t e = 0; e < edges_.size(); ++e) {
@@ -64,10 +63,10 @@ void ContactSet::upload_pair_sources_body() {
     edge_nodes[2 * e] = p.node[0], edge_nodes[2 * e + 1] = p.node[1];
     gid[e] = p.gid;
     rest2[e] = p.rest_length2;
-    // describe's weight of a pair whose edge this is (the rank's own edges have areas).
-    const auto a0 = node_area_.find(p.node[0]), a1 = node_area_.find(p.node[1]);
-    if (a0 != node_area_.end() && a1 != node_area_.end()) weight[e] = 0.5 * (a0->second + a1->second);
   }
+  // The owned edges' weights (fixed for the run), NaN for the ghosts after them.
+  std::vector<double> weight(owned_edge_weight_);
+  weight.resize(edges_.size(), std::numeric_limits<double>::quiet_NaN());
   device::DevicePairSources& d = device_pair_sources_;
   d.face_nodes.upload(face_nodes), d.edge_nodes.upload(edge_nodes), d.edge_gid.upload(gid);
   d.edge_rest2.upload(rest2), d.edge_weight.upload(weight);
@@ -77,6 +76,11 @@ void ContactSet::upload_pair_sources_fixed() {
   std::vector<double> area(mesh_.local_to_global.size(), std::numeric_limits<double>::quiet_NaN());
   for (const auto& [node, a] : node_area_)
     if (static_cast<std::size_t>(node) < area.size()) area[static_cast<std::size_t>(node)] = a;
+  // describe's weight of a pair whose edge has the smaller global id, which is always one of the
+  // rank's own (pair_filter.hpp).
+  owned_edge_weight_.resize(owned_edges_);
+  for (std::size_t e = 0; e < owned_edges_; ++e)
+    owned_edge_weight_[e] = 0.5 * (node_area_.at(edges_[e].node[0]) + node_area_.at(edges_[e].node[1]));
   std::vector<std::int32_t> faces, edges;
   for (const auto& f : obstacles_.faces) faces.insert(faces.end(), f.begin(), f.end());
   for (const auto& e : obstacles_.edges) edges.insert(edges.end(), e.begin(), e.end());

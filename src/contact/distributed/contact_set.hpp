@@ -236,7 +236,8 @@ class ContactSet {
   void find_candidates_on_device(const double* x, const double* p);
   void upload_surface();  // device space: number_surface() and the obstacles to the device broad phase
   // Device space: what describe() reads, for describe_on_device: the body's part (triangles,
-  // edges) after every change of the surface, the vertex areas and obstacles once.
+  // edges) after every change of the surface; the vertex areas, the owned edges' weights and
+  // the obstacles once (after collect_owned).
   void upload_pair_sources_body();
   void upload_pair_sources_fixed();
   void append_obstacles(device::BroadPhaseSurface* s) const;
@@ -285,6 +286,7 @@ class ContactSet {
   double uploaded_t0_ = 0, uploaded_t1_ = 0;  // ObstacleSurface starts at t = 0
   device::DeviceBroadPhase device_broad_phase_;
   device::DevicePairSources device_pair_sources_;
+  std::vector<double> owned_edge_weight_;  // device space: per owned edge, as describe() weighs its pairs
   device::Array<std::int32_t> device_candidate_index_{"contact candidate indices"};
   std::vector<std::int32_t> device_surface_nodes_;
   int device_body_vertices_ = 0;  // compact vertices before the obstacles' (append_obstacles)
