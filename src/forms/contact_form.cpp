@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -67,9 +66,8 @@ void ContactForm::prepare_segment(const double* x, const double* p) {
 }
 
 device::ContactPairList ContactForm::candidate_pair_list() const {
-  const std::array<std::size_t, kNumCandidateKinds> count = set_.candidate_counts();
   device::ContactPairList list;
-  list.resize(std::accumulate(count.begin(), count.end(), std::size_t{0}));
+  list.resize(set_.candidate_starts()[kNumCandidateKinds]);
   set_.for_each_pair_slot(
       [&](CandidateKind kind, std::size_t i, std::size_t slot) { set_pair(&list, slot, set_.describe(kind, i)); });
   return list;
@@ -103,10 +101,8 @@ void ContactForm::update_pattern(const double* x, const double* x_device) {
     if (space_ == MemorySpace::device && x_device) {
       // The flags of the device candidates (the set's candidates in its order), computed by the
       // same point function as terms() below, so the same set bit for bit.
-      const std::array<std::size_t, kNumCandidateKinds> count = set_.candidate_counts();
-      std::array<std::size_t, kNumCandidateKinds> first{};
-      for (int k = 1; k < kNumCandidateKinds; ++k) first[k] = first[k - 1] + count[k - 1];
-      const std::size_t n = first[kNumCandidateKinds - 1] + count[kNumCandidateKinds - 1];
+      const std::array<std::size_t, kNumCandidateKinds + 1> first = set_.candidate_starts();
+      const std::size_t n = first[kNumCandidateKinds];
       if (device_candidates_.count != n)
         throw std::logic_error("ContactForm::update_pattern: the device holds " +
                                std::to_string(device_candidates_.count) + " candidate pairs, the set " +

@@ -93,8 +93,7 @@ void ContactSet::upload_pair_sources_fixed() {
 void ContactSet::describe_on_device(device::DeviceContactPairs* out) {
   const std::array<const std::vector<std::array<std::int32_t, 2>>*, kNumCandidateKinds> lists = {
       &vertex_face_, &edge_edge_, &vertex_plane_, &vertex_obstacle_face_, &edge_obstacle_edge_, &obstacle_vertex_face_};
-  std::array<std::size_t, kNumCandidateKinds + 1> first{};
-  for (int k = 0; k < kNumCandidateKinds; ++k) first[k + 1] = first[k] + lists[k]->size();
+  const std::array<std::size_t, kNumCandidateKinds + 1> first = candidate_starts();
   // Each list straight into its slice (an array of int32 pairs is 2 int32 per pair).
   static_assert(sizeof(std::array<std::int32_t, 2>) == 2 * sizeof(std::int32_t));
   device_candidate_index_.resize(2 * first[kNumCandidateKinds]);

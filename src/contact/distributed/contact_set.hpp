@@ -154,6 +154,14 @@ class ContactSet {
     return {vertex_face_.size(),          edge_edge_.size(),          vertex_plane_.size(),
             vertex_obstacle_face_.size(), edge_obstacle_edge_.size(), obstacle_vertex_face_.size()};
   }
+  // Where each kind's candidates start in for_each_pair's order (a pair's slot is its kind's
+  // start plus its index), and, last, the number of candidates.
+  std::array<std::size_t, kNumCandidateKinds + 1> candidate_starts() const {
+    const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
+    std::array<std::size_t, kNumCandidateKinds + 1> start{};
+    for (int k = 0; k < kNumCandidateKinds; ++k) start[k + 1] = start[k] + count[k];
+    return start;
+  }
   // What keep(kind, index, out) appends to out for every candidate, on the host threads, joined
   // in for_each_pair's order (for any number of threads).
   template <class T, class Keep>
@@ -312,10 +320,7 @@ void ContactSet::for_each_pair_chunk(F&& f) const {
 
 template <class F>
 void ContactSet::for_each_pair_slot(F&& f) const {
-  // Each kind's pairs start after the earlier kinds'.
-  const std::array<std::size_t, kNumCandidateKinds> count = candidate_counts();
-  std::array<std::size_t, kNumCandidateKinds> first{};
-  for (int kind = 1; kind < kNumCandidateKinds; ++kind) first[kind] = first[kind - 1] + count[kind - 1];
+  const std::array<std::size_t, kNumCandidateKinds + 1> first = candidate_starts();
   for_each_pair_chunk([&](CandidateKind kind, std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i) f(kind, i, first[static_cast<int>(kind)] + i);
   });
