@@ -149,8 +149,8 @@ class HessianAssembler {
   // with -dipc_pattern_remap candidates.
   void build_reserve(const std::vector<NodeGroup>& groups);
   // The changing part's values' place among the matrix's entries; *fits false where an entry
-  // has none.
-  PetscErrorCode map_changing_part(const std::vector<NodeGroup>& groups, bool* fits);
+  // has none. A trial (the matrix kept if the pattern fits) stops at the first such entry.
+  PetscErrorCode map_changing_part(const std::vector<NodeGroup>& groups, bool trial, bool* fits);
   // The raw value arrays sized for the parts, the maps on the device where values are summed there.
   void size_raw_values();
   // The matrix entry of the dof pair (row, col) among the fixed part's extra entries, or -1.
@@ -186,8 +186,8 @@ class HessianAssembler {
   std::size_t changing_raw_begin_ = 0;   // the changing part's raw values, to the end
   std::size_t num_raw_entries_ = 0;      // element, fixed (with the Dirichlet diagonal), changing part
   // The raw values on the host: only for a host matrix. With a device matrix the host keeps
-  // neither these nor the maps, only the block of the largest host term (friction) in
-  // host_block_. d_values_ holds them wherever device terms exist. Both leave the element part
+  // neither these nor the maps (but the changing part's targets, whose array the next pattern
+  // reuses), only the block of the largest host term (friction) in host_block_. d_values_ holds them wherever device terms exist. Both leave the element part
   // out when it is summed chunk by chunk (they then start at the COO part: raw_offset()).
   LargePageVector<PetscScalar> values_;
   std::vector<PetscScalar> host_block_;

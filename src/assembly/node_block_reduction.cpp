@@ -126,6 +126,7 @@ NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, s
   NodeBlockReduction r;
   r.row_nodes.resize(num_rows);
   for (std::size_t s = 0; s < num_rows; ++s) r.row_nodes[s] = slots.node_of(s);
+  r.dense_begin = slots.dense_begin, r.dense_end = slots.dense_end, r.dense_below = slots.below;
   std::vector<std::int64_t>().swap(slots.sparse);
   r.forms.resize(inputs.size());
   for (std::size_t f = 0; f < inputs.size(); ++f) {
@@ -174,6 +175,7 @@ NodeBlockReduction NodeBlockReduction::build_on_device(const std::vector<Input>&
   NodeBlockReduction r;
   r.row_nodes.resize(slots.num_rows);
   for (std::size_t s = 0; s < slots.num_rows; ++s) r.row_nodes[s] = slots.node_of(s);
+  r.dense_begin = slots.dense_begin, r.dense_end = slots.dense_end, r.dense_below = slots.below;
   // Each form's element nodes as row slots, on the device.
   std::vector<device::Array<std::uint32_t>> d_slots;
   for (const Input& in : inputs) {
@@ -230,8 +232,13 @@ void NodeBlockReduction::entries(std::vector<PetscInt>* rows, std::vector<PetscI
   }
 }
 
-std::int64_t NodeBlockReduction::find_block(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint) const {
-  if (row_node < 0 || col_node < 0 || row_nodes.empty()) return -1;
+std::int64_t NodeBlockReduction::find_row(std::int64_t row_node, std::size_t* row_hint) const {
+  if (row_node < 0 || row_nodes.empty()) return -1;
+  if (row_node >= dense_begin && row_node < dense_end) {
+    const std::size_t s = dense_below + static_cast<std::size_t>(row_node - dense_begin);
+    if (row_hint) *row_hint = s;
+    return static_cast<std::int64_t>(s);
+  }
   auto from = row_nodes.begin();
   if (row_hint && *row_hint < row_nodes.size() && row_nodes[*row_hint] <= row_node) {
     from += static_cast<std::ptrdiff_t>(*row_hint);
@@ -240,7 +247,14 @@ std::int64_t NodeBlockReduction::find_block(std::int64_t row_node, std::int64_t 
   const auto r = *from == row_node ? from : std::lower_bound(from, row_nodes.end(), row_node);
   if (row_hint) *row_hint = static_cast<std::size_t>(std::min(r, row_nodes.end() - 1) - row_nodes.begin());
   if (r == row_nodes.end() || *r != row_node) return -1;
-  const std::size_t s = static_cast<std::size_t>(r - row_nodes.begin());
+  return static_cast<std::int64_t>(r - row_nodes.begin());
+}
+
+std::int64_t NodeBlockReduction::find_block(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint) const {
+  if (col_node < 0) return -1;
+  const std::int64_t row = find_row(row_node, row_hint);
+  if (row < 0) return -1;
+  const std::size_t s = static_cast<std::size_t>(row);
   const auto first = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s]);
   const auto last = block_col.begin() + static_cast<std::ptrdiff_t>(row_start[s + 1]);
   const auto c = std::lower_bound(first, last, col_node);

@@ -85,6 +85,8 @@ class NodeBlockReduction {
   // at: a pass over pairs sorted by row (start with 0) then finds each row in a step or two
   // instead of a binary search (3M lumped-mass diagonal entries at 1M hexes took 0.25 s so).
   std::int64_t find(std::int64_t row, std::int64_t col, std::size_t* row_hint = nullptr) const;
+  // The block row of row_node, or -1; row_hint as for find().
+  std::int64_t find_row(std::int64_t row_node, std::size_t* row_hint = nullptr) const;
   // The block of the node pair (row_node, col_node), or -1; row_hint as for find().
   std::int64_t find_block(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint = nullptr) const;
   // unique[k], k < num_entries(), from the raw values of the forms (written in their layouts).
@@ -101,6 +103,12 @@ class NodeBlockReduction {
   void add_elements(std::size_t m, int first, int count, const double* values, double* unique) const;
 
   std::vector<std::int64_t> row_nodes;         // global node of each block row, ascending
+  // The owned nodes [dense_begin, dense_end) are rows dense_below + (node - dense_begin), found
+  // without a search: the contact pattern's lookups (16 node blocks per pair, hundreds of
+  // thousands of pairs per pattern change) spent most of their time in binary searches of
+  // row_nodes. Other rows (ghost nodes) are searched.
+  std::int64_t dense_begin = 0, dense_end = 0;
+  std::size_t dense_below = 0;
   std::vector<std::size_t> row_start;          // blocks of row r: [row_start[r], row_start[r+1])
   LargePageVector<std::int64_t> block_col;     // global column node of each block, ascending in a row
   LargePageVector<std::uint16_t> block_mask;   // which of the block's 9 entries exist (bit 3i + j)

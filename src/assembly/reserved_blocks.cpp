@@ -34,12 +34,26 @@ void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockRed
     next += kBlockMaskBits[missing[p]];
   }
   num_entries_ = next - first_entry;
+  // Each dense row's first pair, in one pass over the rows and the pairs (both ascending).
+  dense_begin_ = blocks.dense_begin, dense_end_ = std::max(blocks.dense_begin, blocks.dense_end);
+  dense_first_.resize(static_cast<std::size_t>(dense_end_ - dense_begin_) + 1);
+  std::size_t p = 0;
+  for (std::size_t r = 0; r < dense_first_.size(); ++r) {
+    while (p < pairs_.size() && pairs_[p][0] < dense_begin_ + static_cast<std::int64_t>(r)) ++p;
+    dense_first_[r] = p;
+  }
 }
 
 ReservedBlocks::Block ReservedBlocks::find_block(std::int64_t row_node, std::int64_t col_node) const {
   const NodePair pair{row_node, col_node};
-  const auto it = std::lower_bound(pairs_.begin(), pairs_.end(), pair);
-  if (it == pairs_.end() || *it != pair) return {};
+  auto first = pairs_.begin(), last = pairs_.end();
+  if (row_node >= dense_begin_ && row_node < dense_end_) {
+    const std::size_t r = static_cast<std::size_t>(row_node - dense_begin_);
+    first += static_cast<std::ptrdiff_t>(dense_first_[r]);
+    last = pairs_.begin() + static_cast<std::ptrdiff_t>(dense_first_[r + 1]);
+  }
+  const auto it = std::lower_bound(first, last, pair);
+  if (it == last || *it != pair) return {};
   const std::size_t k = static_cast<std::size_t>(it - pairs_.begin());
   return {mask_[k], start_[k]};
 }

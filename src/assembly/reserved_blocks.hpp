@@ -55,6 +55,11 @@ class ReservedBlocks {
 
  private:
   std::vector<NodePair> pairs_;      // ascending
+  // Rows of the blocks' dense range (NodeBlockReduction::dense_begin ..): the pairs of row node
+  // dense_begin_ + r are pairs_[dense_first_[r] .. dense_first_[r + 1]), found without a search
+  // of the whole reserve (millions of blocks on contact-rich steps); other rows are searched.
+  std::int64_t dense_begin_ = 0, dense_end_ = 0;
+  std::vector<std::size_t> dense_first_;
   std::vector<std::uint16_t> mask_;  // the block's reserved entries
   std::vector<std::size_t> start_;   // the block's first entry
   std::size_t num_entries_ = 0;

@@ -8,7 +8,7 @@
 
 namespace dipc {
 
-std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockFind& find) {
+std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockFind& find, bool stop_at_missing) {
   // Each group's first raw value.
   std::vector<std::size_t> begin(groups.size() + 1, 0);
   for (std::size_t g = 0; g < groups.size(); ++g) begin[g + 1] = begin[g] + node_group_values(groups[g].count);
@@ -18,13 +18,18 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
     throw std::length_error("more than 2^31 - 1 changing Hessian entries on one rank: run on more ranks");
   num_raw_ = n;
   on_device_ = false;
-  target_.assign(n, kDropped);
+  // Every value is written below (its target or kDropped), by the thread of its group: the
+  // array is not filled first, and it is kept from build to build (grown only), so that its
+  // pages are not faulted in and zeroed again at every pattern change (hundreds of MB at 1M
+  // hexes, a third of a build's time).
+  if (target_.size() < n) target_.resize(n);
   std::vector<std::size_t> chunk_missing(static_cast<std::size_t>(host_threads()), 0);
-  std::atomic<bool> too_far{false};
+  std::atomic<bool> too_far{false}, any_missing{false};
   const int chunks = parallel_chunks(groups.size(), [&](int c, std::size_t g0, std::size_t g1) {
     std::size_t row_hint = 0, missing = 0;
     std::int64_t entry[9];
     for (std::size_t g = g0; g < g1; ++g) {
+      if (stop_at_missing && any_missing.load(std::memory_order_relaxed)) break;
       const NodeGroup& group = groups[g];
       const int n3 = 3 * group.count;
       for (int a = 0; a < group.count; ++a)
@@ -33,12 +38,15 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
           for (int bit = 0; bit < 9; ++bit) {
             // Value (3a + i, 3b + j) of the group's row-major (3 count)^2 block.
             const std::size_t k = begin[g] + static_cast<std::size_t>((3 * a + bit / 3) * n3 + 3 * b + bit % 3);
-            if (entry[bit] < 0)
+            if (entry[bit] < 0) {
+              target_[k] = kDropped;
               ++missing;
-            else if (static_cast<std::uint64_t>(entry[bit]) >= kDropped)
+              if (stop_at_missing) any_missing.store(true, std::memory_order_relaxed);  // the other threads stop too
+            } else if (static_cast<std::uint64_t>(entry[bit]) >= kDropped) {
               too_far = true;
-            else
+            } else {
               target_[k] = static_cast<std::uint32_t>(entry[bit]);
+            }
           }
         }
     }
@@ -53,10 +61,9 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
 void TargetPart::keep_on_device() {
   if (on_device_) return;
   on_device_ = true;
-  d_keys_.upload(target_);
+  d_keys_.upload(target_.data(), num_raw_);
   d_sources_.resize(num_raw_);
   device::sort_by_target(d_keys_.data(), d_sources_.data(), num_raw_);
-  std::vector<std::uint32_t>().swap(target_);
 }
 
 void TargetPart::add(const double* raw, double* unique) const {

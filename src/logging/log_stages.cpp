@@ -30,6 +30,10 @@ const LogEvents& log_events() {
     PetscLogEventRegister("dipcDirectMatrix", id, &r.direct_matrix);
     PetscLogEventRegister("dipcMatrixRows", id, &r.matrix_rows);
     PetscLogEventRegister("dipcMatrixMake", id, &r.matrix_make);
+    PetscLogEventRegister("dipcPatternGroups", id, &r.pattern_groups);
+    PetscLogEventRegister("dipcPatternReserve", id, &r.pattern_reserve);
+    PetscLogEventRegister("dipcPatternMap", id, &r.pattern_map);
+    PetscLogEventRegister("dipcPatternDevice", id, &r.pattern_device);
     PetscLogEventRegister("dipcSetupElements", id, &r.setup_elements);
     PetscLogEventRegister("dipcSetupMasses", id, &r.setup_masses);
     PetscLogEventRegister("dipcSetupForms", id, &r.setup_forms);

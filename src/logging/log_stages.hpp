@@ -15,6 +15,10 @@ const LogStages& log_stages();
 struct LogEvents {
   PetscLogEvent energy, gradient, hessian, validity, coo_reduction, node_blocks, direct_matrix, pattern_remap;
   PetscLogEvent matrix_rows, matrix_make;  // direct_matrix's parts: its rows' pattern, the Mat from it
+  // The changing part's steps, in coo_reduction and pattern_remap: the terms' node groups, the
+  // reserve's blocks (new matrices only), the values' targets among the entries, and the raw
+  // arrays and targets sized and sent to the device.
+  PetscLogEvent pattern_groups, pattern_reserve, pattern_map, pattern_device;
   PetscLogEvent setup_elements, setup_masses, setup_forms, setup_state, setup_solver, contact_check;
   // The contact and friction forms' parts (ContactForm, FrictionForm): ghost surfaces, broad
   // phase, the device pair lists (built on the host, uploaded), the active-set pass, CCD, the

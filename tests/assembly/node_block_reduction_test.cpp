@@ -3,7 +3,7 @@
 // and reduce() giving the same bits (the same sums in the same order: forms in order, then
 // elements ascending), with the owned (dense) node range inside, around and outside the nodes
 // used, and an element mass whose blocks hold only their diagonal; the host's chunked sums
-// against reduce().
+// against reduce(); ReservedBlocks over such blocks.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include "assembly/coo_reduction.hpp"
 #include "assembly/element_loops.hpp"
 #include "assembly/node_block_reduction.hpp"
+#include "assembly/reserved_blocks.hpp"
 
 namespace dipc {
 namespace {
@@ -122,6 +123,11 @@ void expect_matches_expanded(const Case& c, std::int64_t owned_begin, std::int64
   std::size_t hint = 0;
   for (const auto& [row, col] : queries)
     ASSERT_EQ(blocks.find(row, col, &hint), blocks.find(row, col)) << "(" << row << ", " << col << ")";
+  // The owned rows' direct lookup (the dense range) against the search of row_nodes alone.
+  NodeBlockReduction searched = blocks;
+  searched.dense_begin = searched.dense_end = 0;
+  for (const auto& [row, col] : queries)
+    ASSERT_EQ(searched.find(row, col), blocks.find(row, col)) << "(" << row << ", " << col << ")";
   // Pairs that no block holds: an unknown row node, an unknown column node, a mass-only block's
   // off-diagonal component.
   EXPECT_EQ(blocks.find(3 * 5000, 3 * 1000), -1);
@@ -144,6 +150,66 @@ TEST(NodeBlockReduction, MatchesTheExpandedPatternAllOwned) { expect_matches_exp
 TEST(NodeBlockReduction, MatchesTheExpandedPatternNoneOwned) {
   expect_matches_expanded(random_case(3), 5000, 5000);
   expect_matches_expanded(random_case(4), 0, 10);
+}
+
+// The reserve of random node pairs (rows inside and outside the owned range, used and unused
+// nodes, repeats): each requested pair's entries that neither the blocks nor the fixed part hold,
+// numbered on from the first entry in pair order, found through the owned rows' direct index and
+// through the search alike; nothing for pairs not requested.
+TEST(ReservedBlocks, HoldsTheRequestedEntriesNothingElseHolds) {
+  const Case c = random_case(7);
+  const NodeBlockReduction blocks = NodeBlockReduction::build(
+      {{{static_cast<int>(c.elastic_nodes.size() / 8), c.elastic_nodes.data(), c.local_to_global.data(),
+         ElementLayout::elastic},
+        0},
+       {{static_cast<int>(c.mass_nodes.size() / 8), c.mass_nodes.data(), c.local_to_global.data(),
+         ElementLayout::consistent_mass},
+        0}},
+      1200, 1400);
+  ASSERT_GT(blocks.dense_end, blocks.dense_begin);
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<std::int64_t> node(990, 1610);
+  std::vector<ReservedBlocks::NodePair> pairs;
+  for (int k = 0; k < 3000; ++k) pairs.push_back({node(rng), node(rng)});
+  for (int k = 0; k < 300; ++k) pairs.push_back(pairs[static_cast<std::size_t>(k) * 7]);  // repeats
+  std::vector<ReservedBlocks::NodePair> requested = pairs;
+  std::sort(requested.begin(), requested.end());
+  requested.erase(std::unique(requested.begin(), requested.end()), requested.end());
+  // The fixed part holds some diagonal entries.
+  const auto held = [](PetscInt row, PetscInt col) { return row == col && row % 7 == 0; };
+  const std::size_t first = 100;
+  ReservedBlocks reserve;
+  reserve.build(pairs, blocks, held, first);
+
+  std::size_t next = first, with_entries = 0;
+  for (const auto& [row, col] : requested) {
+    const std::int64_t k = blocks.find_block(row, col);
+    unsigned missing = 0x1ffu & ~(k >= 0 ? static_cast<unsigned>(blocks.block_mask[static_cast<std::size_t>(k)]) : 0u);
+    for (int bit = 0; bit < 9; ++bit)
+      if (held(static_cast<PetscInt>(3 * row + bit / 3), static_cast<PetscInt>(3 * col + bit % 3))) missing &= ~(1u << bit);
+    const ReservedBlocks::Block b = reserve.find_block(row, col);
+    ASSERT_EQ(b.mask, missing) << "(" << row << ", " << col << ")";
+    if (!missing) continue;
+    EXPECT_EQ(b.start, next) << "(" << row << ", " << col << ")";
+    next += kBlockMaskBits[missing];
+    ++with_entries;
+  }
+  EXPECT_GT(with_entries, 100u) << "the case reserves too little to test";
+  EXPECT_EQ(reserve.num_entries(), next - first);
+  for (int k = 0; k < 3000; ++k) {
+    const ReservedBlocks::NodePair p{node(rng), node(rng)};
+    if (!std::binary_search(requested.begin(), requested.end(), p))
+      ASSERT_EQ(reserve.find_block(p[0], p[1]).mask, 0u) << "(" << p[0] << ", " << p[1] << ")";
+  }
+  std::vector<PetscInt> rows, cols;
+  reserve.entries(&rows, &cols);
+  ASSERT_EQ(rows.size(), reserve.num_entries());
+  for (std::size_t e = 0; e < rows.size(); ++e) {
+    const ReservedBlocks::Block b = reserve.find_block(rows[e] / 3, cols[e] / 3);
+    const int bit = static_cast<int>(3 * (rows[e] % 3) + cols[e] % 3);
+    ASSERT_TRUE(b.mask >> bit & 1u);
+    EXPECT_EQ(b.start + static_cast<std::size_t>(entry_in_block(b.mask, bit)), first + e);
+  }
 }
 
 TEST(NodeBlockReduction, EmptyForms) {
