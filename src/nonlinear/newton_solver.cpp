@@ -124,7 +124,11 @@ PetscErrorCode NewtonSolver::set_default_options() {
   if (device_matrix) PetscCall(default_option("-pc_hypre_boomeramg_relax_type_all", "l1scaled-Jacobi"));
   PetscCall(default_option("-pc_hypre_boomeramg_coarsen_type", device_matrix ? "PMIS" : "HMIS"));
   PetscCall(default_option("-pc_hypre_boomeramg_interp_type", "ext+i"));
-  PetscCall(default_option("-pc_hypre_boomeramg_P_max", "4"));
+  // On the GPU, interpolation truncated to 2 entries per row: BoomerAMG's setup, made afresh at
+  // every contact pattern change, took 35 % less on the 1M-hex box and the linear solve 22 % less
+  // per Newton iteration on the contact-rich 1M stack (8 steps), for 8-10 % more CG iterations
+  // (one H200, docs/performance.md, "Pattern changes at 8 steps"). The host keeps 4.
+  PetscCall(default_option("-pc_hypre_boomeramg_P_max", device_matrix ? "2" : "4"));
   // On the GPU, PETSc 3.22 has hypre form the coarse operators (RAP) with cuSPARSE's SpGEMM
   // unless told otherwise. On the contact-rich stack at 1M hexes on one H200 that failed in
   // the fourth step's AMG setup with CUSPARSE_STATUS_INSUFFICIENT_RESOURCES, with 34 of 139 GB
