@@ -187,8 +187,9 @@ class HessianAssembler {
   std::size_t num_raw_entries_ = 0;      // element, fixed (with the Dirichlet diagonal), changing part
   // The raw values on the host: only for a host matrix. With a device matrix the host keeps
   // neither these nor the maps (but the changing part's targets, whose array the next pattern
-  // reuses), only the block of the largest host term (friction) in host_block_. d_values_ holds them wherever device terms exist. Both leave the element part
-  // out when it is summed chunk by chunk (they then start at the COO part: raw_offset()).
+  // reuses), only the block of the largest host term (friction) in host_block_. d_values_
+  // holds them wherever device terms exist. Both leave the element part out when it is summed
+  // chunk by chunk (they then start at the COO part: raw_offset()).
   LargePageVector<PetscScalar> values_;
   std::vector<PetscScalar> host_block_;
   device::Array<double> d_values_{"Hessian COO values"};
