@@ -62,13 +62,22 @@ DirectMatrix::Kind DirectMatrix::kind_of(Mat J) {
   return Kind::coo;
 }
 
-PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReduction* blocks, const PetscInt* rows,
-                                    const PetscInt* cols, std::size_t n, Mat* J) {
+PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReduction* blocks,
+                                    const ReservedBlocks* reserve, const PetscInt* rows, const PetscInt* cols,
+                                    std::size_t n, Mat* J) {
   PetscFunctionBeginUser;
   PetscCheck(kind != Kind::coo, PETSC_COMM_SELF, PETSC_ERR_PLIB, "DirectMatrix::create needs a direct kind");
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(like));
   kind_ = kind;
   num_entries_ = (blocks ? blocks->num_entries() : 0) + n;
+  if (reserve && reserve->num_blocks() == 0) reserve = nullptr;
+  if (reserve) {
+    PetscCheck(blocks && reserve->first_entry() == num_entries_, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "the reserve's entries must follow the node blocks' and the list's");
+    PetscCheck(kind != Kind::device_hypre || reserve->device_cols(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "a device matrix's reserve must be on the device");
+    num_entries_ += reserve->num_entries();
+  }
   // Every rank's first row, from the local sizes: the template's layout is not set up yet (its
   // global size may still read PETSC_DETERMINE).
   int rank, size;
@@ -82,13 +91,13 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
   row_begin_ = row_starts_[rank];
   {
     EventScope event(log_events().matrix_rows);
-    PetscCall(build_pattern(comm, m, blocks, rows, cols, n));
+    PetscCall(build_pattern(comm, m, blocks, reserve, rows, cols, n));
   }
   EventScope event(log_events().matrix_make);
   if (kind == Kind::host_aij)
     PetscCall(make_host_aij(like, J));
   else
-    PetscCall(make_device_hypre(like, blocks, J));
+    PetscCall(make_device_hypre(like, blocks, reserve, J));
   if (kind == Kind::device_hypre) {
     d_slot_position_.upload(slot_position_);
     d_slot_keep_.upload(slot_keep_);
@@ -97,11 +106,13 @@ PetscErrorCode DirectMatrix::create(Mat like, Kind kind, const NodeBlockReductio
 }
 
 // The entries of the rank's rows [row_begin, row_begin + num_rows) while build_pattern runs.
-// Entries are numbered: the blocks' first (nb of them), then the list's (nb + k); entries
-// received from other ranks are numbered on after them (total + k) while the rows are built.
+// Entries are numbered: the blocks' first (nb of them), then the list's (nb + k), then the
+// reserve's (its own numbers, from nb + n); entries received from other ranks are numbered on
+// after them (total + k) while the rows are built.
 // The matrix is square: a row's diagonal block holds the columns of the rank's own rows.
 struct DirectMatrix::RowEntries {
   const NodeBlockReduction* blocks;
+  const ReservedBlocks* reserve;
   const PetscInt* rows;
   const PetscInt* cols;
   std::size_t n, nb, total;
@@ -109,9 +120,10 @@ struct DirectMatrix::RowEntries {
   // hypre's matrix on the device: its rows hold the diagonal first (as hypre's smoothers read
   // it), and those made of node blocks alone are written there (make_device_hypre).
   bool on_device;
-  std::vector<std::int64_t> block_row_of_node;  // per own node, its row of the node blocks (-1: none)
-  std::vector<Pair> received;                   // entries of own rows sent by other ranks
-  std::vector<int> from;                        // the ranks that sent them
+  std::vector<std::int64_t> block_row_of_node;      // per own node, its row of the node blocks (-1: none)
+  const std::vector<std::uint32_t>* reserve_first;  // per own node, its reserve blocks' range
+  std::vector<Pair> received;                       // entries of own rows sent by other ranks
+  std::vector<int> from;                            // the ranks that sent them
   // The list's own entries and the received ones by row: row r's are source[row_count[r] ..
   // row_count[r + 1]).
   std::vector<std::size_t> row_count;
@@ -122,8 +134,44 @@ struct DirectMatrix::RowEntries {
   bool is_received(std::uint32_t src) const { return src >= total; }
   PetscInt column_of(std::uint32_t src) const { return is_received(src) ? received[src - total].col : cols[src - nb]; }
   std::int64_t block_row(PetscInt r) const { return blocks ? block_row_of_node[static_cast<std::size_t>(r / 3)] : -1; }
-  // Rows made of node blocks alone (most rows): distinct and ascending, read in place.
+  // Row r's reserve blocks [*first, *last).
+  void reserve_range(PetscInt r, std::size_t* first, std::size_t* last) const {
+    *first = *last = 0;
+    if (!reserve) return;
+    *first = (*reserve_first)[static_cast<std::size_t>(r / 3)],
+    *last = (*reserve_first)[static_cast<std::size_t>(r / 3) + 1];
+  }
+  // Rows made of node blocks alone (most rows), the element forms' and the reserve's: distinct
+  // and ascending, read in place.
   bool blocks_only(PetscInt r) const { return block_row(r) >= 0 && row_count[r] == row_count[r + 1]; }
+  // f(column, entry) for the block entries of row r (element blocks and reserve), columns
+  // ascending: the two block lists merged by column node (a node pair may be in both, the
+  // reserve holding the entries the element block lacks).
+  template <class F>
+  void walk_blocks(PetscInt r, F&& f) const {
+    const std::int64_t s = block_row(r);
+    const int i = static_cast<int>(r % 3);
+    std::size_t k = s >= 0 ? blocks->row_start[s] : 0, k_end = s >= 0 ? blocks->row_start[s + 1] : 0, e, e_end;
+    reserve_range(r, &e, &e_end);
+    while (k < k_end || e < e_end) {
+      const std::int64_t col = k < k_end && (e == e_end || blocks->block_col[k] <= reserve->pair(e)[1])
+                                   ? blocks->block_col[k]
+                                   : reserve->pair(e)[1];
+      const unsigned held = k < k_end && blocks->block_col[k] == col ? blocks->block_mask[k] : 0u;
+      const unsigned reserved = e < e_end && reserve->pair(e)[1] == col ? reserve->mask(e) : 0u;
+      for (int j = 0; j < 3; ++j) {
+        const int bit = 3 * i + j;
+        if (held >> bit & 1u)
+          f(static_cast<PetscInt>(3 * col + j),
+            static_cast<std::uint32_t>(blocks->block_start[k] + entry_in_block(held, bit)));
+        else if (reserved >> bit & 1u)
+          f(static_cast<PetscInt>(3 * col + j),
+            static_cast<std::uint32_t>(reserve->start(e) + entry_in_block(reserved, bit)));
+      }
+      if (k < k_end && blocks->block_col[k] == col) ++k;
+      if (e < e_end && reserve->pair(e)[1] == col) ++e;
+    }
+  }
 
   // The list's own entries and the received ones, bucketed by row (counting sort, in 4 B): the
   // list's entry k as nb + k, received entry k as total + k, so that own entries sort first,
@@ -158,18 +206,7 @@ struct DirectMatrix::RowEntries {
   // received ones in arrival order.
   void sorted_line(PetscInt r, std::vector<Entry>& line) const {
     line.clear();
-    const std::int64_t s = block_row(r);
-    const int i = static_cast<int>(r % 3);
-    if (s >= 0)
-      for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-        const unsigned mask = blocks->block_mask[k];
-        for (int j = 0; j < 3; ++j) {
-          const int bit = 3 * i + j;
-          if (mask >> bit & 1u)
-            line.emplace_back(static_cast<PetscInt>(3 * blocks->block_col[k] + j),
-                              static_cast<std::uint32_t>(blocks->block_start[k] + entry_in_block(mask, bit)));
-        }
-      }
+    walk_blocks(r, [&](PetscInt col, std::uint32_t entry) { line.emplace_back(col, entry); });
     for (std::size_t k = row_count[r]; k < row_count[r + 1]; ++k) line.emplace_back(column_of(source[k]), source[k]);
     // The element blocks give most rows already sorted.
     if (!std::is_sorted(line.begin(), line.end())) std::sort(line.begin(), line.end());
@@ -184,15 +221,17 @@ struct DirectMatrix::ChunkCounts {
 };
 
 PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
-                                           const PetscInt* rows, const PetscInt* cols, std::size_t n) {
+                                           const ReservedBlocks* reserve, const PetscInt* rows, const PetscInt* cols,
+                                           std::size_t n) {
   PetscFunctionBeginUser;
   RowEntries entries;
   entries.blocks = blocks;
+  entries.reserve = reserve;
   entries.rows = rows;
   entries.cols = cols;
   entries.n = n;
   entries.nb = blocks ? blocks->num_entries() : 0;
-  entries.total = entries.nb + n;
+  entries.total = num_entries_;
   entries.num_rows = num_rows;
   entries.row_begin = row_begin_;
   entries.on_device = kind_ == Kind::device_hypre;
@@ -200,6 +239,18 @@ PetscErrorCode DirectMatrix::build_pattern(MPI_Comm comm, PetscInt num_rows, con
              "node blocks need the rank's rows to start and end at a node (rows %" PetscInt_FMT " .. %" PetscInt_FMT
              ")",
              row_begin_, row_begin_ + num_rows);
+  // Each own node's reserve blocks, found once (its blocks ascend by row node).
+  reserve_first_.clear();
+  if (reserve) {
+    PetscCheck(reserve->num_blocks() < 0xffffffffu, PETSC_COMM_SELF, PETSC_ERR_SUP,
+               "%zu reserved blocks on one rank, more than 32-bit indices hold: run on more ranks",
+               reserve->num_blocks());
+    const std::int64_t first_node = row_begin_ / 3;
+    reserve_first_.resize(static_cast<std::size_t>(num_rows / 3) + 1);
+    for (std::size_t q = 0; q < reserve_first_.size(); ++q)
+      reserve_first_[q] = static_cast<std::uint32_t>(reserve->first_of_row(first_node + static_cast<std::int64_t>(q)));
+  }
+  entries.reserve_first = &reserve_first_;
   std::vector<std::vector<std::uint32_t>> remote_entry;
   PetscCall(send_remote_entries(comm, entries, &remote_entry));
   entries.bucket_by_row();
@@ -256,6 +307,24 @@ PetscErrorCode DirectMatrix::send_remote_entries(MPI_Comm comm, RowEntries& entr
         });
     }
   }
+  // The reserve's blocks of other ranks' rows lie before and after the own nodes'.
+  if (const ReservedBlocks* reserve = entries.reserve) {
+    const auto send_blocks = [&](std::size_t k0, std::size_t k1) {
+      for (std::size_t k = k0; k < k1; ++k) {
+        const auto [row_node, col_node] = reserve->pair(k);
+        const int owner = owner_of(static_cast<PetscInt>(3 * row_node));
+        std::size_t entry = reserve->start(k);
+        for (int bit = 0; bit < 9; ++bit)
+          if (reserve->mask(k) >> bit & 1u) {
+            to[owner].push_back(
+                {static_cast<PetscInt>(3 * row_node + bit / 3), static_cast<PetscInt>(3 * col_node + bit % 3)});
+            (*remote_entry)[owner].push_back(static_cast<std::uint32_t>(entry++));
+          }
+      }
+    };
+    send_blocks(0, reserve_first_.front());
+    send_blocks(reserve_first_.back(), reserve->num_blocks());
+  }
   for (std::size_t k = 0; k < entries.n; ++k)
     if (!entries.own_row(entries.rows[k])) {
       const int owner = owner_of(entries.rows[k]);
@@ -293,6 +362,13 @@ std::vector<DirectMatrix::ChunkCounts> DirectMatrix::count_row_columns(const Row
             for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
               const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
               const std::int64_t col_node = blocks->block_col[k];
+              (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
+            }
+            std::size_t e, e_end;
+            entries.reserve_range(r, &e, &e_end);
+            for (; e < e_end; ++e) {
+              const auto present = kBlockMaskBits[entries.reserve->mask(e) >> (3 * i) & 7u];
+              const std::int64_t col_node = entries.reserve->pair(e)[1];
               (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
             }
             if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
@@ -340,7 +416,6 @@ std::vector<DirectMatrix::ChunkCounts> DirectMatrix::count_row_columns(const Row
 // The second pass: every row's columns and positions at the place the first pass gave it (the
 // off-diagonal block's provisional), and the slots of the received entries, which it returns.
 std::vector<std::uint32_t> DirectMatrix::write_rows(const RowEntries& entries, std::vector<ChunkCounts>& chunk) {
-  const NodeBlockReduction* blocks = entries.blocks;
   const bool on_device = entries.on_device;
   const PetscInt col_begin = entries.row_begin;
   std::vector<std::uint32_t> received_slot(entries.received.size());
@@ -368,15 +443,7 @@ std::vector<std::uint32_t> DirectMatrix::write_rows(const RowEntries& entries, s
           };
           if (entries.blocks_only(r)) {
             if (on_device) continue;
-            const std::int64_t s = entries.block_row(r);
-            const int i = static_cast<int>(r % 3);
-            for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-              const unsigned mask = blocks->block_mask[k];
-              for (int j = 0; j < 3; ++j)
-                if (mask >> (3 * i + j) & 1u)
-                  position_[blocks->block_start[k] + static_cast<std::size_t>(entry_in_block(mask, 3 * i + j))] =
-                      next_position(static_cast<PetscInt>(3 * blocks->block_col[k] + j));
-            }
+            entries.walk_blocks(r, [&](PetscInt col, std::uint32_t entry) { position_[entry] = next_position(col); });
             continue;
           }
           entries.sorted_line(r, line_entries);
@@ -494,7 +561,8 @@ PetscErrorCode DirectMatrix::check_host_pattern(Mat J, const std::vector<PetscIn
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J) {
+PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReduction* blocks,
+                                               const ReservedBlocks* reserve, Mat* J) {
   PetscFunctionBeginUser;
 #if PetscDefined(HAVE_HYPRE_DEVICE)
   static_assert(sizeof(HYPRE_Int) == sizeof(int), "the device writes hypre's column indices as int");
@@ -520,6 +588,13 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
       std::size_t k = blocks->row_start[s], e = blocks->row_start[s + 1];
       while (k < e && blocks->block_col[k] < node_begin) add(k++);
       while (e > k && blocks->block_col[e - 1] >= node_end) add(--e);
+      if (!reserve) continue;
+      for (std::size_t b = reserve_first_[r / 3]; b < reserve_first_[r / 3 + 1]; ++b) {
+        const std::int64_t col_node = reserve->pair(b)[1];
+        if (col_node >= node_begin && col_node < node_end) continue;
+        for (int j = 0; j < 3; ++j)
+          if (reserve->mask(b) >> (3 * i + j) & 1u) columns.push_back(3 * col_node + j);
+      }
     }
     std::sort(columns.begin(), columns.end());
     columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
@@ -546,7 +621,7 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
 
   // The rows of node blocks alone, written on the device from compact copies of the blocks,
   // kept to write their values at every assembly (set_values); then the host's rows.
-  PetscCall(upload_block_rows(blocks, m));
+  PetscCall(upload_block_rows(blocks, reserve, m));
   if (block_rows_.num_rows) {
     device::Array<std::int64_t> d_col_map("matrix column map");
     d_col_map.upload(col_map);
@@ -611,7 +686,8 @@ PetscErrorCode DirectMatrix::make_device_hypre(Mat like, const NodeBlockReductio
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows) {
+PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks, const ReservedBlocks* reserve,
+                                               PetscInt num_rows) {
   PetscFunctionBeginUser;
   const bool any = blocks && std::any_of(device_block_row_.begin(), device_block_row_.end(),
                                          [](std::int64_t s) { return s >= 0; });
@@ -628,52 +704,53 @@ PetscErrorCode DirectMatrix::upload_block_rows(const NodeBlockReduction* blocks,
   // changes with the contact entries): narrowed and copied once, not at every new pattern
   // (27.5M blocks at 1M hexes).
   if (blocks->id != blocks_id_) PetscCall(upload_blocks(*blocks));
+  // The reserve's blocks of each own node (the reserve itself is on the device already).
+  block_rows_.reserve_first = nullptr;
+  if (reserve) {
+    d_reserve_first_.upload(reserve_first_);
+    block_rows_.reserve_first = d_reserve_first_.data();
+    block_rows_.reserve_col = reserve->device_cols();
+    block_rows_.reserve_mask = reserve->device_masks();
+    block_rows_.reserve_start = reserve->device_starts();
+  }
   block_rows_.num_rows = static_cast<std::size_t>(num_rows);
   block_rows_.row_begin = row_begin_;
   block_rows_.block_row = d_block_row_.data();
   PetscFunctionReturn(0);
 }
 
-void DirectMatrix::share_blocks(std::uint64_t blocks_id, const std::uint16_t* d_mask, const std::uint32_t* d_start) {
-  const std::uint64_t id = d_mask && d_start ? blocks_id : 0;
-  if (id == shared_id_ && d_mask == shared_mask_ && d_start == shared_start_) return;
+void DirectMatrix::share_blocks(std::uint64_t blocks_id, const SharedBlocks& shared) {
+  const bool all = shared.mask && shared.start && shared.row_start && shared.col;
+  const std::uint64_t id = all ? blocks_id : 0;
+  if (id == shared_id_ && shared.mask == shared_.mask && shared.start == shared_.start &&
+      shared.row_start == shared_.row_start && shared.col == shared_.col)
+    return;
   shared_id_ = id;
-  shared_mask_ = d_mask;
-  shared_start_ = d_start;
+  shared_ = shared;
   blocks_id_ = 0;  // changed: the next create() takes the shared arrays or makes its own again
 }
 
 PetscErrorCode DirectMatrix::upload_blocks(const NodeBlockReduction& blocks) {
   PetscFunctionBeginUser;
   // 32 bits hold them: a rank's blocks stay below its entries, which send_remote_entries keeps
-  // below 2^32, and its node block rows below 2^31; the column nodes are checked here.
-  bool fits = true;
-  const auto narrowed = [&fits](const auto& wide) {
-    std::vector<std::uint32_t> out(wide.size());
-    for (std::size_t k = 0; k < wide.size(); ++k) {
-      fits = fits && static_cast<std::uint64_t>(wide[k]) <= 0xffffffffu;
-      out[k] = static_cast<std::uint32_t>(wide[k]);
-    }
-    return out;
-  };
-  d_block_row_start_.upload(narrowed(blocks.row_start));
-  d_block_col_.upload(narrowed(blocks.block_col));
-  PetscCheck(fits, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "a device matrix's node blocks need node ids and a rank's entries below 2^32: run on more ranks");
+  // below 2^32, and its node block rows below 2^31; the column nodes are checked.
   if (blocks.id == shared_id_) {
-    d_block_start_.resize(0), d_block_mask_.resize(0);
-    block_rows_.mask = shared_mask_, block_rows_.start = shared_start_;
+    for (auto* a : {&d_block_row_start_, &d_block_col_, &d_block_start_}) a->resize(0);
+    d_block_mask_.resize(0);
+    block_rows_.mask = shared_.mask, block_rows_.start = shared_.start;
+    block_rows_.row_start = shared_.row_start, block_rows_.col = shared_.col;
   } else {
     try {
+      d_block_row_start_.upload(blocks.row_start_32());
+      d_block_col_.upload(blocks.block_col_32());
       d_block_start_.upload(blocks.block_start_32());
     } catch (const std::length_error& e) {
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s: run on more ranks", e.what());
     }
     d_block_mask_.upload(blocks.block_mask);
     block_rows_.mask = d_block_mask_.data(), block_rows_.start = d_block_start_.data();
+    block_rows_.row_start = d_block_row_start_.data(), block_rows_.col = d_block_col_.data();
   }
-  block_rows_.row_start = d_block_row_start_.data();
-  block_rows_.col = d_block_col_.data();
   blocks_id_ = blocks.id;
   PetscFunctionReturn(0);
 }

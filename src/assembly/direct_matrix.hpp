@@ -19,12 +19,13 @@
 //   device_hypre  MATHYPRE whose hypre runs on the GPU: a hypre ParCSR matrix made on the
 //                 device (MatCreateFromParCSR), the diagonal first in each row of its diagonal
 //                 block as hypre's smoothers expect, the off-diagonal block's columns numbered
-//                 through its ascending column map. The rows made of node blocks alone (nearly
-//                 all) are written on the device (device::write_block_rows), and their values
-//                 at every assembly by the same walk over the blocks (the blocks' 4 B column
-//                 nodes kept, and the element part's masks and starts shared, against 4 B per
-//                 entry, 36 per full block); the host counts them and writes the others, whose
-//                 entries keep their positions.
+//                 through its ascending column map. The rows made of node blocks alone, the
+//                 element forms' and the contact reserve's (nearly all) are written on the
+//                 device (device::write_block_rows), and their values at every assembly by the
+//                 same walk over the blocks (the element part's arrays shared, against 4 B per
+//                 entry, 36 per full block); the host counts them and writes the others (rows
+//                 with entries of the list or from other ranks), whose entries keep their
+//                 positions.
 // Values are given in the entry order of create(): host memory for host_aij, device memory for
 // device_hypre.
 #pragma once
@@ -34,10 +35,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "assembly/cuda/block_rows.hpp"
 #include "assembly/large_page_vector.hpp"
 #include "assembly/node_block_reduction.hpp"
-#include "assembly/cuda/block_rows.hpp"
 #include "assembly/remote_entry_sums.hpp"
+#include "assembly/reserved_blocks.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {
@@ -55,20 +57,33 @@ class DirectMatrix {
   // Collective. A new matrix *J of `kind` (not coo) over the rows and columns of `like` (sizes,
   // block size, options prefix), holding the rank's entries: those of the node blocks of
   // `blocks` (may be null) in its entry order (dof 3 node + component; the rank's rows then
-  // must start and end at a node), then (rows[k], cols[k]), k < n. Global dof ids, no pair
-  // twice on a rank, rows of any rank. The blocks are read as given, never expanded into
-  // (row, col) lists: at 1M hexes those lists alone were 2 GB. Replaces what an earlier
+  // must start and end at a node), then (rows[k], cols[k]), k < n, then those of the reserve's
+  // blocks (may be null; numbered on from the list's end, with `blocks`). Global dof ids, no
+  // pair twice on a rank, rows of any rank. The blocks are read as given, never expanded into
+  // (row, col) lists: at 1M hexes those lists alone were 2 GB, and the contact reserve's of the
+  // 1M stack 28M entries, sorted row by row on the host at every new matrix. For device_hypre
+  // the reserve must be on the device (ReservedBlocks::upload). Replaces what an earlier
   // create() set up; the arrays of an earlier matrix live as long as that matrix.
+  PetscErrorCode create(Mat like, Kind kind, const NodeBlockReduction* blocks, const ReservedBlocks* reserve,
+                        const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J);
   PetscErrorCode create(Mat like, Kind kind, const NodeBlockReduction* blocks, const PetscInt* rows,
-                        const PetscInt* cols, std::size_t n, Mat* J);
-  PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J) {
-    return create(like, kind, nullptr, rows, cols, n, J);
+                        const PetscInt* cols, std::size_t n, Mat* J) {
+    return create(like, kind, blocks, nullptr, rows, cols, n, J);
   }
-  // device_hypre: the node blocks' masks and 32-bit entry starts of the NodeBlockReduction
-  // blocks_id, on the device, where another part keeps them (ElementBlockPart): later create()s of
-  // those blocks use them instead of copies of their own (165 B per hex). They must outlive
-  // this matrix's use.
-  void share_blocks(std::uint64_t blocks_id, const std::uint16_t* d_mask, const std::uint32_t* d_start);
+  PetscErrorCode create(Mat like, Kind kind, const PetscInt* rows, const PetscInt* cols, std::size_t n, Mat* J) {
+    return create(like, kind, nullptr, nullptr, rows, cols, n, J);
+  }
+  // device_hypre: the node blocks' masks, 32-bit entry starts, row starts and column nodes of
+  // the NodeBlockReduction blocks_id, on the device, where another part keeps them
+  // (ElementBlockPart): later create()s of those blocks use them instead of copies of their own
+  // (about 280 B per hex). They must outlive this matrix's use; a null pointer shares none.
+  struct SharedBlocks {
+    const std::uint16_t* mask = nullptr;
+    const std::uint32_t* start = nullptr;
+    const std::uint32_t* row_start = nullptr;
+    const std::uint32_t* col = nullptr;
+  };
+  void share_blocks(std::uint64_t blocks_id, const SharedBlocks& shared);
   // Collective. J's values from values[k] for the entries k of create() (on the host for
   // host_aij, on the device for device_hypre). J must be the matrix create() made last.
   PetscErrorCode set_values(Mat J, const double* values);
@@ -76,8 +91,9 @@ class DirectMatrix {
  private:
   // The rank's rows [row_begin_, row_begin_ + num_rows) as CSR, the positions, and the exchange
   // of other ranks' rows.
-  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks, const PetscInt* rows,
-                               const PetscInt* cols, std::size_t n);
+  PetscErrorCode build_pattern(MPI_Comm comm, PetscInt num_rows, const NodeBlockReduction* blocks,
+                               const ReservedBlocks* reserve, const PetscInt* rows, const PetscInt* cols,
+                               std::size_t n);
   // build_pattern's steps (direct_matrix.cpp): the rank's rows' entries as they are gathered,
   // the entries of other ranks' rows sent to their owners, then two passes over the rows.
   struct RowEntries;
@@ -88,7 +104,7 @@ class DirectMatrix {
   std::vector<std::uint32_t> write_rows(const RowEntries& entries, std::vector<ChunkCounts>& chunk);
   void finish_offd_positions();
   PetscErrorCode make_host_aij(Mat like, Mat* J);
-  PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, Mat* J);
+  PetscErrorCode make_device_hypre(Mat like, const NodeBlockReduction* blocks, const ReservedBlocks* reserve, Mat* J);
   // device_hypre: J's value arrays and row starts on the device.
   PetscErrorCode hypre_values(Mat J, double** diag, double** offd, const int** diag_i, const int** offd_i) const;
   // host_aij: J's diagonal and off-diagonal blocks (offd null on a SEQAIJ) and the latter's
@@ -127,17 +143,20 @@ class DirectMatrix {
   // (device::write_block_row_values) from 32-bit copies of the blocks (the masks and starts
   // shared where share_blocks gave them) instead of a 4 B position per entry; the host's rows'
   // own entries keep theirs.
-  PetscErrorCode upload_block_rows(const NodeBlockReduction* blocks, PetscInt num_rows);
+  PetscErrorCode upload_block_rows(const NodeBlockReduction* blocks, const ReservedBlocks* reserve, PetscInt num_rows);
   PetscErrorCode upload_blocks(const NodeBlockReduction& blocks);
   std::uint64_t blocks_id_ = 0;  // the NodeBlockReduction the device copies below are of (0: none)
   std::uint64_t shared_id_ = 0;
-  const std::uint16_t* shared_mask_ = nullptr;
-  const std::uint32_t* shared_start_ = nullptr;
+  SharedBlocks shared_;
   device::BlockRows block_rows_;  // the arrays below (or the shared ones) and this rank's rows
   device::Array<std::int32_t> d_block_row_{"matrix block rows"};
   device::Array<std::uint32_t> d_block_row_start_{"matrix block row starts"}, d_block_col_{"matrix block columns"},
       d_block_start_{"matrix block entry starts"};
   device::Array<std::uint16_t> d_block_mask_{"matrix block masks"};
+  // The reserve's blocks of each own node: [reserve_first_[q], reserve_first_[q + 1]) for own
+  // node q, on the host while the pattern is built and on the device for the block rows.
+  std::vector<std::uint32_t> reserve_first_;
+  device::Array<std::uint32_t> d_reserve_first_{"matrix reserve row starts"};
   device::Array<std::uint32_t> d_side_entry_{"matrix host-row entries"}, d_side_position_{"matrix host-row positions"};
   device::Array<std::uint32_t> d_slot_position_{"matrix slot positions"};
   device::Array<std::uint8_t> d_slot_keep_{"matrix slot flags"};

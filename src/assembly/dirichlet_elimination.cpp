@@ -6,7 +6,7 @@
 namespace dipc {
 
 void DirichletElimination::find(const NodeBlockReduction& blocks, const std::vector<PetscInt>& extra_rows,
-                                const std::vector<PetscInt>& extra_cols,
+                                const std::vector<PetscInt>& extra_cols, const ReservedBlocks& reserve,
                                 const std::vector<std::int64_t>& local_to_global, const std::vector<char>& prescribed,
                                 PetscInt owned_begin, PetscInt owned_end) {
   // Prescribed global dofs as a bitmap over their id range; a block whose two nodes have none is
@@ -44,6 +44,13 @@ void DirichletElimination::find(const NodeBlockReduction& blocks, const std::vec
   }
   const std::size_t num_block_entries = blocks.num_entries();
   for (std::size_t v = 0; v < extra_rows.size(); ++v) classify(num_block_entries + v, extra_rows[v], extra_cols[v]);
+  for (std::size_t k = 0; k < reserve.num_blocks(); ++k) {
+    const auto [row_node, col_node] = reserve.pair(k);
+    if (!node_prescribed(row_node) && !node_prescribed(col_node)) continue;
+    std::size_t entry = reserve.start(k);
+    for (int bit = 0; bit < 9; ++bit)
+      if (reserve.mask(k) >> bit & 1u) classify(entry++, 3 * row_node + bit / 3, 3 * col_node + bit % 3);
+  }
 }
 
 void DirichletElimination::keep_on_device() {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "assembly/node_block_reduction.hpp"
+#include "assembly/reserved_blocks.hpp"
 #include "device/device_runtime.hpp"
 
 namespace dipc {
@@ -19,11 +20,13 @@ namespace dipc {
 class DirichletElimination {
  public:
   // The entries to set among the matrix's: those of `blocks`, then the extra ones (extra_rows[v],
-  // extra_cols[v]) from blocks.num_entries() on. prescribed: 3 flags per local node, whose
-  // global ids are local_to_global; the rank owns the dofs [owned_begin, owned_end).
+  // extra_cols[v]) from blocks.num_entries() on, then the reserve's (numbered as it says).
+  // prescribed: 3 flags per local node, whose global ids are local_to_global; the rank owns the
+  // dofs [owned_begin, owned_end).
   void find(const NodeBlockReduction& blocks, const std::vector<PetscInt>& extra_rows,
-            const std::vector<PetscInt>& extra_cols, const std::vector<std::int64_t>& local_to_global,
-            const std::vector<char>& prescribed, PetscInt owned_begin, PetscInt owned_end);
+            const std::vector<PetscInt>& extra_cols, const ReservedBlocks& reserve,
+            const std::vector<std::int64_t>& local_to_global, const std::vector<char>& prescribed, PetscInt owned_begin,
+            PetscInt owned_end);
   void keep_on_device();
 
   void apply(double* unique) const;

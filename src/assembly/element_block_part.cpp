@@ -23,7 +23,7 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
       d_block_mask_.resize(on_device.mask.size());
       device::copy_on_device(d_block_mask_.data(), on_device.mask.data(),
                              on_device.mask.size() * sizeof(std::uint16_t));
-      d_block_start_.upload(blocks_.block_start_32());
+      upload_pattern();
       for (std::size_t m = 0; m < inputs.size(); ++m) {
         d_block_offsets_.push_back(std::move(on_device.offsets[m]));
         d_block_sources_.push_back(std::move(on_device.sources[m]));
@@ -56,10 +56,30 @@ PetscErrorCode ElementBlockPart::build(const std::vector<NodeBlockReduction::Inp
   PetscFunctionReturn(0);
 }
 
+void ElementBlockPart::upload_pattern() {
+  d_block_start_.upload(blocks_.block_start_32());
+  d_row_start_.upload(blocks_.row_start_32());
+  d_col_.upload(blocks_.block_col_32());
+  d_row_nodes_.upload(blocks_.row_nodes);
+}
+
+bool ElementBlockPart::device_index(device::BlockEntryIndex* index) const {
+  if (d_block_start_.size() != blocks_.num_blocks() + 1) return false;
+  index->num_rows = blocks_.row_nodes.size();
+  index->row_nodes = d_row_nodes_.data();
+  index->dense_begin = blocks_.dense_begin, index->dense_end = blocks_.dense_end;
+  index->dense_below = blocks_.dense_below;
+  index->row_start = d_row_start_.data();
+  index->col = d_col_.data();
+  index->mask = d_block_mask_.data();
+  index->start = d_block_start_.data();
+  return true;
+}
+
 void ElementBlockPart::keep_on_device() {
   if (!d_block_sources_.empty()) return;
   d_block_mask_.upload(blocks_.block_mask);
-  d_block_start_.upload(blocks_.block_start_32());
+  upload_pattern();
   for (auto& form : blocks_.forms) {
     d_block_offsets_.emplace_back("node-block offsets");
     d_block_offsets_.back().upload(form.offsets);
@@ -86,8 +106,7 @@ void ElementBlockPart::reduce_on_device(const double* d_raw, double* d_unique) c
                                 static_cast<int>(maps.size()), d_unique);
 }
 
-bool ElementBlockPart::add_chunks_on_device(std::size_t m, HessianPattern& form, const double* d_x,
-                                            double* d_unique) {
+bool ElementBlockPart::add_chunks_on_device(std::size_t m, HessianPattern& form, const double* d_x, double* d_unique) {
   ElementPattern pattern;
   form.element_pattern(&pattern);
   const std::size_t chunk = chunk_elements_[m];
@@ -98,9 +117,8 @@ bool ElementBlockPart::add_chunks_on_device(std::size_t m, HessianPattern& form,
     const std::size_t count = std::min(chunk, static_cast<std::size_t>(pattern.num_elements) - first);
     ok = form.element_hessian(d_x, static_cast<int>(first), static_cast<int>(count), d_chunk_values_.data()) && ok;
     device::add_element_block_chunk(d_chunk_values_.data(), static_cast<std::uint32_t>(first),
-                                    static_cast<std::uint32_t>(count), chunk_block_begin_[m][c],
-                                    chunk_block_end_[m][c], d_block_mask_.data(), d_block_start_.data(), form_map,
-                                    d_unique);
+                                    static_cast<std::uint32_t>(count), chunk_block_begin_[m][c], chunk_block_end_[m][c],
+                                    d_block_mask_.data(), d_block_start_.data(), form_map, d_unique);
   }
   return ok;
 }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "assembly/cuda/element_kernels.hpp"
+#include "assembly/cuda/group_targets.hpp"
 #include "assembly/hessian_pattern.hpp"
 #include "assembly/node_block_reduction.hpp"
 #include "device/device_runtime.hpp"
@@ -42,6 +43,12 @@ class ElementBlockPart {
   // the blocks were built on the host), which a device matrix's rows share (DirectMatrix).
   const std::uint16_t* device_masks() const { return d_block_mask_.size() ? d_block_mask_.data() : nullptr; }
   const std::uint32_t* device_starts() const { return d_block_start_.size() ? d_block_start_.data() : nullptr; }
+  // ... and the pattern's row starts and column nodes (32-bit) there, null as above.
+  const std::uint32_t* device_row_starts() const { return d_row_start_.size() ? d_row_start_.data() : nullptr; }
+  const std::uint32_t* device_cols() const { return d_col_.size() ? d_col_.data() : nullptr; }
+  // The blocks' entries on the device, for the changing terms' lookups there (group_targets.hpp):
+  // the element fields of *index; false (index untouched) before the blocks are on the device.
+  bool device_index(device::BlockEntryIndex* index) const;
   // Puts the maps on the device where they are not yet (blocks built on the host for a matrix
   // that now lives on the device), then frees the host's copy; the blocks' layout stays.
   void keep_on_device();
@@ -71,8 +78,12 @@ class ElementBlockPart {
   std::vector<std::uint32_t> chunk_elements_;
   std::vector<std::vector<std::uint64_t>> chunk_block_begin_, chunk_block_end_;
   device::Array<double> d_chunk_values_{"element Hessian values of a chunk"};
+  // Uploads the pattern's arrays below (with the masks and starts).
+  void upload_pattern();
   device::Array<std::uint16_t> d_block_mask_{"node-block masks"};
   device::Array<std::uint32_t> d_block_start_{"node-block starts"};
+  device::Array<std::int64_t> d_row_nodes_{"node-block row nodes"};
+  device::Array<std::uint32_t> d_row_start_{"node-block row starts"}, d_col_{"node-block columns"};
   std::vector<device::Array<std::uint32_t>> d_block_offsets_, d_block_sources_;  // per element form
 };
 

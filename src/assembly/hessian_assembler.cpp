@@ -193,44 +193,24 @@ PetscErrorCode HessianAssembler::build_fixed_part() {
   fixed_extra_rows_.clear(), fixed_extra_cols_.clear();
   fixed_.place([&](PetscInt row, PetscInt col, std::size_t* hint) { return blocks.find(row, col, hint); },
                blocks.num_entries(), &fixed_extra_rows_, &fixed_extra_cols_);
+  if (device_matrix_) {
+    d_extra_rows_.upload(std::vector<std::int64_t>(fixed_extra_rows_.begin(), fixed_extra_rows_.end()));
+    d_extra_cols_.upload(std::vector<std::int64_t>(fixed_extra_cols_.begin(), fixed_extra_cols_.end()));
+  }
   PetscFunctionReturn(0);
 }
 
-std::int64_t HessianAssembler::find_fixed_extra(PetscInt row, PetscInt col) const {
-  // The fixed part's extra entries ascend by (row, col).
-  std::size_t lo = 0, hi = fixed_extra_rows_.size();
-  while (lo < hi) {
-    const std::size_t mid = (lo + hi) / 2;
-    if (fixed_extra_rows_[mid] < row || (fixed_extra_rows_[mid] == row && fixed_extra_cols_[mid] < col))
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  if (lo < fixed_extra_rows_.size() && fixed_extra_rows_[lo] == row && fixed_extra_cols_[lo] == col)
-    return static_cast<std::int64_t>(elements_.blocks().num_entries() + lo);
-  return -1;
+BlockEntries HessianAssembler::block_entries() const {
+  return {&elements_.blocks(), &reserve_, &fixed_extra_rows_, &fixed_extra_cols_};
 }
 
-void HessianAssembler::find_block_entries(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint,
-                                          std::int64_t entry[9]) const {
-  // The element blocks hold most (a contact pair's nodes on one body share elements), the
-  // reserve the rest; the fixed part's extra entries are few (none where every node has an
-  // element). The three are disjoint (ReservedBlocks::build).
-  const NodeBlockReduction& blocks = elements_.blocks();
-  const std::int64_t k = blocks.find_block(row_node, col_node, row_hint);
-  const unsigned held = k >= 0 ? blocks.block_mask[static_cast<std::size_t>(k)] : 0u;
-  ReservedBlocks::Block reserved;
-  if (held != 0x1ffu) reserved = reserve_.find_block(row_node, col_node);
-  for (int bit = 0; bit < 9; ++bit) {
-    if (held >> bit & 1u) {
-      entry[bit] = static_cast<std::int64_t>(blocks.block_start[static_cast<std::size_t>(k)]) + entry_in_block(held, bit);
-    } else if (reserved.mask >> bit & 1u) {
-      entry[bit] = static_cast<std::int64_t>(reserved.start) + entry_in_block(reserved.mask, bit);
-    } else {
-      entry[bit] = find_fixed_extra(static_cast<PetscInt>(3 * row_node + bit / 3),
-                                    static_cast<PetscInt>(3 * col_node + bit % 3));
-    }
-  }
+bool HessianAssembler::device_entry_index(device::BlockEntryIndex* index) const {
+  if (!device_matrix_ || !elements_.device_index(index) || !reserve_.device_index(index)) return false;
+  index->num_extra = fixed_extra_rows_.size();
+  index->extra_row = d_extra_rows_.data();
+  index->extra_col = d_extra_cols_.data();
+  index->extra_first = static_cast<std::uint32_t>(elements_.blocks().num_entries());
+  return static_cast<std::uint64_t>(elements_.blocks().num_entries()) < 0xffffffffu;
 }
 
 PetscErrorCode HessianAssembler::gather_changing_part(std::vector<NodeGroup>* groups) {
@@ -297,9 +277,12 @@ void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
       1);
   std::vector<ReservedBlocks::NodePair>().swap(candidates);
   const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
+  const BlockEntries entries = block_entries();
   reserve_.build(
-      node_pairs, elements_.blocks(), [&](PetscInt row, PetscInt col) { return find_fixed_extra(row, col) >= 0; },
+      node_pairs, elements_.blocks(), [&](PetscInt row, PetscInt col) { return entries.find_extra(row, col) >= 0; },
       first);
+  // Where the values are summed on the device, the changing terms' lookups run there.
+  if (device_matrix_) reserve_.upload();
 }
 
 PetscErrorCode HessianAssembler::map_changing_part(const std::vector<NodeGroup>& groups, bool trial, bool* fits) {
@@ -307,12 +290,20 @@ PetscErrorCode HessianAssembler::map_changing_part(const std::vector<NodeGroup>&
   EventScope event(log_events().pattern_map);
   std::size_t missing = 0;
   try {
-    missing = changing_.build(
-        groups,
-        [&](std::int64_t row_node, std::int64_t col_node, std::size_t* hint, std::int64_t entry[9]) {
-          find_block_entries(row_node, col_node, hint, entry);
-        },
-        trial);
+    device::BlockEntryIndex index;
+    if (device_entry_index(&index)) {
+      // The device looks every block up (a trial too: it does not stop at the first missing).
+      const std::size_t entries = elements_.blocks().num_entries() + fixed_extra_rows_.size() + reserve_.num_entries();
+      missing = changing_.build_on_device(groups, index, entries);
+    } else {
+      const BlockEntries entries = block_entries();
+      missing = changing_.build(
+          groups,
+          [&](std::int64_t row_node, std::int64_t col_node, std::size_t* hint, std::int64_t entry[9]) {
+            entries.find(row_node, col_node, hint, entry);
+          },
+          trial);
+    }
   } catch (const std::length_error& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
   }
@@ -377,17 +368,15 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
 
   // The matrix's entries: the element blocks', the fixed part's that no block holds, the reserve.
   const NodeBlockReduction& blocks = elements_.blocks();
-  std::vector<PetscInt> extra_rows = fixed_extra_rows_, extra_cols = fixed_extra_cols_;
-  reserve_.entries(&extra_rows, &extra_cols);
-  num_unique_ = blocks.num_entries() + extra_rows.size();
+  num_unique_ = blocks.num_entries() + fixed_extra_rows_.size() + reserve_.num_entries();
   // PETSc's AIJ matrices count a rank's nonzeros in PetscInt (row offsets).
   PetscCheck(num_unique_ <= static_cast<std::size_t>(PETSC_MAX_INT), PETSC_COMM_SELF, PETSC_ERR_SUP,
              "this rank's Hessian has %zu nonzeros, more than PETSc's %d-bit PetscInt holds: run on more ranks, or "
              "use a PETSc configured with --with-64-bit-indices",
              num_unique_, static_cast<int>(8 * sizeof(PetscInt)));
   const PetscInt owned_begin = static_cast<PetscInt>(3 * dofs_.node_offset);
-  dirichlet_.find(blocks, extra_rows, extra_cols, *dofs_.local_to_global, *dofs_.prescribed, owned_begin,
-                  owned_begin + 3 * dofs_.num_owned_nodes);
+  dirichlet_.find(blocks, fixed_extra_rows_, fixed_extra_cols_, reserve_, *dofs_.local_to_global, *dofs_.prescribed,
+                  owned_begin, owned_begin + 3 * dofs_.num_owned_nodes);
 
   size_raw_values();
   // The other maps go to the device too; the blocks' layout stays for the next pattern change.
@@ -397,12 +386,11 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
     dirichlet_.keep_on_device();
   }
   PetscCall(PetscLogEventEnd(log_events().coo_reduction, 0, 0, 0, 0));
-  PetscCall(make_matrix(template_matrix, extra_rows, extra_cols));
+  PetscCall(make_matrix(template_matrix));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HessianAssembler::make_matrix(bool template_matrix, const std::vector<PetscInt>& extra_rows,
-                                             const std::vector<PetscInt>& extra_cols) {
+PetscErrorCode HessianAssembler::make_matrix(bool template_matrix) {
   PetscFunctionBeginUser;
   if (direct_kind_ == DirectMatrix::Kind::coo) {
     // PETSc's COO path takes every entry as a (row, col) pair; it may reorder the index arrays it
@@ -413,17 +401,19 @@ PetscErrorCode HessianAssembler::make_matrix(bool template_matrix, const std::ve
     } catch (const std::overflow_error& e) {
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SUP, "%s", e.what());
     }
-    unique_rows.insert(unique_rows.end(), extra_rows.begin(), extra_rows.end());
-    unique_cols.insert(unique_cols.end(), extra_cols.begin(), extra_cols.end());
+    unique_rows.insert(unique_rows.end(), fixed_extra_rows_.begin(), fixed_extra_rows_.end());
+    unique_cols.insert(unique_cols.end(), fixed_extra_cols_.begin(), fixed_extra_cols_.end());
+    reserve_.entries(&unique_rows, &unique_cols);
     PetscCall(MatSetPreallocationCOO(J_, static_cast<PetscCount>(num_unique_), unique_rows.data(), unique_cols.data()));
   } else {
     // A new matrix of the entries; it replaces the template create_matrix() made, or the
     // contents of the matrix in use (whose handle the solvers hold).
     PetscCall(PetscLogEventBegin(log_events().direct_matrix, 0, 0, 0, 0));
     Mat fresh;
-    direct_.share_blocks(elements_.blocks().id, elements_.device_masks(), elements_.device_starts());
-    PetscCall(direct_.create(J_, direct_kind_, &elements_.blocks(), extra_rows.data(), extra_cols.data(),
-                             extra_rows.size(), &fresh));
+    direct_.share_blocks(elements_.blocks().id, {elements_.device_masks(), elements_.device_starts(),
+                                                 elements_.device_row_starts(), elements_.device_cols()});
+    PetscCall(direct_.create(J_, direct_kind_, &elements_.blocks(), &reserve_, fixed_extra_rows_.data(),
+                             fixed_extra_cols_.data(), fixed_extra_rows_.size(), &fresh));
     if (template_matrix) {
       PetscCall(MatDestroy(&J_));
       J_ = fresh;
@@ -504,8 +494,7 @@ double* HessianAssembler::sum_values() {
     double* unique = d_unique_values_.data();
     // Nothing when chunked: add_element_chunks summed them onto entries zeroed by begin_values.
     elements_.reduce_on_device(d_values_.data(), unique);
-    if (num_extra > 0 && !elements_.chunked())
-      device::zero(unique + num_block_entries, num_extra * sizeof(double));
+    if (num_extra > 0 && !elements_.chunked()) device::zero(unique + num_block_entries, num_extra * sizeof(double));
     fixed_.add_on_device(d_values_.data() + (num_element_raw_ - raw_offset()), unique);
     changing_.add_on_device(d_values_.data() + (changing_raw_begin_ - raw_offset()), unique);
     dirichlet_.apply_on_device(unique);

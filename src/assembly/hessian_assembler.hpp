@@ -6,8 +6,8 @@
 // fixed COO terms' entries that no block holds, and those of the terms whose pattern changes
 // (ReservedBlocks: their current pattern's blocks and, with -dipc_pattern_remap candidates,
 // their candidate pairs'). Either way the changing terms' node blocks (16 per contact pair) are
-// looked up among the matrix's (TargetPart, on the host threads) and their values sorted by
-// entry on the device where the values are summed there. With -dipc_pattern_remap fit or
+// looked up among the matrix's (TargetPart: on the host threads, or on the device where the
+// values are summed there, and their values then sorted by entry there). With -dipc_pattern_remap fit or
 // candidates, a pattern that fits the matrix's entries only remaps those terms' values, keeping
 // the matrix (the Newton solver still sets the preconditioner up afresh); fit is the default
 // (docs/performance.md, "Two and four GPUs"), and a kept matrix does not outlive its time step
@@ -43,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "assembly/block_entries.hpp"
 #include "assembly/coo_part.hpp"
 #include "assembly/direct_matrix.hpp"
 #include "assembly/dirichlet_elimination.hpp"
@@ -153,16 +154,14 @@ class HessianAssembler {
   PetscErrorCode map_changing_part(const std::vector<NodeGroup>& groups, bool trial, bool* fits);
   // The raw value arrays sized for the parts, the maps on the device where values are summed there.
   void size_raw_values();
-  // The matrix entry of the dof pair (row, col) among the fixed part's extra entries, or -1.
-  std::int64_t find_fixed_extra(PetscInt row, PetscInt col) const;
-  // The matrix entries of node block (row_node, col_node)'s 9 dof pairs among all the matrix's
-  // entries (the reserve's too), -1 where none (TargetPart::BlockFind).
-  void find_block_entries(std::int64_t row_node, std::int64_t col_node, std::size_t* row_hint,
-                          std::int64_t entry[9]) const;
+  // Where the matrix keeps a node block's entries: element blocks, reserve, fixed extras.
+  BlockEntries block_entries() const;
+  // The same on the device, for a device matrix whose parts are there; false otherwise (the
+  // host looks the blocks up).
+  bool device_entry_index(device::BlockEntryIndex* index) const;
   bool changing(std::size_t t) const { return terms_[t].pattern->pattern_may_change(); }
-  // The matrix J_ from the entries: the blocks', then (extra_rows[v], extra_cols[v]).
-  PetscErrorCode make_matrix(bool template_matrix, const std::vector<PetscInt>& extra_rows,
-                             const std::vector<PetscInt>& extra_cols);
+  // The matrix J_ from the entries: the blocks', the fixed part's extra ones, the reserve's.
+  PetscErrorCode make_matrix(bool template_matrix);
   // The raw values summed into the matrix's entries, eliminated; returns them (device memory
   // for a device matrix).
   double* sum_values();
@@ -195,13 +194,14 @@ class HessianAssembler {
   device::Array<double> d_values_{"Hessian COO values"};
   ElementBlockPart elements_;
   CooPart fixed_;
-  bool fixed_built_ = false;         // fixed_ and fixed_extra_* hold the fixed part
-  bool fixed_on_device_ = false;     // ... for a device matrix (its maps are on the device)
+  bool fixed_built_ = false;            // fixed_ and fixed_extra_* hold the fixed part
+  bool fixed_on_device_ = false;        // ... for a device matrix (its maps are on the device)
   std::vector<char> fixed_prescribed_;  // ... made with these owned Dirichlet flags
   TargetPart changing_;
   // The fixed part's entries that no block holds (entries from blocks.num_entries() on), by row
   // then column; the reserve's follow them.
   std::vector<PetscInt> fixed_extra_rows_, fixed_extra_cols_;
+  device::Array<std::int64_t> d_extra_rows_{"fixed extra rows"}, d_extra_cols_{"fixed extra columns"};  // device matrix
   ReservedBlocks reserve_;
   long remaps_ = 0;
   bool awaiting_rebuild_ = false;  // update_patterns() asked for a new matrix, not yet made

@@ -88,6 +88,24 @@ std::vector<std::uint32_t> NodeBlockReduction::block_start_32() const {
   return std::vector<std::uint32_t>(block_start.begin(), block_start.end());
 }
 
+std::vector<std::uint32_t> NodeBlockReduction::row_start_32() const {
+  if (num_blocks() > std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("node blocks: " + std::to_string(num_blocks()) +
+                            " node blocks on one rank, more than 32-bit row starts hold: run on more ranks");
+  return std::vector<std::uint32_t>(row_start.begin(), row_start.end());
+}
+
+std::vector<std::uint32_t> NodeBlockReduction::block_col_32() const {
+  std::vector<std::uint32_t> out(block_col.size());
+  bool fits = true;
+  for (std::size_t k = 0; k < block_col.size(); ++k) {
+    fits = fits && static_cast<std::uint64_t>(block_col[k]) <= std::numeric_limits<std::uint32_t>::max();
+    out[k] = static_cast<std::uint32_t>(block_col[k]);
+  }
+  if (!fits) throw std::length_error("node blocks: node ids of 2^32 or more do not fit the device's 32-bit columns");
+  return out;
+}
+
 NodeBlockReduction NodeBlockReduction::build(const std::vector<Input>& inputs, std::int64_t owned_begin,
                                              std::int64_t owned_end) {
   check_limits(inputs);

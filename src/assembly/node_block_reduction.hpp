@@ -67,6 +67,10 @@ class NodeBlockReduction {
   // block_start in 32 bits, as the device keeps it (4 B per block instead of 8). Throws
   // std::length_error when the rank has 2^32 entries or more (run on more ranks).
   std::vector<std::uint32_t> block_start_32() const;
+  // row_start and block_col in 32 bits, as the device keeps them. Throw std::length_error when a
+  // rank has 2^32 blocks or a column node id is 2^32 or more (run on more ranks).
+  std::vector<std::uint32_t> row_start_32() const;
+  std::vector<std::uint32_t> block_col_32() const;
   // Scalar entries of all blocks; entries are numbered block by block, bits 3i + j ascending.
   std::size_t num_entries() const { return block_start.empty() ? 0 : static_cast<std::size_t>(block_start.back()); }
   // Global dof ids of every entry, in entry order (3 node + i, 3 node + j). Throws
@@ -102,7 +106,7 @@ class NodeBlockReduction {
   // in the same order.
   void add_elements(std::size_t m, int first, int count, const double* values, double* unique) const;
 
-  std::vector<std::int64_t> row_nodes;         // global node of each block row, ascending
+  std::vector<std::int64_t> row_nodes;  // global node of each block row, ascending
   // The owned nodes [dense_begin, dense_end) are rows dense_below + (node - dense_begin), found
   // without a search: the contact pattern's lookups (16 node blocks per pair, hundreds of
   // thousands of pairs per pattern change) spent most of their time in binary searches of

@@ -1,10 +1,20 @@
 #include "assembly/reserved_blocks.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 
 #include "threads/host_threads.hpp"
 
 namespace dipc {
+
+void ReservedBlocks::clear() {
+  // The device arrays keep their allocations for the next upload.
+  pairs_.clear(), mask_.clear(), start_.clear(), dense_first_.clear();
+  dense_begin_ = dense_end_ = 0;
+  num_entries_ = first_entry_ = 0;
+  uploaded_ = false;
+}
 
 void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockReduction& blocks, const Held& held,
                            std::size_t first_entry) {
@@ -20,7 +30,8 @@ void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockRed
       const std::int64_t k = blocks.find_block(pair[0], pair[1], &row_hint);
       unsigned m = 0x1ffu & ~(k >= 0 ? static_cast<unsigned>(blocks.block_mask[static_cast<std::size_t>(k)]) : 0u);
       for (int bit = 0; bit < 9; ++bit)
-        if (m >> bit & 1u && held(static_cast<PetscInt>(3 * pair[0] + bit / 3), static_cast<PetscInt>(3 * pair[1] + bit % 3)))
+        if (m >> bit & 1u &&
+            held(static_cast<PetscInt>(3 * pair[0] + bit / 3), static_cast<PetscInt>(3 * pair[1] + bit % 3)))
           m &= ~(1u << bit);
       missing[p] = static_cast<std::uint16_t>(m);
     }
@@ -34,6 +45,7 @@ void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockRed
     next += kBlockMaskBits[missing[p]];
   }
   num_entries_ = next - first_entry;
+  first_entry_ = first_entry;
   // Each dense row's first pair, in one pass over the rows and the pairs (both ascending).
   dense_begin_ = blocks.dense_begin, dense_end_ = std::max(blocks.dense_begin, blocks.dense_end);
   dense_first_.resize(static_cast<std::size_t>(dense_end_ - dense_begin_) + 1);
@@ -42,6 +54,14 @@ void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockRed
     while (p < pairs_.size() && pairs_[p][0] < dense_begin_ + static_cast<std::int64_t>(r)) ++p;
     dense_first_[r] = p;
   }
+}
+
+std::size_t ReservedBlocks::first_of_row(std::int64_t row_node) const {
+  if (row_node >= dense_begin_ && row_node <= dense_end_ && !dense_first_.empty())
+    return dense_first_[static_cast<std::size_t>(row_node - dense_begin_)];
+  return static_cast<std::size_t>(std::lower_bound(pairs_.begin(), pairs_.end(), row_node,
+                                                   [](const NodePair& p, std::int64_t r) { return p[0] < r; }) -
+                                  pairs_.begin());
 }
 
 ReservedBlocks::Block ReservedBlocks::find_block(std::int64_t row_node, std::int64_t col_node) const {
@@ -72,6 +92,32 @@ void ReservedBlocks::entries(std::vector<PetscInt>* rows, std::vector<PetscInt>*
         }
     }
   });
+}
+
+void ReservedBlocks::upload() {
+  constexpr std::size_t kMax = std::numeric_limits<std::uint32_t>::max();
+  if (pairs_.size() > kMax || (!start_.empty() && start_.back() + 9 > kMax))
+    throw std::length_error(
+        "reserved Hessian blocks: more entries on one rank than 32-bit indices hold: run on more ranks");
+  std::vector<std::int64_t> rows(pairs_.size()), cols(pairs_.size());
+  for (std::size_t k = 0; k < pairs_.size(); ++k) rows[k] = pairs_[k][0], cols[k] = pairs_[k][1];
+  d_row_.upload(rows);
+  d_col_.upload(cols);
+  d_mask_.upload(mask_);
+  d_start_.upload(std::vector<std::uint32_t>(start_.begin(), start_.end()));
+  d_dense_first_.upload(std::vector<std::uint32_t>(dense_first_.begin(), dense_first_.end()));
+  uploaded_ = true;
+}
+
+bool ReservedBlocks::device_index(device::BlockEntryIndex* index) const {
+  if (!uploaded_) return false;
+  index->num_reserved = pairs_.size();
+  index->reserve_row = d_row_.data();
+  index->reserve_col = d_col_.data();
+  index->reserve_mask = d_mask_.data();
+  index->reserve_start = d_start_.data();
+  index->reserve_dense_first = d_dense_first_.data();
+  return true;
 }
 
 }  // namespace dipc

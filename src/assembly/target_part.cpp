@@ -1,6 +1,7 @@
 #include "assembly/target_part.hpp"
 
 #include <atomic>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 
@@ -8,16 +9,30 @@
 
 namespace dipc {
 
-std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockFind& find, bool stop_at_missing) {
-  // Each group's first raw value.
-  std::vector<std::size_t> begin(groups.size() + 1, 0);
+namespace {
+// Each group's first raw value, and their number at the end. Throws where the device sort, which
+// counts its items in int, could not take them.
+std::vector<std::uint64_t> group_begin(const std::vector<NodeGroup>& groups) {
+  std::vector<std::uint64_t> begin(groups.size() + 1, 0);
   for (std::size_t g = 0; g < groups.size(); ++g) begin[g + 1] = begin[g] + node_group_values(groups[g].count);
-  const std::size_t n = begin.back();
-  // The device sort counts its items in int.
-  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+  if (begin.back() > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
     throw std::length_error("more than 2^31 - 1 changing Hessian entries on one rank: run on more ranks");
+  return begin;
+}
+
+// The device reads the host's groups as they lie in memory.
+static_assert(sizeof(NodeGroup) == sizeof(device::NodeGroupView) && offsetof(NodeGroup, node) == 0 &&
+                  offsetof(NodeGroup, count) == offsetof(device::NodeGroupView, count) &&
+                  sizeof(NodeGroup::count) == sizeof(device::NodeGroupView::count),
+              "NodeGroup and device::NodeGroupView differ in layout");
+}  // namespace
+
+std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockFind& find, bool stop_at_missing) {
+  const std::vector<std::uint64_t> begin = group_begin(groups);
+  const std::size_t n = begin.back();
   num_raw_ = n;
   on_device_ = false;
+  built_on_device_ = false;
   // Every value is written below (its target or kDropped), by the thread of its group: the
   // array is not filled first, and it is kept from build to build (grown only), so that its
   // pages are not faulted in and zeroed again at every pattern change (hundreds of MB at 1M
@@ -59,15 +74,32 @@ std::size_t TargetPart::build(const std::vector<NodeGroup>& groups, const BlockF
   return missing;
 }
 
+std::size_t TargetPart::build_on_device(const std::vector<NodeGroup>& groups, const device::BlockEntryIndex& index,
+                                        std::size_t num_entries) {
+  if (num_entries >= kDropped)
+    throw std::length_error("more than 2^32 - 2 Hessian entries on one rank: run on more ranks");
+  const std::vector<std::uint64_t> begin = group_begin(groups);
+  num_raw_ = begin.back();
+  on_device_ = false;
+  built_on_device_ = true;
+  d_groups_.resize(groups.size());
+  if (!groups.empty()) device::copy_to_device(d_groups_.data(), groups.data(), groups.size() * sizeof(NodeGroup));
+  d_group_begin_.upload(begin);
+  d_keys_.resize(num_raw_);
+  return device::map_node_groups(d_groups_.data(), d_group_begin_.data(), groups.size(), index, kDropped,
+                                 d_keys_.data());
+}
+
 void TargetPart::keep_on_device() {
   if (on_device_) return;
   on_device_ = true;
-  d_keys_.upload(target_.data(), num_raw_);
+  if (!built_on_device_) d_keys_.upload(target_.data(), num_raw_);
   d_sources_.resize(num_raw_);
   device::sort_by_target(d_keys_.data(), d_sources_.data(), num_raw_);
 }
 
 void TargetPart::add(const double* raw, double* unique) const {
+  if (built_on_device_) throw std::logic_error("TargetPart::add: the targets were found on the device");
   for (std::size_t k = 0; k < num_raw_; ++k)
     if (target_[k] != kDropped) unique[target_[k]] += raw[k];
 }

@@ -5,7 +5,8 @@
 // node-block pattern built on the device against the host build, array for array; the
 // Hessian's other device steps (add_at, eliminate) against their host loops; TargetPart's
 // device sums (values sorted by target) against its host loop, also after a repeated
-// keep_on_device(). Skips where no GPU is present.
+// keep_on_device(), and its lookups on the device against the host's. Skips where no GPU is
+// present.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,11 +14,15 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
+#include "assembly/block_entries.hpp"
 #include "assembly/coo_reduction.hpp"
 #include "assembly/cuda/element_kernels.hpp"
+#include "assembly/element_block_part.hpp"
 #include "assembly/node_block_reduction.hpp"
+#include "assembly/reserved_blocks.hpp"
 #include "assembly/target_part.hpp"
 #include "device/device_runtime.hpp"
 
@@ -287,6 +292,87 @@ TEST(CooReductionGpu, NodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
 TEST(CooReductionGpu, OneFormsNodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   expect_device_build_equals_host_build(false);
+}
+
+// TargetPart's lookups on the device (build_on_device over group_targets.hpp's index) against
+// its host lookups (BlockEntries): element blocks of two forms (the consistent mass's hold only
+// their diagonals, so a reserve completes some element blocks), owned rows found directly and
+// ghost rows searched, nodes of no row, a reserve of half the groups' blocks and fixed extra
+// entries. The other half misses entries: both count the same. The half that fits gets the same
+// targets: its values summed through either give the same bits.
+TEST(TargetPartGpu, DeviceLookupsEqualHostLookups) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  std::mt19937_64 rng(21);
+  const std::vector<std::int64_t> l2g = shuffled_global_ids(rng, 3000);
+  const std::vector<std::int32_t> elastic = random_elements(rng, 1500, 0, 2500);
+  const std::vector<std::int32_t> mass = random_elements(rng, 600, 2000, 1000);
+  ElementBlockPart elements;
+  ASSERT_EQ(elements.build(
+                {{{static_cast<int>(elastic.size() / 8), elastic.data(), l2g.data(), ElementLayout::elastic}, 0},
+                 {{static_cast<int>(mass.size() / 8), mass.data(), l2g.data(), ElementLayout::consistent_mass}, 0}},
+                true, false, 300, 2500),
+            0);
+  const NodeBlockReduction& blocks = elements.blocks();
+  // Global nodes 450 .. 3549: those below 500 and from 3500 on have no row.
+  std::uniform_int_distribution<std::int64_t> node(450, 3549);
+  std::uniform_int_distribution<int> size(1, 4);
+  std::vector<NodeGroup> groups(6000);
+  for (NodeGroup& g : groups) {
+    g.count = size(rng);
+    for (int a = 0; a < g.count; ++a) g.node[a] = node(rng);
+  }
+  // Fixed extras: every seventh dof's diagonal that no block holds.
+  std::vector<PetscInt> extra_rows, extra_cols;
+  for (PetscInt d = 3 * 450; d < 3 * 3550; ++d)
+    if (d % 7 == 0 && blocks.find(d, d) < 0) extra_rows.push_back(d), extra_cols.push_back(d);
+  ASSERT_GT(extra_rows.size(), 10u);
+  const std::vector<NodeGroup> fitting(groups.begin(), groups.begin() + 3000);
+  std::vector<ReservedBlocks::NodePair> pairs;
+  for (const NodeGroup& g : fitting)
+    for (int a = 0; a < g.count; ++a)
+      for (int b = 0; b < g.count; ++b) pairs.push_back({g.node[a], g.node[b]});
+  ReservedBlocks reserve;
+  const BlockEntries entries{&blocks, &reserve, &extra_rows, &extra_cols};
+  reserve.build(
+      pairs, blocks, [&](PetscInt row, PetscInt col) { return entries.find_extra(row, col) >= 0; },
+      blocks.num_entries() + extra_rows.size());
+  ASSERT_GT(reserve.num_entries(), 100u);
+  reserve.upload();
+  device::Array<std::int64_t> d_extra_rows("extra rows"), d_extra_cols("extra columns");
+  d_extra_rows.upload(std::vector<std::int64_t>(extra_rows.begin(), extra_rows.end()));
+  d_extra_cols.upload(std::vector<std::int64_t>(extra_cols.begin(), extra_cols.end()));
+  device::BlockEntryIndex index;
+  ASSERT_TRUE(elements.device_index(&index));
+  ASSERT_TRUE(reserve.device_index(&index));
+  index.num_extra = extra_rows.size();
+  index.extra_row = d_extra_rows.data(), index.extra_col = d_extra_cols.data();
+  index.extra_first = static_cast<std::uint32_t>(blocks.num_entries());
+  const std::size_t num_entries = blocks.num_entries() + extra_rows.size() + reserve.num_entries();
+  const auto host_find = [&](std::int64_t row_node, std::int64_t col_node, std::size_t* hint, std::int64_t entry[9]) {
+    entries.find(row_node, col_node, hint, entry);
+  };
+
+  TargetPart host_part, device_part;
+  const std::size_t host_missing = host_part.build(groups, host_find);
+  EXPECT_GT(host_missing, 0u);
+  EXPECT_EQ(device_part.build_on_device(groups, index, num_entries), host_missing);
+
+  ASSERT_EQ(host_part.build(fitting, host_find), 0u);
+  ASSERT_EQ(device_part.build_on_device(fitting, index, num_entries), 0u);
+  std::size_t n = 0;
+  for (const NodeGroup& g : fitting) n += node_group_values(g.count);
+  const std::vector<double> raw = spread_values(rng, n), start = spread_values(rng, num_entries);
+  std::vector<double> host = start;
+  host_part.add(raw.data(), host.data());
+  device::Array<double> d_raw("raw"), d_values("values");
+  d_raw.upload(raw);
+  d_values.upload(start);
+  device_part.keep_on_device();
+  device_part.add_on_device(d_raw.data(), d_values.data());
+  const std::vector<double> got = d_values.to_host();
+  ASSERT_EQ(got.size(), host.size());
+  EXPECT_EQ(std::memcmp(got.data(), host.data(), host.size() * sizeof(double)), 0);
+  EXPECT_THROW(device_part.add(raw.data(), host.data()), std::logic_error);
 }
 
 TEST(CooReductionGpu, AddAtAndEliminateEqualTheHostLoops) {

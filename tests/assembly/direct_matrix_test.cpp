@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "assembly/direct_matrix.hpp"
+#include "assembly/reserved_blocks.hpp"
 #include "device/device_runtime.hpp"
 #include "threads/host_threads.hpp"
 
@@ -70,16 +71,20 @@ Entries make_entries(int rank, int size) {
 // element joining it to its left neighbour, so that (from 3 ranks) some blocks come from two
 // ranks. Even elements are elastic (full blocks), odd ones consistent mass (diagonal blocks
 // only), so that some blocks are partial. The list pairs nodes two or more sections apart (in
-// no block), in own rows and in the next rank's.
+// no block), in own rows and in the next rank's. The reserve (as contact pairs give it) holds
+// node pairs sections apart, in own rows and the next rank's, pairs of an odd element's two
+// sections (whose mass blocks hold only the diagonals: the reserve holds the rest, the same
+// node pair in both lists) and pairs the elements hold whole (no reserve).
 struct BlockCase {
   std::vector<std::int32_t> elastic_nodes, mass_nodes;
   std::vector<std::int64_t> local_to_global;
   NodeBlockReduction blocks;
   Entries extra;
-  Entries all;  // the blocks' entries in their order, then the list: what create() numbers
+  ReservedBlocks reserve;
+  Entries all;  // the blocks' entries in their order, the list, the reserve's: what create() numbers
 };
 
-BlockCase make_block_case(int rank, int size) {
+BlockCase make_block_case(int rank, int size, bool with_reserve) {
   constexpr int kSections = kRowsPerRank / 12;
   const int sections = kSections * size, first = std::max(0, kSections * rank - (rank % 2 == 0 ? 1 : 0));
   const int last = std::min(sections - 1, kSections * (rank + 1));  // elements [first, last)
@@ -102,9 +107,31 @@ BlockCase make_block_case(int rank, int size) {
     c.extra.rows.push_back(static_cast<PetscInt>(3 * n + 1));
     c.extra.cols.push_back(static_cast<PetscInt>(3 * m + 2));
   }
+  if (with_reserve) {
+    std::vector<ReservedBlocks::NodePair> pairs;
+    const std::int64_t own = 4 * kSections * rank;
+    for (std::int64_t n = own; n < own + 8 * kSections && n < nodes; n += 2) {
+      const std::int64_t m = (n + 9) % nodes;
+      if (std::abs(n / 4 - m / 4) >= 2) pairs.push_back({n, m}), pairs.push_back({m, n});
+      pairs.push_back({n, n});  // held whole by the elements
+    }
+    for (int e = first; e < last; ++e)  // odd elements: mass blocks between two sections
+      if (e % 2 == 1)
+        for (int a = 0; a < 4; ++a) pairs.push_back({4 * e + a, 4 * (e + 1) + (a + 1) % 4});
+    std::set<std::pair<PetscInt, PetscInt>> listed;
+    for (std::size_t v = 0; v < c.extra.rows.size(); ++v) listed.insert({c.extra.rows[v], c.extra.cols[v]});
+    c.reserve.build(
+        pairs, c.blocks,
+        [&](PetscInt row, PetscInt col) {
+          return listed.count({row, col}) > 0;
+        },
+        c.blocks.num_entries() + c.extra.rows.size());
+    if (device::device_count() > 0) c.reserve.upload();
+  }
   c.blocks.entries(&c.all.rows, &c.all.cols);
   c.all.rows.insert(c.all.rows.end(), c.extra.rows.begin(), c.extra.rows.end());
   c.all.cols.insert(c.all.cols.end(), c.extra.cols.begin(), c.extra.cols.end());
+  c.reserve.entries(&c.all.rows, &c.all.cols);
   return c;
 }
 
@@ -161,7 +188,7 @@ void compare(Mat direct, Mat coo, double* difference, PetscInt* nnz_direct, Pets
 
 // threads > 1: the pattern is built on that many host threads, in chunks of a few rows.
 void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_device, bool node_blocks = false,
-                       int threads = 1) {
+                       int threads = 1, bool with_reserve = false) {
   struct Threads {  // restores the default, one thread, whatever the test's outcome
     explicit Threads(int n) { set_host_threads(n, n > 1 ? 1 : 0); }
     ~Threads() { set_host_threads(1); }
@@ -169,7 +196,10 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
   int rank, size;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const BlockCase blocks = node_blocks ? make_block_case(rank, size) : BlockCase{};
+  const BlockCase blocks = node_blocks ? make_block_case(rank, size, with_reserve) : BlockCase{};
+  if (with_reserve) {
+    ASSERT_GT(blocks.reserve.num_entries(), 0u);
+  }
   const Entries e = node_blocks ? blocks.all : make_entries(rank, size);
   Mat coo = template_matrix(MATAIJ);
   Entries copy = e;  // PETSc may reorder the lists it is given
@@ -180,8 +210,9 @@ void check_against_coo(MatType type, DirectMatrix::Kind kind, bool values_on_dev
   DirectMatrix direct;
   Mat J;
   if (node_blocks)
-    PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, &blocks.blocks, blocks.extra.rows.data(),
-                                                   blocks.extra.cols.data(), blocks.extra.rows.size(), &J));
+    PetscCallAbort(PETSC_COMM_WORLD,
+                   direct.create(like, kind, &blocks.blocks, &blocks.reserve, blocks.extra.rows.data(),
+                                 blocks.extra.cols.data(), blocks.extra.rows.size(), &J));
   else
     PetscCallAbort(PETSC_COMM_WORLD, direct.create(like, kind, e.rows.data(), e.cols.data(), e.rows.size(), &J));
   PetscCallAbort(PETSC_COMM_WORLD, MatDestroy(&like));
@@ -221,6 +252,13 @@ TEST(DirectMatrix, NodeBlocksEqualCooMatrix) { check_against_coo(MATAIJ, DirectM
 // entries and received ones fall in different chunks).
 TEST(DirectMatrix, NodeBlocksOnThreadsEqualCooMatrix) {
   check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true, 3);
+}
+
+// A reserve beside the node blocks and the list (HessianAssembler's contact entries): its blocks
+// merged into the block rows, sent for other ranks' rows, completing partial element blocks.
+TEST(DirectMatrix, ReserveEqualsCooMatrix) {
+  check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true, 1, true);
+  check_against_coo(MATAIJ, DirectMatrix::Kind::host_aij, false, true, 3, true);
 }
 
 TEST(DirectMatrix, ListOnThreadsEqualsCooMatrix) {
@@ -270,6 +308,13 @@ TEST(DirectMatrix, DeviceHypreNodeBlocksOnThreadsEqualCooMatrix) {
   if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
   if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
   check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true, 3);
+}
+
+TEST(DirectMatrix, DeviceHypreReserveEqualsCooMatrix) {
+  if (device::device_count() == 0) GTEST_SKIP() << "no CUDA device";
+  if (!PetscDefined(HAVE_HYPRE_DEVICE)) GTEST_SKIP() << "this PETSc's hypre does not run on the GPU";
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true, 1, true);
+  check_against_coo(MATHYPRE, DirectMatrix::Kind::device_hypre, true, true, 3, true);
 }
 
 }  // namespace

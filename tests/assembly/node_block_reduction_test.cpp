@@ -158,14 +158,14 @@ TEST(NodeBlockReduction, MatchesTheExpandedPatternNoneOwned) {
 // through the search alike; nothing for pairs not requested.
 TEST(ReservedBlocks, HoldsTheRequestedEntriesNothingElseHolds) {
   const Case c = random_case(7);
-  const NodeBlockReduction blocks = NodeBlockReduction::build(
-      {{{static_cast<int>(c.elastic_nodes.size() / 8), c.elastic_nodes.data(), c.local_to_global.data(),
-         ElementLayout::elastic},
-        0},
-       {{static_cast<int>(c.mass_nodes.size() / 8), c.mass_nodes.data(), c.local_to_global.data(),
-         ElementLayout::consistent_mass},
-        0}},
-      1200, 1400);
+  const NodeBlockReduction blocks =
+      NodeBlockReduction::build({{{static_cast<int>(c.elastic_nodes.size() / 8), c.elastic_nodes.data(),
+                                   c.local_to_global.data(), ElementLayout::elastic},
+                                  0},
+                                 {{static_cast<int>(c.mass_nodes.size() / 8), c.mass_nodes.data(),
+                                   c.local_to_global.data(), ElementLayout::consistent_mass},
+                                  0}},
+                                1200, 1400);
   ASSERT_GT(blocks.dense_end, blocks.dense_begin);
   std::mt19937_64 rng(11);
   std::uniform_int_distribution<std::int64_t> node(990, 1610);
@@ -186,7 +186,8 @@ TEST(ReservedBlocks, HoldsTheRequestedEntriesNothingElseHolds) {
     const std::int64_t k = blocks.find_block(row, col);
     unsigned missing = 0x1ffu & ~(k >= 0 ? static_cast<unsigned>(blocks.block_mask[static_cast<std::size_t>(k)]) : 0u);
     for (int bit = 0; bit < 9; ++bit)
-      if (held(static_cast<PetscInt>(3 * row + bit / 3), static_cast<PetscInt>(3 * col + bit % 3))) missing &= ~(1u << bit);
+      if (held(static_cast<PetscInt>(3 * row + bit / 3), static_cast<PetscInt>(3 * col + bit % 3)))
+        missing &= ~(1u << bit);
     const ReservedBlocks::Block b = reserve.find_block(row, col);
     ASSERT_EQ(b.mask, missing) << "(" << row << ", " << col << ")";
     if (!missing) continue;
@@ -198,8 +199,9 @@ TEST(ReservedBlocks, HoldsTheRequestedEntriesNothingElseHolds) {
   EXPECT_EQ(reserve.num_entries(), next - first);
   for (int k = 0; k < 3000; ++k) {
     const ReservedBlocks::NodePair p{node(rng), node(rng)};
-    if (!std::binary_search(requested.begin(), requested.end(), p))
+    if (!std::binary_search(requested.begin(), requested.end(), p)) {
       ASSERT_EQ(reserve.find_block(p[0], p[1]).mask, 0u) << "(" << p[0] << ", " << p[1] << ")";
+    }
   }
   std::vector<PetscInt> rows, cols;
   reserve.entries(&rows, &cols);

@@ -21,9 +21,17 @@ __device__ int offd_index(const std::int64_t* col_map, std::size_t size, std::in
   return static_cast<int>(lo);
 }
 
+// The reserve's blocks of row r: [*first, *last), empty without a reserve.
+__device__ void reserve_range(const BlockRows& b, std::size_t r, std::size_t* first, std::size_t* last) {
+  *first = *last = 0;
+  if (!b.reserve_first) return;
+  *first = b.reserve_first[r / 3], *last = b.reserve_first[r / 3 + 1];
+}
+
 // f(entry, col, in_diag, place) for each entry of block row r, in the row's order: the diagonal
-// first, then the other columns ascending; place counts on from diag_i[r] in the diagonal block
-// and from offd_i[r] in the off-diagonal block.
+// first, then the other columns ascending (the element blocks and the reserve's merged by
+// column node); place counts on from diag_i[r] in the diagonal block and from offd_i[r] in the
+// off-diagonal block.
 template <class F>
 __device__ void walk_block_row(const BlockRows& b, std::size_t r, F&& f) {
   const std::size_t s = static_cast<std::size_t>(b.block_row[r]);
@@ -31,31 +39,54 @@ __device__ void walk_block_row(const BlockRows& b, std::size_t r, F&& f) {
   const int i = static_cast<int>(row % 3);
   const std::int64_t end = b.row_begin + static_cast<std::int64_t>(b.num_rows);
   int d = b.diag_i[r], o = b.offd_i[r];
-  const auto entry = [&](std::size_t k, int bit) {
-    return static_cast<std::size_t>(b.start[k]) + static_cast<std::size_t>(__popc(b.mask[k] & ((1u << bit) - 1u)));
+  const auto entry = [](std::uint32_t start, unsigned mask, int bit) {
+    return static_cast<std::size_t>(start) + static_cast<std::size_t>(__popc(mask & ((1u << bit) - 1u)));
   };
-  std::size_t diagonal_block = b.row_start[s + 1];
-  for (std::size_t k = b.row_start[s]; k < b.row_start[s + 1]; ++k)
+  const std::size_t k0 = b.row_start[s], k1 = b.row_start[s + 1];
+  std::size_t e0, e1;
+  reserve_range(b, r, &e0, &e1);
+  bool diagonal = false;
+  for (std::size_t k = k0; k < k1 && !diagonal; ++k)
     if (static_cast<std::int64_t>(b.col[k]) == node && (b.mask[k] >> (4 * i) & 1u)) {
-      diagonal_block = k;
-      f(entry(k, 4 * i), row, true, d++);
-      break;
+      f(entry(b.start[k], b.mask[k], 4 * i), row, true, d++);
+      diagonal = true;
     }
-  for (std::size_t k = b.row_start[s]; k < b.row_start[s + 1]; ++k) {
-    const unsigned mask = b.mask[k];
+  for (std::size_t e = e0; e < e1 && !diagonal; ++e)
+    if (b.reserve_col[e] == node && (b.reserve_mask[e] >> (4 * i) & 1u)) {
+      f(entry(b.reserve_start[e], b.reserve_mask[e], 4 * i), row, true, d++);
+      diagonal = true;
+    }
+  std::size_t k = k0, e = e0;
+  while (k < k1 || e < e1) {
+    const std::int64_t col_node = k < k1 && (e == e1 || static_cast<std::int64_t>(b.col[k]) <= b.reserve_col[e])
+                                      ? static_cast<std::int64_t>(b.col[k])
+                                      : b.reserve_col[e];
+    const bool in_k = k < k1 && static_cast<std::int64_t>(b.col[k]) == col_node;
+    const bool in_e = e < e1 && b.reserve_col[e] == col_node;
+    const unsigned held = in_k ? b.mask[k] : 0u, reserved = in_e ? b.reserve_mask[e] : 0u;
     for (int j = 0; j < 3; ++j) {
-      if (!(mask >> (3 * i + j) & 1u) || (k == diagonal_block && j == i)) continue;
-      const std::int64_t col = 3 * static_cast<std::int64_t>(b.col[k]) + j;
-      if (col >= b.row_begin && col < end)
-        f(entry(k, 3 * i + j), col, true, d++);
+      const int bit = 3 * i + j;
+      const std::int64_t col = 3 * col_node + j;
+      if (col == row) continue;  // the diagonal, first
+      std::size_t at;
+      if (held >> bit & 1u)
+        at = entry(b.start[k], held, bit);
+      else if (reserved >> bit & 1u)
+        at = entry(b.reserve_start[e], reserved, bit);
       else
-        f(entry(k, 3 * i + j), col, false, o++);
+        continue;
+      if (col >= b.row_begin && col < end)
+        f(at, col, true, d++);
+      else
+        f(at, col, false, o++);
     }
+    if (in_k) ++k;
+    if (in_e) ++e;
   }
 }
 
-__global__ void write_block_rows_kernel(BlockRows b, const std::int64_t* col_map, std::size_t col_map_size,
-                                        int* diag_j, int* offd_j) {
+__global__ void write_block_rows_kernel(BlockRows b, const std::int64_t* col_map, std::size_t col_map_size, int* diag_j,
+                                        int* offd_j) {
   const std::size_t r = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
   if (r >= b.num_rows || b.block_row[r] < 0) return;
   walk_block_row(b, r, [&](std::size_t, std::int64_t col, bool in_diag, int place) {
@@ -76,6 +107,9 @@ __global__ void write_block_row_values_kernel(BlockRows b, const double* values,
   const std::size_t r = (blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x) / 32;
   const int lane = static_cast<int>(threadIdx.x % 32);
   if (r >= b.num_rows || b.block_row[r] < 0) return;  // the same for the whole warp
+  std::size_t e0, e1;
+  reserve_range(b, r, &e0, &e1);
+  if (e0 < e1) return;  // a row with reserve blocks: write_reserve_row_values_kernel
   const std::size_t s = static_cast<std::size_t>(b.block_row[r]);
   const std::int64_t row = b.row_begin + static_cast<std::int64_t>(r), node = row / 3;
   const int i = static_cast<int>(row % 3);
@@ -103,7 +137,8 @@ __global__ void write_block_row_values_kernel(BlockRows b, const double* values,
       const int d = __shfl_up_sync(kAll, sum_diag, offset), o = __shfl_up_sync(kAll, sum_offd, offset);
       if (lane >= offset) sum_diag += d, sum_offd += o;
     }
-    int place_diag = next_diag + sum_diag - (in_diag ? count : 0), place_offd = next_offd + sum_offd - (in_diag ? 0 : count);
+    int place_diag = next_diag + sum_diag - (in_diag ? count : 0),
+        place_offd = next_offd + sum_offd - (in_diag ? 0 : count);
     for (int j = 0; j < 3; ++j) {
       if (!(row_bits >> j & 1u)) continue;
       const double v = values[b.start[k] + static_cast<std::uint64_t>(__popc(mask & ((1u << (3 * i + j)) - 1u)))];
@@ -119,6 +154,19 @@ __global__ void write_block_row_values_kernel(BlockRows b, const double* values,
   }
 }
 
+// The rows with reserve blocks (the contact pairs' nodes, a small part of the rows): one thread
+// per row walks its two block lists merged.
+__global__ void write_reserve_row_values_kernel(BlockRows b, const double* values, double* diag, double* offd) {
+  const std::size_t r = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (r >= b.num_rows || b.block_row[r] < 0) return;
+  std::size_t e0, e1;
+  reserve_range(b, r, &e0, &e1);
+  if (e0 == e1) return;
+  walk_block_row(b, r, [&](std::size_t entry, std::int64_t, bool in_diag, int place) {
+    (in_diag ? diag : offd)[place] = values[entry];
+  });
+}
+
 template <class T>
 __global__ void scatter_kernel(T* out, const std::uint32_t* index, const T* value, std::size_t n) {
   const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
@@ -131,13 +179,16 @@ void write_block_rows(const BlockRows& rows, const std::int64_t* col_map, std::s
                       int* offd_j) {
   if (!rows.num_rows) return;
   write_block_rows_kernel<<<blocks_for(rows.num_rows, kThreads), kThreads>>>(rows, col_map, col_map_size, diag_j,
-                                                                              offd_j);
+                                                                             offd_j);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 
 void write_block_row_values(const BlockRows& rows, const double* values, double* diag, double* offd) {
   if (!rows.num_rows) return;
   write_block_row_values_kernel<<<blocks_for(32 * rows.num_rows, kThreads), kThreads>>>(rows, values, diag, offd);
+  DIPC_CUDA_CHECK_LAUNCH();
+  if (!rows.reserve_first) return;
+  write_reserve_row_values_kernel<<<blocks_for(rows.num_rows, kThreads), kThreads>>>(rows, values, diag, offd);
   DIPC_CUDA_CHECK_LAUNCH();
 }
 

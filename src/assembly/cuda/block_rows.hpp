@@ -11,12 +11,16 @@ namespace dipc::device {
 // Row r (of num_rows, global row row_begin + r = 3 node + i) with block_row[r] >= 0 is the
 // i-th row of node block row s = block_row[r]: blocks k in [row_start[s], row_start[s + 1]),
 // column node col[k], entries present mask[k] (bit 3i + j), first entry start[k] (an entry's
-// index is start[k] + the rank of its bit in mask[k]). Its diagonal comes first (as hypre's
-// smoothers read a row), then its other columns ascending; those in [row_begin, row_begin +
-// num_rows) are the diagonal block's, from diag_i[r], the others the off-diagonal block's, from
-// offd_i[r]. Rows with block_row[r] < 0 are left alone. All pointers are device memory: 32-bit
-// copies of NodeBlockReduction's arrays, the masks and starts those the element part keeps
-// (DirectMatrix::share_blocks) where it has them.
+// index is start[k] + the rank of its bit in mask[k]); and, where reserve_first is not null,
+// of the reserve's blocks b in [reserve_first[q], reserve_first[q + 1]) of its node (own node q
+// = r / 3), described the same way by reserve_col, reserve_mask and reserve_start (a node pair
+// may be in both lists, the reserve holding the entries the element block lacks). Its diagonal
+// comes first (as hypre's smoothers read a row), then its other columns ascending; those in
+// [row_begin, row_begin + num_rows) are the diagonal block's, from diag_i[r], the others the
+// off-diagonal block's, from offd_i[r]. Rows with block_row[r] < 0 are left alone. All pointers
+// are device memory: 32-bit copies of NodeBlockReduction's arrays, the masks, starts, row starts
+// and columns those the element part keeps (DirectMatrix::share_blocks) where it has them, and
+// the reserve's own (ReservedBlocks::upload).
 struct BlockRows {
   std::size_t num_rows = 0;
   std::int64_t row_begin = 0;
@@ -25,6 +29,10 @@ struct BlockRows {
   const std::uint32_t* col = nullptr;
   const std::uint16_t* mask = nullptr;
   const std::uint32_t* start = nullptr;
+  const std::uint32_t* reserve_first = nullptr;
+  const std::int64_t* reserve_col = nullptr;
+  const std::uint16_t* reserve_mask = nullptr;
+  const std::uint32_t* reserve_start = nullptr;
   const int* diag_i = nullptr;
   const int* offd_i = nullptr;
 };
