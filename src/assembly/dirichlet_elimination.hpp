@@ -34,6 +34,15 @@ class DirichletElimination {
 
  private:
   std::vector<std::size_t> zero_entries_, one_entries_;
+  // The element blocks' share of them and what it was found for (the blocks, the prescribed
+  // flags, their nodes' global ids, the owned dofs), and the prescribed dofs' bitmap over
+  // [lo_, hi_].
+  std::vector<std::size_t> block_zero_, block_one_;
+  std::uint64_t blocks_id_ = 0;
+  std::vector<char> prescribed_;
+  std::vector<std::int64_t> local_to_global_;
+  PetscInt owned_begin_ = 0, owned_end_ = 0, lo_ = 0, hi_ = -1;
+  std::vector<bool> bitmap_;
   device::Array<std::size_t> d_zero_entries_{"Dirichlet zero entries"}, d_one_entries_{"Dirichlet diagonal entries"};
 };
 

@@ -96,9 +96,8 @@ PetscErrorCode HessianAssembler::update_patterns(const double* x, const double* 
   PetscCall(PetscLogEventBegin(log_events().pattern_remap, 0, 0, 0, 0));
   bool fits = true;
   if (local) {
-    std::vector<NodeGroup> groups;
-    PetscCall(gather_changing_part(&groups));
-    PetscCall(map_changing_part(groups, true, &fits));
+    PetscCall(gather_changing_part(&groups_));
+    PetscCall(map_changing_part(groups_, true, &fits));
   }
   int all_fit = fits ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &all_fit, 1, MPI_INT, MPI_MIN, dofs_.comm));
@@ -204,8 +203,9 @@ BlockEntries HessianAssembler::block_entries() const {
   return {&elements_.blocks(), &reserve_, &fixed_extra_rows_, &fixed_extra_cols_};
 }
 
-bool HessianAssembler::device_entry_index(device::BlockEntryIndex* index) const {
-  if (!device_matrix_ || !elements_.device_index(index) || !reserve_.device_index(index)) return false;
+bool HessianAssembler::device_entry_index(device::BlockEntryIndex* index, bool with_reserve) const {
+  if (!device_matrix_ || !elements_.device_index(index) || (with_reserve && !reserve_.device_index(index)))
+    return false;
   index->num_extra = fixed_extra_rows_.size();
   index->extra_row = d_extra_rows_.data();
   index->extra_col = d_extra_cols_.data();
@@ -217,7 +217,7 @@ PetscErrorCode HessianAssembler::gather_changing_part(std::vector<NodeGroup>* gr
   PetscFunctionBeginUser;
   EventScope event(log_events().pattern_groups);
   groups->clear();
-  std::vector<NodeGroup> term_groups;
+  std::vector<NodeGroup>& term_groups = term_groups_;
   std::size_t raw = changing_raw_begin_;
   for (std::size_t t = 0; t < terms_.size(); ++t) {
     if (element_map_[t] >= 0 || !changing(t)) continue;
@@ -236,6 +236,22 @@ PetscErrorCode HessianAssembler::gather_changing_part(std::vector<NodeGroup>* gr
 
 void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
   EventScope event(log_events().pattern_reserve);
+  const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
+  // A device matrix: the groups' node pairs are sorted on the device (node ids below 2^32, as
+  // its blocks' columns are), and the reserve stays there for the lookups and the matrix's rows.
+  device::BlockEntryIndex index;
+  const bool nodes_fit = std::all_of(groups.begin(), groups.end(), [](const NodeGroup& g) {
+    return std::all_of(g.node.begin(), g.node.begin() + g.count,
+                       [](std::int64_t n) { return n >= 0 && n <= std::int64_t{0xffffffff}; });
+  });
+  if (remap_ != Remap::candidates && nodes_fit && device_entry_index(&index, false)) {
+    std::vector<std::int64_t> rows, cols;
+    std::vector<std::uint16_t> masks;
+    device::reserve_node_groups(node_group_views(groups), groups.size(), index, &rows, &cols, &masks);
+    reserve_.assign(rows, cols, masks, elements_.blocks(), first);
+    reserve_.upload();
+    return;
+  }
   // The changing terms' current groups' node blocks (16 per contact pair) and, with
   // -dipc_pattern_remap candidates, their reserved blocks. Each host thread takes the blocks
   // whose row node falls in its share of the row nodes' range, from all of them, and sorts and
@@ -276,7 +292,6 @@ void HessianAssembler::build_reserve(const std::vector<NodeGroup>& groups) {
       },
       1);
   std::vector<ReservedBlocks::NodePair>().swap(candidates);
-  const std::size_t first = elements_.blocks().num_entries() + fixed_extra_rows_.size();
   const BlockEntries entries = block_entries();
   reserve_.build(
       node_pairs, elements_.blocks(), [&](PetscInt row, PetscInt col) { return entries.find_extra(row, col) >= 0; },
@@ -291,7 +306,7 @@ PetscErrorCode HessianAssembler::map_changing_part(const std::vector<NodeGroup>&
   std::size_t missing = 0;
   try {
     device::BlockEntryIndex index;
-    if (device_entry_index(&index)) {
+    if (device_entry_index(&index, true)) {
       // The device looks every block up (a trial too: it does not stop at the first missing).
       const std::size_t entries = elements_.blocks().num_entries() + fixed_extra_rows_.size() + reserve_.num_entries();
       missing = changing_.build_on_device(groups, index, entries);
@@ -357,10 +372,9 @@ PetscErrorCode HessianAssembler::rebuild_pattern(bool template_matrix) {
   }
   bool fits;
   {
-    std::vector<NodeGroup> groups;
-    PetscCall(gather_changing_part(&groups));
-    build_reserve(groups);
-    PetscCall(map_changing_part(groups, false, &fits));
+    PetscCall(gather_changing_part(&groups_));
+    build_reserve(groups_);
+    PetscCall(map_changing_part(groups_, false, &fits));
   }
   awaiting_rebuild_ = false;
   matrix_exact_ = true;

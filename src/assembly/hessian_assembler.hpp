@@ -156,9 +156,9 @@ class HessianAssembler {
   void size_raw_values();
   // Where the matrix keeps a node block's entries: element blocks, reserve, fixed extras.
   BlockEntries block_entries() const;
-  // The same on the device, for a device matrix whose parts are there; false otherwise (the
-  // host looks the blocks up).
-  bool device_entry_index(device::BlockEntryIndex* index) const;
+  // The same on the device, for a device matrix whose parts are there (the reserve's only
+  // with_reserve); false otherwise (the host looks the blocks up).
+  bool device_entry_index(device::BlockEntryIndex* index, bool with_reserve) const;
   bool changing(std::size_t t) const { return terms_[t].pattern->pattern_may_change(); }
   // The matrix J_ from the entries: the blocks', the fixed part's extra ones, the reserve's.
   PetscErrorCode make_matrix(bool template_matrix);
@@ -198,6 +198,10 @@ class HessianAssembler {
   bool fixed_on_device_ = false;        // ... for a device matrix (its maps are on the device)
   std::vector<char> fixed_prescribed_;  // ... made with these owned Dirichlet flags
   TargetPart changing_;
+  // The changing terms' node groups at the last pattern change, and one term's: kept, with
+  // their capacity, from change to change (tens of MB on contact-rich steps, faulted in afresh
+  // at every change otherwise).
+  std::vector<NodeGroup> groups_, term_groups_;
   // The fixed part's entries that no block holds (entries from blocks.num_entries() on), by row
   // then column; the reserve's follow them.
   std::vector<PetscInt> fixed_extra_rows_, fixed_extra_cols_;

@@ -44,7 +44,26 @@ void ReservedBlocks::build(std::vector<NodePair>& node_pairs, const NodeBlockRed
     start_.push_back(next);
     next += kBlockMaskBits[missing[p]];
   }
-  num_entries_ = next - first_entry;
+  finish(blocks, first_entry, next);
+}
+
+void ReservedBlocks::assign(const std::vector<std::int64_t>& rows, const std::vector<std::int64_t>& cols,
+                            const std::vector<std::uint16_t>& masks, const NodeBlockReduction& blocks,
+                            std::size_t first_entry) {
+  clear();
+  std::size_t next = first_entry;
+  for (std::size_t p = 0; p < masks.size(); ++p) {
+    if (!masks[p]) continue;
+    pairs_.push_back({rows[p], cols[p]});
+    mask_.push_back(masks[p]);
+    start_.push_back(next);
+    next += kBlockMaskBits[masks[p]];
+  }
+  finish(blocks, first_entry, next);
+}
+
+void ReservedBlocks::finish(const NodeBlockReduction& blocks, std::size_t first_entry, std::size_t end_entry) {
+  num_entries_ = end_entry - first_entry;
   first_entry_ = first_entry;
   // Each dense row's first pair, in one pass over the rows and the pairs (both ascending).
   dense_begin_ = blocks.dense_begin, dense_end_ = std::max(blocks.dense_begin, blocks.dense_end);

@@ -44,6 +44,11 @@ class ReservedBlocks {
   // Sorts node_pairs in place (unless sorted); the pairs are looked up on the host threads.
   void build(std::vector<NodePair>& node_pairs, const NodeBlockReduction& blocks, const Held& held,
              std::size_t first_entry);
+  // The same reserve from its blocks found elsewhere (the device: cuda/group_targets.hpp): the
+  // node pairs (rows[p], cols[p]) distinct and ascending, each with the entries that nothing
+  // holds yet (masks[p]; pairs with none are left out).
+  void assign(const std::vector<std::int64_t>& rows, const std::vector<std::int64_t>& cols,
+              const std::vector<std::uint16_t>& masks, const NodeBlockReduction& blocks, std::size_t first_entry);
   void clear();
 
   std::size_t num_entries() const { return num_entries_; }
@@ -80,6 +85,9 @@ class ReservedBlocks {
   const std::uint32_t* device_starts() const { return uploaded_ ? d_start_.data() : nullptr; }
 
  private:
+  // After the blocks are in place: their entries [first_entry, end_entry) and the dense rows' index.
+  void finish(const NodeBlockReduction& blocks, std::size_t first_entry, std::size_t end_entry);
+
   std::vector<NodePair> pairs_;  // ascending
   // Rows of the blocks' dense range (NodeBlockReduction::dense_begin ..): the pairs of row node
   // dense_begin_ + r are pairs_[dense_first_[r] .. dense_first_[r + 1]), found without a search

@@ -82,8 +82,7 @@ std::size_t TargetPart::build_on_device(const std::vector<NodeGroup>& groups, co
   num_raw_ = begin.back();
   on_device_ = false;
   built_on_device_ = true;
-  d_groups_.resize(groups.size());
-  if (!groups.empty()) device::copy_to_device(d_groups_.data(), groups.data(), groups.size() * sizeof(NodeGroup));
+  if (!groups.empty()) d_groups_.upload(node_group_views(groups), groups.size());
   d_group_begin_.upload(begin);
   d_keys_.resize(num_raw_);
   return device::map_node_groups(d_groups_.data(), d_group_begin_.data(), groups.size(), index, kDropped,

@@ -27,6 +27,11 @@
 
 namespace dipc {
 
+// The groups as the device reads them (the same layout, checked in target_part.cpp).
+inline const device::NodeGroupView* node_group_views(const std::vector<NodeGroup>& groups) {
+  return reinterpret_cast<const device::NodeGroupView*>(groups.data());
+}
+
 class TargetPart {
  public:
   // find(row_node, col_node, row_hint, entry): the matrix entries of the node block's 9 dof

@@ -295,7 +295,8 @@ TEST(CooReductionGpu, OneFormsNodeBlocksBuiltOnTheDeviceEqualTheHostBuild) {
 }
 
 // TargetPart's lookups on the device (build_on_device over group_targets.hpp's index) against
-// its host lookups (BlockEntries): element blocks of two forms (the consistent mass's hold only
+// its host lookups (BlockEntries), and the reserve found on the device against the host's
+// build: element blocks of two forms (the consistent mass's hold only
 // their diagonals, so a reserve completes some element blocks), owned rows found directly and
 // ghost rows searched, nodes of no row, a reserve of half the groups' blocks and fixed extra
 // entries. The other half misses entries: both count the same. The half that fits gets the same
@@ -348,6 +349,21 @@ TEST(TargetPartGpu, DeviceLookupsEqualHostLookups) {
   index.extra_row = d_extra_rows.data(), index.extra_col = d_extra_cols.data();
   index.extra_first = static_cast<std::uint32_t>(blocks.num_entries());
   const std::size_t num_entries = blocks.num_entries() + extra_rows.size() + reserve.num_entries();
+
+  // The reserve found on the device: the host build's blocks, masks and entries.
+  std::vector<std::int64_t> rows, cols;
+  std::vector<std::uint16_t> masks;
+  device::reserve_node_groups(node_group_views(fitting), fitting.size(), index, &rows, &cols, &masks);
+  ReservedBlocks device_reserve;
+  device_reserve.assign(rows, cols, masks, blocks, reserve.first_entry());
+  ASSERT_EQ(device_reserve.num_blocks(), reserve.num_blocks());
+  EXPECT_EQ(device_reserve.num_entries(), reserve.num_entries());
+  for (std::size_t k = 0; k < reserve.num_blocks(); ++k) {
+    ASSERT_EQ(device_reserve.pair(k), reserve.pair(k)) << "block " << k;
+    ASSERT_EQ(device_reserve.mask(k), reserve.mask(k)) << "block " << k;
+    ASSERT_EQ(device_reserve.start(k), reserve.start(k)) << "block " << k;
+  }
+
   const auto host_find = [&](std::int64_t row_node, std::int64_t col_node, std::size_t* hint, std::int64_t entry[9]) {
     entries.find(row_node, col_node, hint, entry);
   };

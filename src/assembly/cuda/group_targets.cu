@@ -1,5 +1,11 @@
 #include "assembly/cuda/group_targets.hpp"
 
+#include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_select.cuh>
+
+#include <algorithm>
+#include <limits>
+
 #include "device/cuda_check.cuh"
 
 namespace dipc::device {
@@ -58,6 +64,16 @@ __device__ std::int64_t find_extra(const BlockEntryIndex& x, std::int64_t row, s
 
 __device__ unsigned rank_in_mask(unsigned mask, int bit) { return __popc(mask & ((1u << bit) - 1u)); }
 
+// The element block (block row s, col_node): its mask (0 where none) and first entry.
+__device__ unsigned element_block(const BlockEntryIndex& x, std::int64_t s, std::int64_t col_node, std::size_t* start) {
+  if (s < 0 || col_node < 0) return 0u;
+  const std::size_t k0 = x.row_start[s], k1 = x.row_start[s + 1];
+  const std::size_t k = lower_bound(x.col, k0, k1, col_node);
+  if (k == k1 || static_cast<std::int64_t>(x.col[k]) != col_node) return 0u;
+  *start = x.start[k];
+  return x.mask[k];
+}
+
 // One thread per group row (group g, node a): node a's blocks with each node b of the group, the
 // 9 entries of each, as the host's lookup takes them (element block, reserve, fixed extras).
 __global__ void map_node_groups_kernel(const NodeGroupView* groups, const std::uint64_t* value_begin,
@@ -77,13 +93,8 @@ __global__ void map_node_groups_kernel(const NodeGroupView* groups, const std::u
   unsigned long long none = 0;
   for (int b = 0; b < group.count; ++b) {
     const std::int64_t col_node = group.node[b];
-    unsigned held = 0;
     std::size_t held_start = 0;
-    if (s >= 0 && col_node >= 0) {
-      const std::size_t k0 = x.row_start[s], k1 = x.row_start[s + 1];
-      const std::size_t k = lower_bound(x.col, k0, k1, col_node);
-      if (k < k1 && static_cast<std::int64_t>(x.col[k]) == col_node) held = x.mask[k], held_start = x.start[k];
-    }
+    const unsigned held = element_block(x, s, col_node, &held_start);
     unsigned reserved = 0;
     std::size_t reserved_start = 0;
     if (held != 0x1ffu && reserve_first < reserve_last) {
@@ -107,6 +118,43 @@ __global__ void map_node_groups_kernel(const NodeGroupView* groups, const std::u
   if (none) atomicAdd(missing, none);
 }
 
+// Reserve candidates: one thread per group row (group g, node a) writes the keys (row node << 32 |
+// column node) of its blocks that the elements do not hold whole into keys[16 g + 4 a + b], the
+// other slots kNoPair (sorted last).
+constexpr std::uint64_t kNoPair = ~std::uint64_t{0};
+__global__ void reserve_keys_kernel(const NodeGroupView* groups, std::size_t num_groups, BlockEntryIndex x,
+                                    std::uint64_t* keys) {
+  const std::size_t t = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  const std::size_t g = t / 4;
+  const int a = static_cast<int>(t % 4);
+  if (g >= num_groups) return;
+  const NodeGroupView group = groups[g];
+  std::uint64_t* out = keys + 16 * g + 4 * a;
+  for (int b = 0; b < 4; ++b) out[b] = kNoPair;
+  if (a >= group.count) return;
+  const std::int64_t row_node = group.node[a];
+  const std::int64_t s = find_row(x, row_node);
+  for (int b = 0; b < group.count; ++b) {
+    std::size_t start;
+    if (element_block(x, s, group.node[b], &start) != 0x1ffu)
+      out[b] = static_cast<std::uint64_t>(row_node) << 32 | static_cast<std::uint64_t>(group.node[b]);
+  }
+}
+
+// Each distinct pair's entries that neither its element block nor the fixed extras hold.
+__global__ void reserve_masks_kernel(const std::uint64_t* keys, std::size_t n, BlockEntryIndex x,
+                                     std::uint16_t* masks) {
+  const std::size_t k = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (k >= n) return;
+  const std::int64_t row_node = static_cast<std::int64_t>(keys[k] >> 32);
+  const std::int64_t col_node = static_cast<std::int64_t>(keys[k] & 0xffffffffu);
+  std::size_t start;
+  unsigned m = 0x1ffu & ~element_block(x, find_row(x, row_node), col_node, &start);
+  for (int bit = 0; bit < 9; ++bit)
+    if (m >> bit & 1u && find_extra(x, 3 * row_node + bit / 3, 3 * col_node + bit % 3) >= 0) m &= ~(1u << bit);
+  masks[k] = static_cast<std::uint16_t>(m);
+}
+
 }  // namespace
 
 std::size_t map_node_groups(const NodeGroupView* groups, const std::uint64_t* value_begin, std::size_t num_groups,
@@ -121,6 +169,54 @@ std::size_t map_node_groups(const NodeGroupView* groups, const std::uint64_t* va
   unsigned long long count = 0;
   missing.download(&count);
   return static_cast<std::size_t>(count);
+}
+
+void reserve_node_groups(const NodeGroupView* groups, std::size_t num_groups, const BlockEntryIndex& index,
+                         std::vector<std::int64_t>* rows, std::vector<std::int64_t>* cols,
+                         std::vector<std::uint16_t>* masks) {
+  rows->clear(), cols->clear(), masks->clear();
+  if (!num_groups) return;
+  if (16 * num_groups > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw DeviceError("the reserve's node pairs: more than the device sort's 2^31 - 1 on one rank: run on more ranks");
+  Array<NodeGroupView> d_groups("reserve's node groups");
+  d_groups.upload(groups, num_groups);
+  const std::size_t slots = 16 * num_groups;
+  Array<std::uint64_t> keys("reserve keys"), sorted("reserve keys, sorted");
+  keys.resize(slots), sorted.resize(slots);
+  reserve_keys_kernel<<<blocks_for(4 * num_groups, kThreads), kThreads>>>(d_groups.data(), num_groups, index,
+                                                                          keys.data());
+  DIPC_CUDA_CHECK_LAUNCH();
+  // Sorted, then made distinct into keys (its first `distinct`).
+  Array<unsigned char> scratch("reserve scratch");
+  Array<int> count("reserve count");
+  count.resize(1);
+  std::size_t sort_bytes = 0, unique_bytes = 0;
+  const int n = static_cast<int>(slots);
+  DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(nullptr, sort_bytes, keys.data(), sorted.data(), n));
+  DIPC_CUDA_CHECK(cub::DeviceSelect::Unique(nullptr, unique_bytes, sorted.data(), keys.data(), count.data(), n));
+  scratch.resize(std::max<std::size_t>({sort_bytes, unique_bytes, 1}));
+  DIPC_CUDA_CHECK(cub::DeviceRadixSort::SortKeys(scratch.data(), sort_bytes, keys.data(), sorted.data(), n));
+  DIPC_CUDA_CHECK(cub::DeviceSelect::Unique(scratch.data(), unique_bytes, sorted.data(), keys.data(), count.data(), n));
+  int distinct = 0;
+  count.download(&distinct);
+  std::uint64_t last = 0;
+  if (distinct > 0) copy_to_host(&last, keys.data() + distinct - 1, sizeof(last));
+  const std::size_t pairs = static_cast<std::size_t>(distinct) - (distinct > 0 && last == kNoPair ? 1 : 0);
+  Array<std::uint16_t> d_masks("reserve masks");
+  d_masks.resize(pairs);
+  if (pairs) {
+    reserve_masks_kernel<<<blocks_for(pairs, kThreads), kThreads>>>(keys.data(), pairs, index, d_masks.data());
+    DIPC_CUDA_CHECK_LAUNCH();
+  }
+  std::vector<std::uint64_t> host_keys(pairs);
+  if (pairs) copy_to_host(host_keys.data(), keys.data(), pairs * sizeof(std::uint64_t));
+  masks->resize(pairs);
+  d_masks.download(masks->data());
+  rows->resize(pairs), cols->resize(pairs);
+  for (std::size_t p = 0; p < pairs; ++p) {
+    (*rows)[p] = static_cast<std::int64_t>(host_keys[p] >> 32);
+    (*cols)[p] = static_cast<std::int64_t>(host_keys[p] & 0xffffffffu);
+  }
 }
 
 }  // namespace dipc::device

@@ -11,6 +11,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace dipc::device {
 
@@ -57,5 +58,15 @@ struct BlockEntryIndex {
 // has none. Returns how many have none. The entries must number below `dropped`.
 std::size_t map_node_groups(const NodeGroupView* groups, const std::uint64_t* value_begin, std::size_t num_groups,
                             const BlockEntryIndex& index, std::uint32_t dropped, std::uint32_t* targets);
+
+// The reserve of the groups' blocks (ReservedBlocks::build, found by a radix sort of the node
+// pairs on the device instead of sorts on the host threads): the distinct node pairs (rows[p],
+// cols[p]) of each group's nodes whose element block `index` does not hold whole, ascending,
+// each with the entries that neither its element block nor the fixed extras hold (masks[p],
+// bit 3i + j; 0 where none). `groups` in host memory, their nodes in [0, 2^32); index's
+// reserve fields are not read.
+void reserve_node_groups(const NodeGroupView* groups, std::size_t num_groups, const BlockEntryIndex& index,
+                         std::vector<std::int64_t>* rows, std::vector<std::int64_t>* cols,
+                         std::vector<std::uint16_t>* masks);
 
 }  // namespace dipc::device
