@@ -6,7 +6,8 @@
 // node blocks, 243 entries): 4 B per element node pair (64 per hex and element form) and, per
 // block, 4 B per element form, 2 B of mask and 8 B of start (4 B on the device), where the
 // values are summed (the host, or the device with a device matrix); the summed values take 8 B
-// per entry.
+// per entry. On the device also 4 B of column node per block and a row start and node per node
+// (the pattern, for the contact lookups and the matrix's rows, which share it).
 //
 // Element forms sum their values element chunk by chunk where they run where the matrix does
 // (no array of all their raw values exists: 4.6 KB per hex): a host matrix of host forms on
