@@ -359,18 +359,15 @@ std::vector<DirectMatrix::ChunkCounts> DirectMatrix::count_row_columns(const Row
           const int i = static_cast<int>(r % 3);
           PetscInt n_diag = 0, n_offd = 0;
           if (entries.blocks_only(r)) {
-            for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k) {
-              const auto present = kBlockMaskBits[blocks->block_mask[k] >> (3 * i) & 7u];
-              const std::int64_t col_node = blocks->block_col[k];
-              (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
-            }
+            // The row's entries of a block (mask, column node): its bits of row i.
+            const auto count = [&](unsigned mask, std::int64_t col_node) {
+              (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += kBlockMaskBits[mask >> (3 * i) & 7u];
+            };
+            for (std::size_t k = blocks->row_start[s]; k < blocks->row_start[s + 1]; ++k)
+              count(blocks->block_mask[k], blocks->block_col[k]);
             std::size_t e, e_end;
             entries.reserve_range(r, &e, &e_end);
-            for (; e < e_end; ++e) {
-              const auto present = kBlockMaskBits[entries.reserve->mask(e) >> (3 * i) & 7u];
-              const std::int64_t col_node = entries.reserve->pair(e)[1];
-              (col_node >= node_begin && col_node < node_end ? n_diag : n_offd) += present;
-            }
+            for (; e < e_end; ++e) count(entries.reserve->mask(e), entries.reserve->pair(e)[1]);
             if (on_device) device_block_row_[static_cast<std::size_t>(r)] = s;  // written there (write_block_rows)
           } else {
             entries.sorted_line(r, line);
