@@ -84,13 +84,12 @@ device::ContactPairList ContactForm::pattern_pair_list() const {
 }
 
 bool ContactForm::node_groups(std::vector<NodeGroup>* groups) const {
-  groups->clear();
-  groups->reserve(set_.pattern_pairs().size());
-  set_.for_each_pattern_group([&](const std::int64_t* nodes, int count) {
-    NodeGroup g;
-    g.count = count;
-    std::copy(nodes, nodes + count, g.node.begin());
-    groups->push_back(g);
+  groups->resize(set_.num_pattern_groups());
+  parallel_for(groups->size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      NodeGroup& g = (*groups)[k];
+      g.count = set_.pattern_group(k, g.node.data());
+    }
   });
   return true;
 }

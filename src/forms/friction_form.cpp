@@ -177,15 +177,16 @@ bool FrictionForm::gradient(const double* x, double* g) {
 }
 
 bool FrictionForm::node_groups(std::vector<NodeGroup>* groups) const {
-  groups->clear();
-  groups->reserve(pairs_.size());
-  for (const Pair& p : pairs_) {
-    int slots[4];
-    NodeGroup g;
-    g.count = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
-    for (int a = 0; a < g.count; ++a) g.node[a] = p.global[slots[a]];
-    groups->push_back(g);
-  }
+  groups->resize(pairs_.size());
+  parallel_for(pairs_.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Pair& p = pairs_[k];
+      int slots[4];
+      NodeGroup& g = (*groups)[k];
+      g.count = body_slots(p.global.data(), p.count, slots);  // obstacle nodes have no unknowns
+      for (int a = 0; a < g.count; ++a) g.node[a] = p.global[slots[a]];
+    }
+  });
   return true;
 }
 

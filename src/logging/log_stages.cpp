@@ -47,6 +47,8 @@ const LogEvents& log_events() {
     PetscLogEventRegister("dipcCCD", id, &r.ccd);
     PetscLogEventRegister("dipcFrictionLag", id, &r.friction_lag);
     PetscLogEventRegister("dipcFriction", id, &r.friction);
+    PetscLogEventRegister("dipcNewtonUpdate", id, &r.newton_update);
+    PetscLogEventRegister("dipcLineSearch", id, &r.line_search);
     return r;
   }();
   return e;

@@ -24,6 +24,10 @@ struct LogEvents {
   // phase, the device pair lists (built on the host, uploaded), the active-set pass, CCD, the
   // friction lag update and friction's evaluations.
   PetscLogEvent ghost_surfaces, broad_phase, pair_lists, active_set, ccd, friction_lag, friction;
+  // The Newton solver's own work around the evaluations (NewtonSolver): the start-of-iteration
+  // hook (the forms' updates, the pattern refresh, a new matrix) and the whole line search (CCD
+  // bound, trial energies and validity, the accepted state's gradient).
+  PetscLogEvent newton_update, line_search;
 };
 const LogEvents& log_events();
 

@@ -12,11 +12,13 @@
 #include <cstdio>
 #include <string>
 
+#include "logging/log_stages.hpp"
 #include "nonlinear/newton_solver.hpp"
 
 namespace dipc {
 
 PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
+  EventScope event(log_events().line_search);
   auto* ctx = static_cast<NewtonSolver::LineSearchContext*>(ctx_);
   SNES snes;
   Vec X, F, Y, W, G;

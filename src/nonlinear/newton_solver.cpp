@@ -44,6 +44,7 @@ PetscErrorCode NewtonSolver::hessian_callback(SNES, Vec x, Mat J, Mat P, void* c
 // matrix's (the contact active set changed), the solver gets a new matrix, so that every
 // preconditioner sets itself up for the new pattern from scratch.
 PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
+  EventScope event(log_events().newton_update);
   PetscFunctionBeginUser;
   void* ctx;
   PetscCall(SNESGetApplicationContext(snes, &ctx));

@@ -213,14 +213,18 @@ bool ContactSet::exchange_ghosts(const double* x, const double* p) {
 
 // Compare by the pairs' global node ids: candidate indices are renumbered by every exchange.
 std::vector<std::array<std::int64_t, 5>> ContactSet::pattern_keys(const std::vector<PatternEntry>& pairs) const {
-  std::vector<std::array<std::int64_t, 5>> key;
-  for (const auto& pe : pairs) {
-    const PairInfo info = describe(pe.kind, pe.index);
-    std::array<std::int64_t, 5> k{static_cast<std::int64_t>(pe.kind), -1, -1, -1, -1};
-    for (int n = 0; n < info.count; ++n) k[1 + n] = global_node(info.nodes[n]);
-    if (info.plane) k[2] = info.plane - parameters_.planes.data();
-    key.push_back(k);
-  }
+  // On the host threads: the pattern has hundreds of thousands of pairs on a contact-rich scene
+  // at 1M hexes, and its keys are made at every Newton iteration.
+  std::vector<std::array<std::int64_t, 5>> key(pairs.size());
+  parallel_for(pairs.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t p = begin; p < end; ++p) {
+      const PairInfo info = describe(pairs[p].kind, pairs[p].index);
+      std::array<std::int64_t, 5> k{static_cast<std::int64_t>(pairs[p].kind), -1, -1, -1, -1};
+      for (int n = 0; n < info.count; ++n) k[1 + n] = global_node(info.nodes[n]);
+      if (info.plane) k[2] = info.plane - parameters_.planes.data();
+      key[p] = k;
+    }
+  });
   return key;
 }
 

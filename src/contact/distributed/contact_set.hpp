@@ -188,18 +188,17 @@ class ContactSet {
   void update_pattern(Active&& active);
   const std::vector<PatternEntry>& pattern_pairs() const { return pattern_pairs_; }
   long pattern_version() const { return pattern_version_; }
-  // The pattern's pairs' body nodes (global ids, obstacle nodes left out), pair by pair:
-  // f(nodes, count). The Hessian's values of a pair are the dense block over them.
-  template <class F>
-  void for_each_pattern_group(F&& f) const {
-    for (const auto& k : pattern_key_) {
-      const int count = k[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4;
-      int slots[4];
-      const int n = body_slots(k.data() + 1, count, slots);
-      std::int64_t nodes[4];
-      for (int a = 0; a < n; ++a) nodes[a] = k[1 + slots[a]];
-      f(nodes, n);
-    }
+  // The pattern's pairs' body nodes (global ids, obstacle nodes left out): pair k's in
+  // nodes[0 .. returned count). The Hessian's values of a pair are the dense block over them.
+  // Safe to call from several host threads at once.
+  std::size_t num_pattern_groups() const { return pattern_key_.size(); }
+  int pattern_group(std::size_t k, std::int64_t* nodes) const {
+    const auto& key = pattern_key_[k];
+    const int count = key[0] == static_cast<std::int64_t>(CandidateKind::vertex_plane) ? 1 : 4;
+    int slots[4];
+    const int n = body_slots(key.data() + 1, count, slots);
+    for (int a = 0; a < n; ++a) nodes[a] = key[1 + slots[a]];
+    return n;
   }
   // The body-node blocks (global row node, global column node) of every candidate pair but the
   // vertex–plane ones (always in the pattern): room in the matrix for the active set to change
