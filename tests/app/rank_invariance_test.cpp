@@ -95,7 +95,7 @@ TEST(RankInvariance, MeanDilatationBeamMatchesOneRank) {
   PetscOptionsClearValue(nullptr, "-dipc_mixed_solve");
 }
 
-// The mixed solve at the default preset's loose tolerances (-ksp_rtol 1e-4, velocity_tol_rel
+// The mixed solve at the default preset's loose tolerances (-ksp_rtol 1e-3, velocity_tol_rel
 // 1e-5) must end Newton where CG on the full Hessian does: a static clamped beam of nearly
 // incompressible mean-dilatation elements (bench/locking.py's 10x1x1 at nu = 0.4999), whose
 // bending modes are soft. FGMRES, which stops on the unpreconditioned residual, ended 0.65 %
@@ -137,7 +137,7 @@ double static_beam_tip(const char* mixed_solve, const char* ksp_rtol) {
 }
 
 TEST(RankInvariance, MixedSolveAtLooseToleranceEndsWhereATightSolveDoes) {
-  const double loose = static_beam_tip("1", "1e-4"), tight = static_beam_tip("1", "1e-10");
+  const double loose = static_beam_tip("1", "1e-3"), tight = static_beam_tip("1", "1e-10");
   EXPECT_GT(tight, 1e-3) << "the beam did not bend: the comparison would be vacuous";
   EXPECT_LT(std::abs(loose - tight) / tight, 1e-4) << "loose " << loose << " m, tight " << tight << " m";
 }
