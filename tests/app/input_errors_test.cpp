@@ -444,7 +444,7 @@ TEST(Options, PresetFillsInOnlyWhatTheUserLeftUnset) {
     std::string extra, preset, ksp_rtol;
   };
   const std::string user_file = "-options_file " + data_dir + "ksp_rtol_1e-5.opts";
-  for (const Case& c : {Case{"", "balanced", "relative=0.0001,"}, Case{"-dipc_preset fast", "fast", "relative=0.001,"},
+  for (const Case& c : {Case{"", "balanced", "relative=0.001,"}, Case{"-dipc_preset fast", "fast", "relative=0.001,"},
                         Case{"-dipc_preset accurate", "accurate", "relative=1e-08,"},
                         Case{"-dipc_preset fast -ksp_rtol 1e-6", "fast", "relative=1e-06,"},
                         Case{"-ksp_rtol 1e-6 -dipc_preset accurate", "accurate", "relative=1e-06,"},
