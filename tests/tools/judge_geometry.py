@@ -4,6 +4,8 @@ Written from the textbook definitions, independent of dipc's C++ contact and ele
 that a bug there cannot hide itself here. Every function takes arrays of shape (n, 3) (or
 (n, 8, 3) for hexahedra) and returns one value per row.
 """
+from fractions import Fraction
+
 import numpy as np
 
 # Reference corners of the hex8 element in Gmsh order: bottom face (ζ = -1) counter-clockwise,
@@ -45,10 +47,22 @@ def hex_jacobian_dets(x):
             + J[..., 0, 2] * (J[..., 1, 0] * J[..., 2, 1] - J[..., 1, 1] * J[..., 2, 0]))
 
 
+def _orient_exact(a, b, c, d):
+    """The orientation sign of one tetrahedron in exact rational arithmetic (the doubles' values)."""
+    a, b, c, d = ([Fraction(float(v)) for v in point] for point in (a, b, c, d))
+    u, v, w = ([y - x for x, y in zip(a, point)] for point in (b, c, d))
+    det = (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+           + u[2] * (v[0] * w[1] - v[1] * w[0]))
+    return (det > 0) - (det < 0)
+
+
 def orient(a, b, c, d):
-    """Sign of the orientation of the tetrahedron abcd: +1, -1, or 0 where the floating-point
-    determinant is within its round-off bound (a static filter in the manner of Shewchuk's
-    predicates), i.e. where the four points are coplanar as far as doubles can tell."""
+    """Sign of the orientation of the tetrahedron abcd: +1, -1 or 0, exact for the doubles given.
+    The floating-point determinant decides where it lies beyond its round-off bound (a static
+    filter in the manner of Shewchuk's predicates); the few tetrahedra within the bound are
+    decided in exact rational arithmetic. Taking those as coplanar instead made an edge of a flat
+    face, bent by 1e-12 m, cross a triangle of the next quad on that face (the extremes matrix's
+    dt_1e-3 case, 2026-12-07): a 0 counts as on the line in segment_crosses_triangle."""
     u, v, w = b - a, c - a, d - a
     det = np.einsum('ij,ij->i', u, np.cross(v, w))
     # Each difference carries up to eps·|coordinate| of error; the products add a few eps more.
@@ -56,19 +70,27 @@ def orient(a, b, c, d):
     slack = eps * np.max(np.abs(np.stack([a, b, c, d])), axis=(0, 2))
     norm = lambda x: np.linalg.norm(x, axis=1) + slack
     bound = 16 * eps * norm(u) * norm(v) * norm(w)
-    return np.where(det > bound, 1, np.where(det < -bound, -1, 0))
+    sign = np.where(det > bound, 1, np.where(det < -bound, -1, 0))
+    for k in np.nonzero(sign == 0)[0]:
+        sign[k] = _orient_exact(a[k], b[k], c[k], d[k])
+    return sign
 
 
 def segment_crosses_triangle(p, q, a, b, c):
-    """True where segment pq passes through triangle abc: p and q certainly on opposite sides
-    of its plane, and the line pq inside or on the triangle's three edges. Touching and
-    coplanar configurations are not crossings (between bodies the distance test sees them)."""
+    """True where segment pq passes through triangle abc: p and q on opposite sides of its plane,
+    and the line pq inside or on the triangle's three edges. Touching and coplanar configurations
+    are not crossings (between bodies the distance test sees them). The line tests run only where
+    the plane test passes (the exact fall-back of orient is slow)."""
     crosses_plane = orient(a, b, c, p) * orient(a, b, c, q) < 0
-    t1 = orient(p, q, a, b)
-    t2 = orient(p, q, b, c)
-    t3 = orient(p, q, c, a)
-    inside = ((t1 >= 0) & (t2 >= 0) & (t3 >= 0)) | ((t1 <= 0) & (t2 <= 0) & (t3 <= 0))
-    return crosses_plane & inside
+    hit = np.zeros(len(p), dtype=bool)
+    k = np.nonzero(crosses_plane)[0]
+    if len(k):
+        p, q, a, b, c = p[k], q[k], a[k], b[k], c[k]
+        t1 = orient(p, q, a, b)
+        t2 = orient(p, q, b, c)
+        t3 = orient(p, q, c, a)
+        hit[k] = ((t1 >= 0) & (t2 >= 0) & (t3 >= 0)) | ((t1 <= 0) & (t2 <= 0) & (t3 <= 0))
+    return hit
 
 
 def _dot(u, v):

@@ -159,6 +159,17 @@ class Primitives(unittest.TestCase):
             [0.05, 1.11131396e-17, 0.19975475], [0.1, 0.05, 0.19975475], [0.1, 1.38804028e-17, 0.19975475],
             [0.15, 2.65727675e-17, 0.19975475], [0.15, 0.05, 0.19975475]))
         self.assertFalse(flat[0])
+        # A flat face bent by 1e-12 m (the extremes matrix's dt_1e-3 case, step 2): the edge's ends
+        # lie on both sides of the next quad's triangle's plane and one line test is within the
+        # round-off bound; decided exactly, the line passes beside the triangle.
+        h = float.fromhex
+        bent = geo.segment_crosses_triangle(*self.rows(*[[h(v) for v in point] for point in [
+            ['0x1.eb851eb851ee1p-5', '-0x1.9999999999992p-4', '0x1.fcdbb34490237p-11'],
+            ['0x1.99999999999a9p-4', '-0x1.eb851eb851ea6p-5', '0x1.fcdbb344912afp-11'],
+            ['0x1.eb851eb851ec8p-5', '-0x1.eb851eb851eb5p-5', '0x1.fcdbb34490c60p-11'],
+            ['0x1.eb851eb851eaep-5', '-0x1.47ae147ae148ap-6', '0x1.fcdbb34490e15p-11'],
+            ['0x1.9999999999999p-4', '-0x1.47ae147ae147ap-6', '0x1.fcdbb344908f0p-11']]]))
+        self.assertFalse(bent[0])
 
     def test_unit_cube_dets(self):
         x = geo.HEX_CORNERS[None] * [1, 2, 3]
