@@ -627,6 +627,8 @@ void add_step_counts(const StepReport& r, RunResult* result) {
   result->max_contact_pairs = std::max(result->max_contact_pairs, r.contact_pairs);
   result->linear_iterations += r.newton.linear_iterations;
   result->preconditioner_rebuilds += r.newton.preconditioner_rebuilds;
+  result->exact_hessian_iterations += r.newton.exact_hessian_iterations;
+  result->exact_hessian_fallbacks += r.newton.exact_hessian_fallbacks;
   result->dt_cuts += r.dt_cuts;
 }
 

@@ -44,6 +44,9 @@ struct RunResult {
   PhaseTimes times;
   long long newton_iterations = 0, linear_iterations = 0;
   long long preconditioner_rebuilds = 0;  // decided by -dipc_pc_reuse (0 when it is off)
+  // -dipc_contact_exact_hessian: Newton iterations with unprojected contact Hessians, and the
+  // solves in which one failed (newton_solver.hpp)
+  long long exact_hessian_iterations = 0, exact_hessian_fallbacks = 0;
   long long num_elements = 0, num_dofs = 0;
   int openmp_threads = 0;                // per rank, as set for the libraries (openmp_threads.hpp; 0: unknown)
   long max_contact_pairs = 0;            // over the steps (contact runs)

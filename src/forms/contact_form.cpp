@@ -141,8 +141,8 @@ bool ContactForm::terms(const PairInfo& info, const double* x, bool want_g, bool
   double X[12];
   set_.gather(x, info, X);
   return contact_pair_terms(info.kind, X, info.plane_point(), info.plane_normal(), parameters_.dhat * parameters_.dhat,
-                            parameters_.kappa, info.weight, info.eps_x, want_g, want_H, parameters_.project_hessian,
-                            active, t);
+                            parameters_.kappa, info.weight, info.eps_x, want_g, want_H,
+                            parameters_.project_hessian && !exact_hessian_, active, t);
 }
 
 void ContactForm::set_pair(device::ContactPairList* list, std::size_t slot, const PairInfo& info) const {
@@ -154,7 +154,7 @@ device::BarrierConstants ContactForm::barrier_constants() const {
   device::BarrierConstants c;
   c.dhat2 = parameters_.dhat * parameters_.dhat;
   c.kappa = parameters_.kappa;
-  c.project = parameters_.project_hessian;
+  c.project = parameters_.project_hessian && !exact_hessian_;
   return c;
 }
 

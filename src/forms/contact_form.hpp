@@ -77,6 +77,10 @@ class ContactForm : public Form {
     set_.reserved_blocks(blocks);
   }
   bool limits_step() const override { return true; }
+  bool set_exact_hessian(bool exact) override {
+    exact_hessian_ = exact;
+    return true;
+  }
 
   // The pairs: surface, candidates, active set, obstacles, node ids, diagnostics.
   ContactSet& set() { return set_; }
@@ -141,6 +145,7 @@ class ContactForm : public Form {
   device::Reducer reducer_;
   double kappa_min_ = 0, kappa_max_ = 0;
   double min_distance_eps2_ = 0;
+  bool exact_hessian_ = false;  // set_exact_hessian: pairs' Hessians unprojected for now
 };
 
 }  // namespace dipc

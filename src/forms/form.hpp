@@ -72,6 +72,12 @@ class Form : public HessianPattern {
   // Returns true if the form changed its own definition (e.g. the barrier stiffness), so that
   // the gradient at x must be evaluated again.
   virtual bool begin_iteration(const double* x) { return false; }
+  // Forms that PSD-project their Hessian term by term (contact: each pair's barrier Hessian)
+  // write the unprojected terms while `exact` is set, until it is cleared, and return true; the
+  // others ignore it and return false. NewtonSolver sets it where the projection would slow
+  // Newton down (newton_solver.hpp, -dipc_contact_exact_hessian); energy and gradient are the
+  // same either way.
+  virtual bool set_exact_hessian(bool exact) { return false; }
 
   // --- Forms that reach beyond the mesh's local nodes (contact across ranks) ---------------
   // Global ids of nodes this form needs in addition to the mesh's local nodes; the potential

@@ -9,6 +9,7 @@
 
 #include "forms/volumetric_split.hpp"
 #include "logging/log_stages.hpp"
+#include "options/dipc_options.hpp"
 
 namespace dipc {
 
@@ -42,7 +43,9 @@ PetscErrorCode NewtonSolver::hessian_callback(SNES, Vec x, Mat J, Mat P, void* c
 // At the start of every Newton iteration: forms may adapt, and then the gradient at x is
 // recomputed with them; and when the Hessian's nonzero pattern at x differs from the current
 // matrix's (the contact active set changed), the solver gets a new matrix, so that every
-// preconditioner sets itself up for the new pattern from scratch.
+// preconditioner sets itself up for the new pattern from scratch. Then the iteration's Hessian
+// is chosen (projected or exact contact terms, see the header) and with it the linear solve's
+// preconditioner and failure allowance.
 PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   EventScope event(log_events().newton_update);
   PetscFunctionBeginUser;
@@ -78,7 +81,29 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
     self->J_ = J;
     PetscCall(self->attach_near_null_space(x));
   }
-  PetscCall(self->pc_reuse_.begin_iteration(snes, iteration, new_pattern == PETSC_TRUE || remapped == PETSC_TRUE));
+  LineSearchContext& ls = self->ls_;
+  if (iteration == 0) ls.forgiven = 0, ls.exact_iterations = 0, ls.exact_failures = 0, ls.exact_resume = 2;
+  // After the k-th failure the next 2^k iterations project: a solve tries the exact Hessian
+  // again as it nears the minimiser, where the Hessian turns definite, and loses at most about
+  // log2 of its iterations to failures.
+  const bool dropped = ls.exact_hessian && ls.discarded;  // the last iteration's solve failed
+  if (ls.exact_hessian && ls.exact_failed)
+    ls.exact_resume = iteration + (PetscInt{1} << std::min<PetscInt>(ls.exact_failures, 20));
+  const bool settled = iteration >= ls.exact_resume && !new_pattern && !remapped;
+  const bool exact = self->exact_contact_hessian_ && !self->exact_paused_ && settled;
+  // Exact only where a form has projected terms: elsewhere nothing changes, not even the
+  // failure allowance below.
+  ls.exact_hessian = potential->set_exact_hessian(exact) && exact;
+  if (ls.exact_hessian) {
+    ++ls.exact_iterations;
+    PetscCall(PetscInfo(snes, "iteration %" PetscInt_FMT ": exact contact Hessian\n", iteration));
+  }
+  // After a failed solve with the exact Hessian the preconditioner is rebuilt for the projected one.
+  PetscCall(self->pc_reuse_.begin_iteration(snes, new_pattern || remapped || dropped));
+  ls.failure_forgiven = self->pc_reuse_.reusing() || ls.exact_hessian;
+  // SNES stops once its count of failed linear solves reaches the maximum: the forgiven ones
+  // so far, and this one where it may be forgiven, are added to the user's.
+  PetscCall(SNESSetMaxLinearSolveFailures(snes, self->user_max_failures_ + ls.forgiven + (ls.failure_forgiven ? 1 : 0)));
   PetscFunctionReturn(0);
 }
 
@@ -232,10 +257,21 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
   PetscCall(SNESLineSearchShellSetUserFunc(ls, ipc_line_search, &ls_));
 #endif
   PetscCall(SNESSetFromOptions(snes_));
+  PetscCall(SNESGetMaxLinearSolveFailures(snes_, &user_max_failures_));
   if (mixed_)
     PetscCall(setup_mixed_solve());
   else
     PetscCall(pc_reuse_.setup(snes_));
+  // On by default: the contact-rich family took fewer Newton iterations with it (the 1M stack's
+  // heaviest step 13 instead of 16; docs/performance.md, "The exact contact Hessian once the
+  // active set settles").
+  PetscBool exact = PETSC_TRUE;
+  PetscOptionsBegin(comm, nullptr, "dipc Newton solver", "SNES");
+  constexpr const OptionSpec& exact_option = dipc_option("-dipc_contact_exact_hessian");
+  PetscCall(PetscOptionsBool(exact_option.name, exact_option.help, exact_option.manual, exact, &exact, nullptr));
+  PetscOptionsEnd();
+  // The mixed solve's blocks assume a positive definite A; it keeps the projected Hessian.
+  exact_contact_hessian_ = exact && !mixed_;
   PetscFunctionReturn(0);
 }
 
@@ -360,6 +396,9 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   ls_.direction_inf_norm = 0.0;
   ls_.small_steps_in_a_row = 0;
   ls_.stopped = false;
+  ls_.discarded = false;
+  ls_.exact_hessian = false;
+  ls_.exact_failed = false;
   ls_.ended_by.clear();
   const PetscInt rebuilds_before = pc_reuse_.rebuilds();
   const PetscInt mixed_before = mixed_iterations_;
@@ -376,6 +415,8 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonReport* report) {
   report->min_alpha = ls_.min_alpha;
   report->min_alpha_ccd = ls_.min_alpha_ccd;
   report->step_inf_norm = ls_.direction_inf_norm;
+  report->exact_hessian_iterations = ls_.exact_iterations;
+  report->exact_hessian_fallbacks = ls_.exact_failures;
   report->stopped = ls_.stopped;
   // Failures SNES detects itself (line search, linear solve) bypass the convergence test.
   if (!ls_.ended_by.empty())

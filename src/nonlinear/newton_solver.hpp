@@ -18,7 +18,21 @@
 //    runs that solve; the report counts its Krylov iterations as the linear iterations;
 //    -dipc_pc_reuse does not apply to it.
 //  - a stop request (set_stop_check) is asked once per Newton iteration and ends the solve at
-//    once, reported as NewtonReport::stopped rather than as a failure.
+//    once, reported as NewtonReport::stopped rather than as a failure;
+//  - -dipc_contact_exact_hessian: from a solve's third iteration on, an iteration whose contact
+//    active set is the last one's (no new pattern, no remap) assembles the contact pairs'
+//    Hessians unprojected. Each pair's PSD projection keeps Newton's direction a descent
+//    direction while the active set moves, but once it has settled it leaves Newton converging
+//    only linearly (|p| shrank by about 0.6 per iteration on the stack's heavy steps,
+//    docs/performance.md "The exact contact Hessian once the active set settles"); the exact
+//    Hessian converges quadratically where the total Hessian is positive definite, as it is near
+//    a minimiser. Where it is not, CG fails (negative curvature) or returns no descent direction
+//    (that direction is dropped without moving, and the preconditioner is rebuilt), or the line
+//    search has to cut the step (which stands): after the k-th such failure of a solve the next
+//    2^k iterations project, then the exact Hessian is tried again. On by default; not with the
+//    mixed solve, nor in the retries of a step that failed (StepRecovery pauses it there: the
+//    projected Hessian is the robust path, and a fast impact at 100 m/s that failed a first
+//    attempt reached states with the exact Hessian from which no retry could go on).
 #pragma once
 #include <petscsnes.h>
 
@@ -41,6 +55,8 @@ struct NewtonReport {
   double min_alpha = 1.0;                // smallest accepted line-search step of the solve
   double min_alpha_ccd = 1.0;            // smallest collision-free bound (CCD) on a Newton step
   double step_inf_norm = 0.0;            // ‖p‖∞ of the last Newton direction
+  PetscInt exact_hessian_iterations = 0;  // iterations with unprojected contact Hessians
+  PetscInt exact_hessian_fallbacks = 0;   // of them, those that failed (see above)
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   std::string ended_by;  // which test ended the solve, in words ("velocity", "max_it", ...)
   bool stopped = false;  // a stop request ended it (reason < 0, but the step did not fail)
@@ -68,6 +84,9 @@ class NewtonSolver {
                        double velocity_tol, double alpha_floor);
   // The time step h of the next solves (step recovery changes it).
   void set_step_length(double h) { ls_.step_length = h; }
+  // While paused, every iteration projects the contact Hessian whatever
+  // -dipc_contact_exact_hessian says (step recovery pauses it for the retries of a failed step).
+  void pause_exact_contact_hessian(bool paused) { exact_paused_ = paused; }
   // Collective check, asked at the start of every Newton iteration (before the Hessian and the
   // linear solve) on every rank; true on all ranks ends the solve as stopped. Empty: never.
   void set_stop_check(std::function<bool()> check) { ls_.stop_requested = std::move(check); }
@@ -99,6 +118,18 @@ class NewtonSolver {
     std::function<bool()> stop_requested;       // set_stop_check
     bool stopped = false;                       // the solve was ended by stop_requested
     std::string ended_by;
+    // Linear solves that may fail without counting against -snes_max_linear_solve_fail: with a
+    // reused preconditioner (preconditioner_reuse.hpp) Newton takes CG's iterate so far (a
+    // descent direction) and the next iteration rebuilds; an exact contact Hessian's is dropped
+    // and the next iterations project.
+    bool failure_forgiven = false;  // this iteration's solve is such a one
+    PetscInt forgiven = 0;          // such solves that failed, this SNESSolve
+    bool exact_hessian = false;     // this iteration's contact Hessians are unprojected
+    PetscInt exact_iterations = 0;  // such iterations, this SNESSolve
+    PetscInt exact_failures = 0;    // such iterations that failed (below), this SNESSolve
+    bool exact_failed = false;      // the last one failed: its solve, or its step was cut
+    PetscInt exact_resume = 2;      // the first iteration that may take the exact Hessian
+    bool discarded = false;         // the last (exact Hessian's) solve failed: its direction not taken
   };
 
  private:
@@ -117,6 +148,9 @@ class NewtonSolver {
   Vec r_ = nullptr;
   LineSearchContext ls_;
   PreconditionerReuse pc_reuse_;
+  bool exact_contact_hessian_ = false;  // -dipc_contact_exact_hessian (not with the mixed solve)
+  bool exact_paused_ = false;           // pause_exact_contact_hessian
+  PetscInt user_max_failures_ = 1;      // -snes_max_linear_solve_fail as the user set it
   std::vector<std::string> user_snes_options_;
   std::unique_ptr<MixedLinearSolve> mixed_;  // null unless the mixed solve is on
   Mat newton_matrix_ = nullptr;              // with it: the shell H = A + Bsᵀ Bs

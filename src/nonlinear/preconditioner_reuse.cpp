@@ -66,7 +66,6 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   cycle_ = ReuseCycle(setup_cost);
   PetscCheck(!lag_set, comm, PETSC_ERR_ARG_INCOMP,
              "-dipc_pc_reuse decides when to rebuild the preconditioner itself; drop -snes_lag_preconditioner");
-  PetscCall(SNESGetMaxLinearSolveFailures(snes, &user_max_failures_));
   KSP ksp;
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscReal rtol, abstol, dtol;
@@ -75,10 +74,9 @@ PetscErrorCode PreconditionerReuse::setup(SNES snes) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode PreconditionerReuse::begin_iteration(SNES snes, PetscInt iteration, bool new_pattern) {
+PetscErrorCode PreconditionerReuse::begin_iteration(SNES snes, bool new_pattern) {
   PetscFunctionBeginUser;
   if (!enabled_) PetscFunctionReturn(0);
-  if (iteration == 0) reuse_failures_ = 0;  // SNESSolve has reset its failure count
   const bool rebuild = cycle_.decide(new_pattern);
   if (rebuild) ++rebuilds_;
   const PetscInt max_it = rebuild
@@ -91,9 +89,6 @@ PetscErrorCode PreconditionerReuse::begin_iteration(SNES snes, PetscInt iteratio
                       cycle_.setup_cost(), max_it));
   // Lag -2: rebuild for this Jacobian, then reuse; -1: reuse (SNESComputeJacobian applies it).
   PetscCall(SNESSetLagPreconditioner(snes, rebuild ? -2 : -1));
-  // A failure with a reused preconditioner gets one extra allowance (see the header); the
-  // stop condition is then "failures with fresh preconditioners >= the user's maximum".
-  PetscCall(SNESSetMaxLinearSolveFailures(snes, user_max_failures_ + reuse_failures_ + (rebuild ? 0 : 1)));
   KSP ksp;
   PetscReal rtol, abstol, dtol;
   PetscInt current_max_it;
@@ -115,7 +110,6 @@ PetscErrorCode PreconditionerReuse::after_solve(KSP ksp, Vec, Vec, void* ctx) {
   PetscCall(KSPGetIterationNumber(ksp, &its));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   self->cycle_.record(its, reason < 0);
-  if (reason < 0 && !self->cycle_.rebuilding()) ++self->reuse_failures_;
   PetscFunctionReturn(0);
 }
 

@@ -22,8 +22,9 @@
 // (k_0: the solve right after the last rebuild; or -ksp_max_it if smaller), by when a rebuild
 // would have paid twice over, so a stale hierarchy cannot blow up a solve; stopping there counts
 // as a failed solve. A linear solve that fails with a reused preconditioner does not count
-// against -snes_max_linear_solve_fail: Newton takes that step (CG's iterate is still a descent
-// direction of an SPD Hessian) and the next iteration rebuilds.
+// against -snes_max_linear_solve_fail (NewtonSolver keeps that count, reusing()): Newton takes
+// that step (CG's iterate is still a descent direction of an SPD Hessian) and the next
+// iteration rebuilds.
 #pragma once
 #include <petscsnes.h>
 
@@ -64,11 +65,12 @@ class PreconditionerReuse {
   // that is on by default off) and hooks the KSP's post-solve to count each solve.
   PetscErrorCode setup(SNES snes);
   // Start of a Newton iteration (SNES update callback), before its Jacobian: decides whether
-  // the coming linear solve rebuilds the preconditioner. `iteration` is SNES's iteration
-  // number (0 starts a new nonlinear solve).
-  PetscErrorCode begin_iteration(SNES snes, PetscInt iteration, bool new_pattern);
+  // the coming linear solve rebuilds the preconditioner (always for a new pattern).
+  PetscErrorCode begin_iteration(SNES snes, bool new_pattern);
   // Rebuilds this policy has decided so far (0 when it is off).
   PetscInt rebuilds() const { return rebuilds_; }
+  // The coming linear solve (decided by the last begin_iteration) reuses the preconditioner.
+  bool reusing() const { return enabled_ && !cycle_.rebuilding(); }
   bool enabled() const { return enabled_; }
 
  private:
@@ -76,10 +78,8 @@ class PreconditionerReuse {
 
   bool enabled_ = false;
   ReuseCycle cycle_;
-  bool counting_ = false;           // between begin_iteration and the end of its solve
-  PetscInt user_max_failures_ = 1;  // -snes_max_linear_solve_fail as the user set it
-  PetscInt user_max_it_ = 10000;    // -ksp_max_it as the user set it
-  PetscInt reuse_failures_ = 0;     // failed solves with a reused preconditioner, this SNESSolve
+  bool counting_ = false;         // between begin_iteration and the end of its solve
+  PetscInt user_max_it_ = 10000;  // -ksp_max_it as the user set it
   PetscInt rebuilds_ = 0;
 };
 

@@ -17,6 +17,8 @@ void accumulate(const StepReport& sub, StepReport* total) {
   n.iterations += sub.newton.iterations;
   n.linear_iterations += sub.newton.linear_iterations;
   n.preconditioner_rebuilds += sub.newton.preconditioner_rebuilds;
+  n.exact_hessian_iterations += sub.newton.exact_hessian_iterations;
+  n.exact_hessian_fallbacks += sub.newton.exact_hessian_fallbacks;
   n.min_alpha = std::min(n.min_alpha, sub.newton.min_alpha);
   n.min_alpha_ccd = std::min(n.min_alpha_ccd, sub.newton.min_alpha_ccd);
   total->alpha_ccd = std::min(total->alpha_ccd, sub.alpha_ccd);
@@ -62,6 +64,9 @@ PetscErrorCode StepRecovery::step(StepReport* report,
   const double k = steps_taken_;
   PetscCall(step_start_.save(integrator_));
   const State recovery_start = state();
+  // The exact contact Hessian (-dipc_contact_exact_hessian) speeds up steps that succeed; once
+  // an attempt failed, the step's retries take the projected one (newton_solver.hpp).
+  integrator_.pause_exact_contact_hessian(false);
   long done = 0;
   for (;;) {
     const double scale = std::ldexp(1.0, level_);
@@ -103,6 +108,7 @@ PetscErrorCode StepRecovery::step(StepReport* report,
       break;
     }
     ++report->dt_cuts;
+    integrator_.pause_exact_contact_hessian(true);
     ++level_;
     done *= 2;
     successes_at_level_ = 0;

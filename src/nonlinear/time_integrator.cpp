@@ -346,6 +346,8 @@ PetscErrorCode TimeIntegrator::advance(double t_end, StepReport* report) {
     report->newton.iterations += solve.iterations;
     report->newton.linear_iterations += solve.linear_iterations;
     report->newton.preconditioner_rebuilds += solve.preconditioner_rebuilds;
+    report->newton.exact_hessian_iterations += solve.exact_hessian_iterations;
+    report->newton.exact_hessian_fallbacks += solve.exact_hessian_fallbacks;
     report->newton.min_alpha = std::min(report->newton.min_alpha, solve.min_alpha);
     report->newton.min_alpha_ccd = std::min(report->newton.min_alpha_ccd, solve.min_alpha_ccd);
     report->newton.step_inf_norm = solve.step_inf_norm;

@@ -103,6 +103,10 @@ inline constexpr OptionSpec kTable[] = {
          "Keep the preconditioner across Newton iterations while that is cheaper"),
     positive_real("-dipc_pc_reuse_setup_cost", "PreconditionerReuse",
                   "What one preconditioner setup costs, in CG iterations (-dipc_pc_reuse's rule)"),
+    // Read in nonlinear/newton_solver.cpp.
+    flag("-dipc_contact_exact_hessian", "NewtonSolver",
+         "Once a Newton solve's contact active set has settled, assemble the contact pairs' Hessians "
+         "unprojected (dropped, and projected for a while, where that fails); default on"),
     // Read in forms/form_factory.cpp.
     flag("-dipc_friction_majorize_reversals", "FrictionForm",
          "In the Newton Hessian, give a friction pair whose slip the last step reversed the isotropic "

@@ -116,6 +116,14 @@ class IncrementalPotential {
   // Calls every form's begin_iteration at x; *changed is true on every rank if any form
   // changed its definition there.
   PetscErrorCode begin_iteration(Vec x, PetscBool* changed);
+  // Every form's set_exact_hessian (form.hpp): the Hessians that follow use unprojected
+  // contact terms while `exact` is set. True if a form has such terms (every rank has the same
+  // forms, so the answer is the same on every rank).
+  bool set_exact_hessian(bool exact) {
+    bool any = false;
+    for (auto& form : forms_) any = form->set_exact_hessian(exact) || any;
+    return any;
+  }
 
   // Gathers x over the local nodes (mesh and extra) and calls f with the local array.
   // f(local array, its length).

@@ -4,7 +4,8 @@
 // phase runs there); it evaluates on device copies too. Checked: the same candidates (the same
 // smallest distance over them; the device list described there from the pairs' indices equal
 // to the host list uploaded), the same COO pattern, energy, gradient and Hessian values to
-// 1e-12 relative to the largest entry, a pattern change followed on the device, lagged friction
+// 1e-12 relative to the largest entry (projected and exact Hessians), a pattern change followed
+// on the device, lagged friction
 // over the active pairs (FrictionForm in both spaces, majorizers included), and a CCD step
 // bound no larger than the host's (the host shortens each pair's search to the smallest time so
 // far, see contact_form.hpp). The same with triangle-mesh obstacles (a box hovering over a
@@ -120,6 +121,12 @@ struct TwoForms {
     ASSERT_TRUE(host->hessian(x.data(), H.data()));
     ASSERT_TRUE(gpu->hessian(x_device.data(), H_device.data()));
     EXPECT_LE(max_difference(H_device.to_host(), H), 1e-12 * max_abs(H));
+    // The unprojected Hessians (-dipc_contact_exact_hessian) the same way.
+    for (ContactForm* f : {host.get(), gpu.get()}) EXPECT_TRUE(f->set_exact_hessian(true));
+    ASSERT_TRUE(host->hessian(x.data(), H.data()));
+    ASSERT_TRUE(gpu->hessian(x_device.data(), H_device.data()));
+    EXPECT_LE(max_difference(H_device.to_host(), H), 1e-12 * max_abs(H)) << "exact";
+    for (ContactForm* f : {host.get(), gpu.get()}) f->set_exact_hessian(false);
   }
 };
 

@@ -1,7 +1,8 @@
 // The contact barrier through the whole distributed path (ghost surfaces, extra nodes, COO
 // across ranks) against finite differences on 1 and 2 ranks: two boxes (and a ground plane)
-// closer than d̂, perturbed. With the Hessian projection switched off the Hessian must equal
-// the differences of the gradient; with it on, it must be symmetric positive semi-definite. A
+// closer than d̂, perturbed. With the Hessian projection switched off (when the form is built,
+// or by set_exact_hessian) the Hessian must equal the differences of the gradient; with it on,
+// it must be symmetric positive semi-definite. A
 // body that meets only a plane keeps its first matrix pattern.
 #include <gtest/gtest.h>
 
@@ -54,8 +55,16 @@ struct ContactFixture {
   }
 };
 
-TEST(ContactForm, GradientAndExactHessianMatchDifferences) {
-  ContactFixture f(0.005, /*project=*/false);
+// The exact Hessian either from a form built without projection or from one built with it and
+// switched to exact by the potential (IncrementalPotential::set_exact_hessian, as Newton does).
+class ContactFormExactHessian : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ContactFormExactHessian, GradientAndExactHessianMatchDifferences) {
+  const bool switched = GetParam();
+  ContactFixture f(0.005, /*project=*/switched);
+  if (switched) {
+    EXPECT_TRUE(f.potential.set_exact_hessian(true));
+  }
   Vec x, d, w, zero;
   f.potential.create_global_vec(&x);
   for (Vec* v : {&d, &w, &zero}) VecDuplicate(x, v);
@@ -92,6 +101,9 @@ TEST(ContactForm, GradientAndExactHessianMatchDifferences) {
   VecDestroy(&twice);
   for (Vec* v : {&x, &d, &w, &zero}) VecDestroy(v);
 }
+
+INSTANTIATE_TEST_SUITE_P(ContactForm, ContactFormExactHessian, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "switched_to_exact" : "built_without_projection"; });
 
 TEST(ContactForm, ProjectedHessianIsSymmetricPositiveSemidefinite) {
   ContactFixture f(0.005, /*project=*/true);
