@@ -90,7 +90,7 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   if (ls.exact_hessian && ls.exact_failed)
     ls.exact_resume = iteration + (PetscInt{1} << std::min<PetscInt>(ls.exact_failures, 20));
   const bool settled = iteration >= ls.exact_resume && !new_pattern && !remapped;
-  const bool exact = self->exact_contact_hessian_ && !self->exact_paused_ && settled;
+  const bool exact = self->exact_contact_hessian_ && !self->retrying_ && settled;
   // Exact only where a form has projected terms: elsewhere nothing changes, not even the
   // failure allowance below.
   ls.exact_hessian = potential->set_exact_hessian(exact) && exact;
@@ -258,6 +258,13 @@ PetscErrorCode NewtonSolver::setup(MPI_Comm comm, IncrementalPotential* potentia
 #endif
   PetscCall(SNESSetFromOptions(snes_));
   PetscCall(SNESGetMaxLinearSolveFailures(snes_, &user_max_failures_));
+  {
+    KSP ksp;
+    PetscReal abstol, dtol;
+    PetscInt max_it;
+    PetscCall(SNESGetKSP(snes_, &ksp));
+    PetscCall(KSPGetTolerances(ksp, &user_rtol_, &abstol, &dtol, &max_it));
+  }
   if (mixed_)
     PetscCall(setup_mixed_solve());
   else
@@ -384,6 +391,18 @@ PetscErrorCode NewtonSolver::attach_near_null_space(Vec x) {
   PetscCall(MatNullSpaceCreateRigidBody(x, &rigid));
   PetscCall(MatSetNearNullSpace(J_, rigid));
   PetscCall(MatNullSpaceDestroy(&rigid));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::set_retrying(bool retrying) {
+  PetscFunctionBeginUser;
+  retrying_ = retrying;
+  KSP ksp;
+  PetscReal rtol, abstol, dtol;
+  PetscInt max_it;
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &max_it));
+  PetscCall(KSPSetTolerances(ksp, retrying ? 0.1 * user_rtol_ : user_rtol_, abstol, dtol, max_it));
   PetscFunctionReturn(0);
 }
 

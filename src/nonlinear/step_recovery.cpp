@@ -64,9 +64,9 @@ PetscErrorCode StepRecovery::step(StepReport* report,
   const double k = steps_taken_;
   PetscCall(step_start_.save(integrator_));
   const State recovery_start = state();
-  // The exact contact Hessian (-dipc_contact_exact_hessian) speeds up steps that succeed; once
-  // an attempt failed, the step's retries take the projected one (newton_solver.hpp).
-  integrator_.pause_exact_contact_hessian(false);
+  // Once an attempt failed, the step's retries solve conservatively (NewtonSolver::set_retrying:
+  // the projected contact Hessian, a tighter CG); the next scene step starts as usual.
+  PetscCall(integrator_.set_retrying(false));
   long done = 0;
   for (;;) {
     const double scale = std::ldexp(1.0, level_);
@@ -108,7 +108,7 @@ PetscErrorCode StepRecovery::step(StepReport* report,
       break;
     }
     ++report->dt_cuts;
-    integrator_.pause_exact_contact_hessian(true);
+    PetscCall(integrator_.set_retrying(true));
     ++level_;
     done *= 2;
     successes_at_level_ = 0;

@@ -4,8 +4,8 @@
 // halved, down to dt_min; after two successes in a row the step doubles again, towards the
 // scene's dt. Sub-steps are dt/2^L, so every sub-step ends on an exact binary fraction of dt
 // and every scene step ends exactly at k·dt, whatever cuts were made in between. The retries of
-// a scene step project the contact Hessian in every Newton iteration (the exact one,
-// -dipc_contact_exact_hessian, comes back with the next scene step).
+// a scene step solve conservatively (NewtonSolver::set_retrying: the projected contact Hessian in
+// every Newton iteration, CG 10 times tighter), until the next scene step.
 //
 // Every decision follows from collective results (SNES reasons, global reductions), so all
 // ranks cut and grow alike.

@@ -112,8 +112,8 @@ class TimeIntegrator {
 
   double time() const { return time_; }
   double scene_dt() const { return problem_.dt; }
-  // NewtonSolver::pause_exact_contact_hessian.
-  void pause_exact_contact_hessian(bool paused) { newton_.pause_exact_contact_hessian(paused); }
+  // NewtonSolver::set_retrying.
+  PetscErrorCode set_retrying(bool retrying) { return newton_.set_retrying(retrying); }
   const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
   const std::vector<std::string>& form_names() const { return form_names_; }
   PetscInt num_dofs() const;
