@@ -19,6 +19,13 @@ namespace dipc {
 
 namespace {
 
+// An exact-Hessian iteration that failed (its linear solve or its line search): the next iterations
+// project (newton_solver.cpp, update_callback).
+void count_exact_failure(NewtonSolver::LineSearchContext* ctx) {
+  ctx->exact_failed = true;
+  ++ctx->exact_failures;
+}
+
 // Bookkeeping of the linear solve whose direction arrives here (newton_solver.hpp): a failure
 // SNES forgave is counted. A solve with the exact contact Hessian that met negative curvature
 // (in the matrix or in BoomerAMG) or gave no descent direction is discarded, and the next
@@ -35,12 +42,21 @@ PetscErrorCode settle_linear_solve(SNES snes, NewtonSolver::LineSearchContext* c
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   if (reason < 0 && ctx->failure_forgiven) ++ctx->forgiven;
   ctx->discarded = ctx->exact_hessian && ((reason < 0 && reason != KSP_DIVERGED_ITS) || !(slope < 0));
-  ctx->exact_failed = ctx->discarded;
+  ctx->exact_failed = false;
   if (ctx->discarded) {
-    ++ctx->exact_failures;
+    count_exact_failure(ctx);
     PetscCall(PetscInfo(snes, "exact contact Hessian: linear solve %s, slope %g; dropped\n",
                         KSPConvergedReasons[reason], (double)slope));
   }
+  PetscFunctionReturn(0);
+}
+
+// A dropped direction: X stays, and SNES's norms see a zero step (the convergence test skips it).
+PetscErrorCode stay_put(SNESLineSearch ls, Vec Y) {
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(Y));
+  PetscCall(SNESLineSearchSetLambda(ls, 0.0));
+  PetscCall(SNESLineSearchComputeNorms(ls));
   PetscFunctionReturn(0);
 }
 
@@ -60,10 +76,8 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   PetscCall(VecDot(F, Y, &slope));
   slope = -slope;  // d/dα E(X − αY) at α = 0
   PetscCall(settle_linear_solve(snes, ctx, slope));
-  if (ctx->discarded) {  // stay at X; the next iteration projects (newton_solver.hpp)
-    PetscCall(VecZeroEntries(Y));
-    PetscCall(SNESLineSearchSetLambda(ls, 0.0));
-    PetscCall(SNESLineSearchComputeNorms(ls));
+  if (ctx->discarded) {  // the next iteration projects (newton_solver.hpp)
+    PetscCall(stay_put(ls, Y));
     PetscFunctionReturn(0);
   }
   PetscCall(VecScale(Y, -1.0));  // Y := p, the descent direction (restored below)
@@ -99,12 +113,10 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
   PetscCall(VecScale(Y, -1.0));
   if (!accepted && ctx->exact_hessian) {
     // No admissible step along the exact Hessian's direction: dropped as a failed solve is.
-    ctx->discarded = ctx->exact_failed = true;
-    ++ctx->exact_failures;
+    ctx->discarded = true;
+    count_exact_failure(ctx);
     PetscCall(PetscInfo(snes, "exact contact Hessian: no admissible step; dropped\n"));
-    PetscCall(VecZeroEntries(Y));
-    PetscCall(SNESLineSearchSetLambda(ls, 0.0));
-    PetscCall(SNESLineSearchComputeNorms(ls));
+    PetscCall(stay_put(ls, Y));
     PetscFunctionReturn(0);
   }
   if (!accepted) {
@@ -117,8 +129,7 @@ PetscErrorCode ipc_line_search(SNESLineSearch ls, void* ctx_) {
     // step the line search had to cut says it is not (a fast impact's compressed elements
     // otherwise took such directions until the line search stalled). The step stands, and the
     // next iterations project (newton_solver.hpp).
-    ctx->exact_failed = true;
-    ++ctx->exact_failures;
+    count_exact_failure(ctx);
     PetscCall(PetscInfo(snes, "exact contact Hessian: step cut to %g of %g; projecting next\n", (double)alpha,
                         (double)alpha_ccd));
   }

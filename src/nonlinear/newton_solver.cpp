@@ -86,8 +86,8 @@ PetscErrorCode NewtonSolver::update_callback(SNES snes, PetscInt iteration) {
   // After the k-th failure the next 2^k iterations project: a solve tries the exact Hessian
   // again as it nears the minimiser, where the Hessian turns definite, and loses at most about
   // log2 of its iterations to failures.
-  const bool dropped = ls.exact_hessian && ls.discarded;  // the last iteration's solve failed
-  if (ls.exact_hessian && ls.exact_failed)
+  const bool dropped = ls.discarded;  // the last (exact) iteration's direction was not taken
+  if (ls.exact_failed)
     ls.exact_resume = iteration + (PetscInt{1} << std::min<PetscInt>(ls.exact_failures, 20));
   const bool settled = iteration >= ls.exact_resume && !new_pattern && !remapped;
   const bool exact = self->exact_contact_hessian_ && !self->retrying_ && settled;
