@@ -656,70 +656,22 @@ PetscErrorCode print_step(MPI_Comm comm, const StepReport& r, const ProblemSetup
   PetscFunctionReturn(0);
 }
 
-// The time loop: steps from recovery's current step to the run's last, with output and
-// checkpoints; it ends early at a step recovery could not take or on a stop signal (result says
-// which). Output's time is added to *t_output.
-PetscErrorCode step_in_time(MPI_Comm comm, const Scene& scene, const RunOptions& options, const ProblemSetup& problem,
-                            TimeIntegrator& integrator, StepRecovery& recovery, RunOutput* output,
-                            Checkpoints& checkpoints, RunResult* result, double* t_output) {
+// The boundary before step s (collective): a stop signal and a checkpoint when one is due.
+// True when the run ends here (its last step taken, or a stop signal).
+PetscErrorCode step_boundary(int s, int steps, RunOutput* output, Checkpoints& checkpoints, RunResult* result,
+                             double* t_output, bool* ends) {
   PetscFunctionBeginUser;
-  const int steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
-  const int every = std::max(1, scene.output_every);
-  // Sub-steps of cut steps are written only when asked (-dipc_output_substeps).
-  std::function<PetscErrorCode(const StepReport&)> on_substep;
-  if (output && options.output_substeps)
-    on_substep = [&](const StepReport&) { return output->write_fields(integrator); };
-  for (int s = recovery.steps_taken();; ++s) {
-    // Step boundary: a stop signal, and a checkpoint when one is due.
-    const StopDecision stop = checkpoints.decide_stop();
-    const bool at_end = s >= steps;
-    // The output's extent at this boundary: what a checkpoint of this step records, also when
-    // the next step is abandoned after writing sub-steps (-dipc_output_substeps).
-    const std::size_t output_steps = output ? output->steps_written() : 0;
-    if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output_steps, result, t_output));
-    if (stop.signal) {
-      result->stop_signal = stop.signal;
-      break;
-    }
-    if (at_end) break;
-    library_exit::enter("step " + std::to_string(s + 1));
-    StepReport r;
-    PetscCall(recovery.step(&r, on_substep));
-    add_step_counts(r, result);
-    if (r.stopped) {
-      // A stop signal came during the step: recovery put the state back to step s, whose
-      // checkpoint is written now rather than after a step that may take minutes.
-      result->stop_signal = agree_on_signal(comm);
-      if (!options.quiet)
-        PetscCall(PetscPrintf(comm,
-                              "step %5d  abandoned after %d Newton iterations: signal %d; the state of step %d "
-                              "is kept\n",
-                              r.step, (int)r.newton.iterations, result->stop_signal, s));
-      PetscCall(checkpoints.write_unless_current(output_steps, result, t_output));
-      break;
-    }
-    if (!options.quiet)
-      for (const std::string& cut : r.cuts)
-        PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
-                              r.failure.empty() || &cut != &r.cuts.back() ? ": retrying with dt halved" : ""));
-    if (!r.failure.empty()) {
-      result->failure = "step " + std::to_string(r.step) + " (t = " + format_number(integrator.time()) +
-                        " reached): " + r.failure;
-      result->fatal = r.fatal;
-      break;
-    }
-    PhysicalQuantities q;
-    PetscCall(integrator.measure(&q));
-    if (!options.quiet) PetscCall(print_step(comm, r, problem));
-    if (output) {
-      const double t0 = MPI_Wtime();
-      output->write_stats(r, q);
-      if (r.step % every == 0 || s == steps - 1) PetscCall(output->write_fields(integrator));
-      *t_output += MPI_Wtime() - t0;
-    }
-  }
+  const StopDecision stop = checkpoints.decide_stop();
+  const bool at_end = s >= steps;
+  // The output's extent at this boundary: what a checkpoint of this step records, also when
+  // the next step is abandoned after writing sub-steps (-dipc_output_substeps).
+  const std::size_t output_steps = output ? output->steps_written() : 0;
+  if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output_steps, result, t_output));
+  if (stop.signal) result->stop_signal = stop.signal;
+  *ends = stop.signal || at_end;
   PetscFunctionReturn(0);
 }
+
 
 // Peak resident memory of each rank at the end of each phase (a high-water mark, so it never
 // decreases): the largest and smallest rank.
@@ -814,17 +766,57 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
   PetscFunctionReturn(0);
 }
 
+
 }  // namespace
 
-PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions& options, RunResult* result) {
-  PetscFunctionBeginUser;
-  const Scene scene = refined(scene_in, options.refine);
+// Everything a run holds from its setup to its end, in the order it is built (and destroyed in
+// reverse: the output and checkpoints before the integrator they read, the mesh last).
+struct Simulation::Impl {
+  Scene scene;
+  MPI_Comm comm;
+  RunOptions options;
   PhaseMeasures measured;
+  OpenMpThreads threads;
+  PartitionedScene partitioned;
+  ProblemSetup problem;
+  std::unique_ptr<library_exit::ArmedRun> armed;
+  TimeIntegrator integrator;
+  std::unique_ptr<StepRecovery> recovery;
+  std::string output_dir;
+  NaturalOrder order;
+  CheckpointRun run;
+  std::unique_ptr<RunOutput> output;
+  std::unique_ptr<Checkpoints> checkpoints;
+  RunResult result;
+  int steps = 0;  // the run's last step
+  std::function<PetscErrorCode(const StepReport&)> on_substep;
+  bool ended = false, finished = false;
+};
+
+Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Simulation::~Simulation() = default;
+bool Simulation::ended() const { return impl_->ended; }
+const RunResult& Simulation::progress() const { return impl_->result; }
+int Simulation::steps_taken() const { return impl_->recovery->steps_taken(); }
+int Simulation::last_step() const { return impl_->steps; }
+TimeIntegrator& Simulation::integrator() { return impl_->integrator; }
+const DistributedMesh& Simulation::mesh() const { return impl_->partitioned.mesh; }
+
+PetscErrorCode Simulation::create(const Scene& scene_in, MPI_Comm comm, const RunOptions& options,
+                                  std::unique_ptr<Simulation>* simulation) {
+  PetscFunctionBeginUser;
+  auto impl = std::make_unique<Impl>();
+  Impl& m = *impl;
+  m.scene = refined(scene_in, options.refine);
+  m.comm = comm;
+  m.options = options;
+  const Scene& scene = m.scene;
+  PhaseMeasures& measured = m.measured;
+  RunResult* result = &m.result;
   measured.start = MPI_Wtime();
-  *result = RunResult{};
-  const OpenMpThreads threads = limit_openmp_threads();
-  result->openmp_threads = threads.threads;
-  const HostThreads host_threads = choose_host_threads(comm, options.host_threads, threads);
+  m.threads = limit_openmp_threads();
+  result->openmp_threads = m.threads.threads;
+  const HostThreads host_threads = choose_host_threads(comm, options.host_threads, m.threads);
   const LogStages& stages = log_stages();  // registered first, in their order
   PetscBool device_types;
   PetscCall(default_types_for_device_hypre(&device_types));
@@ -834,28 +826,26 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
 
   auto setup_heap = std::make_unique<SetupHeap>();  // until the setup is done (app/setup_heap.hpp)
   measured.partition = MPI_Wtime();
-  const PartitionedScene partitioned = partition_scene(scene, comm, options, measured.partition);
-  const DistributedMesh& mesh = partitioned.mesh;
+  m.partitioned = partition_scene(scene, comm, options, measured.partition);
+  const DistributedMesh& mesh = m.partitioned.mesh;
   check_file_elements(scene, mesh);
   measured.partition = MPI_Wtime() - measured.partition;
   measured.rss_partition = peak_rss_mib();
 
   // Setup: the problem, the backend and the integrator (forms, the first matrix, the solvers).
   measured.setup = MPI_Wtime();
-  ProblemSetup problem = build_problem(scene, mesh, partitioned.diagonal);
+  m.problem = build_problem(scene, mesh, m.partitioned.diagonal);
   double velocity_tol = 0;
-  PetscCall(read_velocity_tol(comm, options, partitioned.diagonal, &velocity_tol));
+  PetscCall(read_velocity_tol(comm, options, m.partitioned.diagonal, &velocity_tol));
   const BackendChoice backend = choose_backend(comm, options.backend, mesh.num_elements(),
                                                options.auto_gpu_min_elements);
-  const library_exit::ArmedRun armed(mesh.num_elements(), backend.space == MemorySpace::device
-                                                             ? device::name(backend.device)
-                                                             : std::string());
+  m.armed = std::make_unique<library_exit::ArmedRun>(
+      mesh.num_elements(), backend.space == MemorySpace::device ? device::name(backend.device) : std::string());
   DeviceUse device_use = device_use_before_setup(comm, backend, mesh.num_elements());
   const double dt_min = min_substep(scene, options);
-  TimeIntegrator integrator;
-  PetscCall(set_up_integrator(mesh, problem, options, velocity_tol, backend.space, integrator));
+  PetscCall(set_up_integrator(mesh, m.problem, options, velocity_tol, backend.space, m.integrator));
   setup_heap.reset();
-  StepRecovery recovery(integrator, dt_min);
+  m.recovery = std::make_unique<StepRecovery>(m.integrator, dt_min);
   if (backend.space == MemorySpace::device) device_use.free_after = device::memory_info().free_bytes;
   GpuAwareMpi gpu_aware_mpi;
   PetscCall(settle_gpu_aware_mpi(comm, backend.space == MemorySpace::device, &gpu_aware_mpi));
@@ -867,46 +857,136 @@ PetscErrorCode run_scene(const Scene& scene_in, MPI_Comm comm, const RunOptions&
   // nothing read is misspelt or unknown, and would otherwise be ignored.
   check_no_unknown_options(comm);
   if (options.report) {
-    PetscCall(print_header(comm, scene, mesh, integrator, options, velocity_tol, dt_min, backend, device_use,
-                           gpu_aware_mpi, hypre_memory, threads, host_threads));
-    PetscCall(print_partition(comm, partitioned));
+    PetscCall(print_header(comm, scene, mesh, m.integrator, options, velocity_tol, dt_min, backend, device_use,
+                           gpu_aware_mpi, hypre_memory, m.threads, host_threads));
+    PetscCall(print_partition(comm, m.partitioned));
   }
 
-  const std::string output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
-  NaturalOrder order;
-  PetscCall(order.setup(mesh));
-  CheckpointRun run;
-  PetscCall(describe_run(scene, partitioned.fingerprint, &run));
+  m.output_dir = options.output_dir.empty() ? scene.output_directory : options.output_dir;
+  PetscCall(m.order.setup(mesh));
+  PetscCall(describe_run(scene, m.partitioned.fingerprint, &m.run));
   measured.output = MPI_Wtime();
   bool restarted = false;
   CheckpointRun stored;
   if (!options.restart.empty() && !options.setup_only)
-    PetscCall(restart_from_checkpoint(comm, options.restart, output_dir, scene.output_name, order, integrator, recovery,
-                                      run, &stored, &restarted));
-  std::unique_ptr<RunOutput> output;
+    PetscCall(restart_from_checkpoint(comm, options.restart, m.output_dir, scene.output_name, m.order, m.integrator,
+                                      *m.recovery, m.run, &stored, &restarted));
   if (options.write_output && !options.setup_only) {
     StageScope stage(stages.output);
-    output = restarted ? std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator,
-                                                     stored.output_steps, recovery.steps_taken())
-                       : std::make_unique<RunOutput>(scene, output_dir, mesh, order, problem, integrator);
-    if (output->steps_written() == 0) PetscCall(output->write_fields(integrator));
-    result->xdmf_path = output->xdmf_path();
+    m.output = restarted ? std::make_unique<RunOutput>(scene, m.output_dir, mesh, m.order, m.problem, m.integrator,
+                                                       stored.output_steps, m.recovery->steps_taken())
+                         : std::make_unique<RunOutput>(scene, m.output_dir, mesh, m.order, m.problem, m.integrator);
+    if (m.output->steps_written() == 0) PetscCall(m.output->write_fields(m.integrator));
+    result->xdmf_path = m.output->xdmf_path();
   }
   measured.output = MPI_Wtime() - measured.output;
-  Checkpoints checkpoints(comm, options, output_dir, scene.output_name, order, integrator, recovery, run, restarted);
-  PetscCall(step_in_time(comm, scene, options, problem, integrator, recovery, output.get(), checkpoints, result,
-                         &measured.output));
+  m.checkpoints = std::make_unique<Checkpoints>(comm, m.options, m.output_dir, scene.output_name, m.order,
+                                                m.integrator, *m.recovery, m.run, restarted);
+  m.steps = options.setup_only ? 0 : options.steps > 0 ? options.steps : scene.steps;
+  // Sub-steps of cut steps are written only when asked (-dipc_output_substeps).
+  if (m.output && options.output_substeps)
+    m.on_substep = [&m](const StepReport&) { return m.output->write_fields(m.integrator); };
+  result->steps_taken = m.recovery->steps_taken();
+  simulation->reset(new Simulation(std::move(impl)));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::step(StepReport* report) {
+  PetscFunctionBeginUser;
+  Impl& m = *impl_;
+  *report = StepReport{};
+  if (m.ended) PetscFunctionReturn(0);
+  const MPI_Comm comm = m.comm;
+  RunResult* result = &m.result;
+  StepRecovery& recovery = *m.recovery;
+  const int s = recovery.steps_taken();
+  const std::size_t output_steps = m.output ? m.output->steps_written() : 0;
+  PetscCall(step_boundary(s, m.steps, m.output.get(), *m.checkpoints, result, &m.measured.output, &m.ended));
+  if (m.ended) PetscFunctionReturn(0);
+  library_exit::enter("step " + std::to_string(s + 1));
+  StepReport& r = *report;
+  PetscCall(recovery.step(&r, m.on_substep));
+  add_step_counts(r, result);
+  if (r.stopped) {
+    // A stop signal came during the step: recovery put the state back to step s, whose
+    // checkpoint is written now rather than after a step that may take minutes.
+    result->stop_signal = agree_on_signal(comm);
+    if (!m.options.quiet)
+      PetscCall(PetscPrintf(comm,
+                            "step %5d  abandoned after %d Newton iterations: signal %d; the state of step %d "
+                            "is kept\n",
+                            r.step, (int)r.newton.iterations, result->stop_signal, s));
+    PetscCall(m.checkpoints->write_unless_current(output_steps, result, &m.measured.output));
+    m.ended = true;
+    PetscFunctionReturn(0);
+  }
+  if (!m.options.quiet)
+    for (const std::string& cut : r.cuts)
+      PetscCall(PetscPrintf(comm, "step %5d  failed attempt (%s)%s\n", r.step, cut.c_str(),
+                            r.failure.empty() || &cut != &r.cuts.back() ? ": retrying with dt halved" : ""));
+  if (!r.failure.empty()) {
+    result->failure = "step " + std::to_string(r.step) + " (t = " + format_number(m.integrator.time()) +
+                      " reached): " + r.failure;
+    result->fatal = r.fatal;
+    m.ended = true;
+    PetscFunctionReturn(0);
+  }
+  result->steps_taken = recovery.steps_taken();
+  PhysicalQuantities q;
+  PetscCall(m.integrator.measure(&q));
+  if (!m.options.quiet) PetscCall(print_step(comm, r, m.problem));
+  if (m.output) {
+    const double t0 = MPI_Wtime();
+    m.output->write_stats(r, q);
+    const int every = std::max(1, m.scene.output_every);
+    if (r.step % every == 0 || s == m.steps - 1) PetscCall(m.output->write_fields(m.integrator));
+    m.measured.output += MPI_Wtime() - t0;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::finish(RunResult* out) {
+  PetscFunctionBeginUser;
+  Impl& m = *impl_;
+  PetscCheck(!m.finished, m.comm, PETSC_ERR_ARG_WRONGSTATE, "Simulation::finish: the run has already finished");
+  RunResult* result = &m.result;
+  // The last boundary, when the run ended before reaching it (its last step taken by step(),
+  // or a caller that stops stepping early): the end's checkpoint.
+  if (!m.ended) {
+    const int s = m.recovery->steps_taken();
+    bool ends = false;
+    PetscCall(step_boundary(s, std::min(s, m.steps), m.output.get(), *m.checkpoints, result, &m.measured.output,
+                            &ends));
+    m.ended = true;
+  }
+  m.finished = true;
   if (result->stop_signal) {
     // How long the stop took, for choosing the grace time before SIGKILL (jobs/README.md).
     const double since = seconds_since_stop_signal();
-    MPI_Allreduce(&since, &result->stop_seconds, 1, MPI_DOUBLE, MPI_MAX, comm);
+    MPI_Allreduce(&since, &result->stop_seconds, 1, MPI_DOUBLE, MPI_MAX, m.comm);
   }
-  result->steps_taken = recovery.steps_taken();
-  PetscCall(gather_by_input_id(mesh, integrator.positions(), &result->positions));
-  PetscCall(gather_by_input_id(mesh, integrator.velocities(), &result->velocities));
+  const DistributedMesh& mesh = m.partitioned.mesh;
+  result->steps_taken = m.recovery->steps_taken();
+  PetscCall(gather_by_input_id(mesh, m.integrator.positions(), &result->positions));
+  PetscCall(gather_by_input_id(mesh, m.integrator.velocities(), &result->velocities));
   result->num_elements = mesh.num_global_elements;
-  result->num_dofs = integrator.num_dofs();
-  PetscCall(report_phase_times(comm, options, integrator, measured, output != nullptr, result));
+  result->num_dofs = m.integrator.num_dofs();
+  PetscCall(report_phase_times(m.comm, m.options, m.integrator, m.measured, m.output != nullptr, result));
+  *out = *result;
+  m.armed.reset();  // the run is over: a library's exit is no longer this run's
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, RunResult* result) {
+  PetscFunctionBeginUser;
+  *result = RunResult{};
+  std::unique_ptr<Simulation> simulation;
+  PetscCall(Simulation::create(scene, comm, options, &simulation));
+  while (!simulation->ended()) {
+    StepReport report;
+    PetscCall(simulation->step(&report));
+  }
+  PetscCall(simulation->finish(result));
   PetscFunctionReturn(0);
 }
 

@@ -1,14 +1,17 @@
 // run_scene: a whole dipc run — build and partition the mesh, set up the problem, step in
 // time, report and write output. The `dipc` program is a thin wrapper around it; tests call it
-// on sub-communicators to compare rank counts.
+// on sub-communicators to compare rank counts. Simulation is the same run a step at a time.
 #pragma once
 #include <petscsys.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "app/run_options.hpp"
 #include "io/scene.hpp"
+#include "nonlinear/time_integrator.hpp"
+#include "partition/distributed_mesh.hpp"
 
 namespace dipc {
 
@@ -58,5 +61,41 @@ struct RunResult {
 // Collective over comm. Input errors (mesh file, selections) throw std::runtime_error with the
 // same message on every rank; PETSc failures return an error code.
 PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, RunResult* result);
+
+// A run taken one scene step at a time: what run_scene does, with the state reachable between
+// steps (the Python module drives it; python/README.md). Every call is collective over comm and
+// reports errors as run_scene does.
+class Simulation {
+ public:
+  // Partition, setup, run header, restart (-dipc_restart) and the first output frame.
+  static PetscErrorCode create(const Scene& scene, MPI_Comm comm, const RunOptions& options,
+                               std::unique_ptr<Simulation>* simulation);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // The step boundary (a stop signal, a due checkpoint), then one scene step with its output
+  // and console line. *report is that step's (report->step == 0 when no step was taken: the run
+  // had ended at this boundary). A step that failed, the run's last step or a stop signal
+  // ends the run: ended() is true and progress() says why.
+  PetscErrorCode step(StepReport* report);
+  bool ended() const;
+  // The counts, failure and stop of the run so far (RunResult's step fields; the rest once
+  // finish() has run).
+  const RunResult& progress() const;
+  // The end of the run: the last boundary's checkpoint when one is due, the final fields
+  // gathered on rank 0 and the timing table. Once; no step after it.
+  PetscErrorCode finish(RunResult* result);
+
+  int steps_taken() const;
+  int last_step() const;  // the run's number of steps (-dipc_steps or the scene's)
+  TimeIntegrator& integrator();
+  const DistributedMesh& mesh() const;
+
+ private:
+  struct Impl;
+  explicit Simulation(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace dipc
