@@ -7,12 +7,10 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "app/option_checks.hpp"
+#include "app/checked_run_options.hpp"
 #include "app/options_files.hpp"
 #include "app/petsc_input_errors.hpp"
-#include "app/scene_size.hpp"
 #include "app/simulation.hpp"
-#include "app/solver_presets.hpp"
 #include "app/stop_signals.hpp"
 
 static const char help[] =
@@ -51,15 +49,10 @@ int main(int argc, char** argv) {
 
   int status = 0;
   try {
-    dipc::check_option_values();  // before anything reads them
-    dipc::check_petsc_option_values();
-    dipc::RunOptions options;
-    std::vector<std::string> preset_inserted;
-    PetscCall(dipc::apply_solver_preset(comm, &options.preset, &preset_inserted));  // before the options are read
     // The scene before the run options: some of their defaults are the scene's.
     const dipc::Scene scene = scene_path ? dipc::parse_scene_file(scene_path) : dipc::default_scene();
-    PetscCall(dipc::read_run_options(comm, scene, &options));
-    dipc::check_scene_size(scene, options.refine, comm);
+    dipc::RunOptions options;
+    PetscCall(dipc::checked_run_options(comm, scene, &options));
     PetscBool help_requested = PETSC_FALSE;
     PetscCall(PetscOptionsHasHelp(nullptr, &help_requested));
     // A PolyFEM scene's keys that dipc ignores or reads its own way, one line each.

@@ -51,39 +51,6 @@ double peak_rss_mib() {
   return usage.ru_maxrss / 1024.0;
 }
 
-// Gathers an owned-node field (3 per node) on rank 0 in the input mesh's numbering.
-PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::vector<double>* out) {
-  PetscFunctionBeginUser;
-  int rank, size;
-  MPI_Comm_rank(mesh.comm, &rank);
-  MPI_Comm_size(mesh.comm, &size);
-  const PetscScalar* a;
-  PetscCall(VecGetArrayRead(field, &a));
-  std::vector<double> mine(a, a + 3 * mesh.num_owned_nodes);
-  PetscCall(VecRestoreArrayRead(field, &a));
-  std::vector<std::int64_t> ids(mesh.node_input_id.begin(), mesh.node_input_id.begin() + mesh.num_owned_nodes);
-  int n = mesh.num_owned_nodes;
-  std::vector<int> counts(size), displs(size);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, mesh.comm);
-  std::vector<std::int64_t> all_ids;
-  std::vector<double> all_values;
-  std::vector<int> counts3(size), displs3(size);
-  if (rank == 0) {
-    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    for (int r = 0; r < size; ++r) counts3[r] = 3 * counts[r], displs3[r] = 3 * displs[r];
-    all_ids.resize(mesh.num_global_nodes);
-    all_values.resize(3 * mesh.num_global_nodes);
-  }
-  MPI_Gatherv(ids.data(), n, MPI_INT64_T, all_ids.data(), counts.data(), displs.data(), MPI_INT64_T, 0, mesh.comm);
-  MPI_Gatherv(mine.data(), 3 * n, MPI_DOUBLE, all_values.data(), counts3.data(), displs3.data(), MPI_DOUBLE, 0,
-              mesh.comm);
-  if (rank == 0) {
-    out->assign(3 * mesh.num_global_nodes, 0.0);
-    for (std::size_t k = 0; k < all_ids.size(); ++k)
-      for (int c = 0; c < 3; ++c) (*out)[3 * all_ids[k] + c] = all_values[3 * k + c];
-  }
-  PetscFunctionReturn(0);
-}
 
 // Output of one run: XDMF/HDF5 fields and stats.csv. Rows of the HDF5 file are in the input
 // mesh's numbering (NaturalOrder), so the file is the same on any rank count and a restart on
@@ -769,6 +736,39 @@ PetscErrorCode report_phase_times(MPI_Comm comm, const RunOptions& options, cons
 
 }  // namespace
 
+PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::vector<double>* out) {
+  PetscFunctionBeginUser;
+  int rank, size;
+  MPI_Comm_rank(mesh.comm, &rank);
+  MPI_Comm_size(mesh.comm, &size);
+  const PetscScalar* a;
+  PetscCall(VecGetArrayRead(field, &a));
+  std::vector<double> mine(a, a + 3 * mesh.num_owned_nodes);
+  PetscCall(VecRestoreArrayRead(field, &a));
+  std::vector<std::int64_t> ids(mesh.node_input_id.begin(), mesh.node_input_id.begin() + mesh.num_owned_nodes);
+  int n = mesh.num_owned_nodes;
+  std::vector<int> counts(size), displs(size);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, mesh.comm);
+  std::vector<std::int64_t> all_ids;
+  std::vector<double> all_values;
+  std::vector<int> counts3(size), displs3(size);
+  if (rank == 0) {
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 0; r < size; ++r) counts3[r] = 3 * counts[r], displs3[r] = 3 * displs[r];
+    all_ids.resize(mesh.num_global_nodes);
+    all_values.resize(3 * mesh.num_global_nodes);
+  }
+  MPI_Gatherv(ids.data(), n, MPI_INT64_T, all_ids.data(), counts.data(), displs.data(), MPI_INT64_T, 0, mesh.comm);
+  MPI_Gatherv(mine.data(), 3 * n, MPI_DOUBLE, all_values.data(), counts3.data(), displs3.data(), MPI_DOUBLE, 0,
+              mesh.comm);
+  if (rank == 0) {
+    out->assign(3 * mesh.num_global_nodes, 0.0);
+    for (std::size_t k = 0; k < all_ids.size(); ++k)
+      for (int c = 0; c < 3; ++c) (*out)[3 * all_ids[k] + c] = all_values[3 * k + c];
+  }
+  PetscFunctionReturn(0);
+}
+
 // Everything a run holds from its setup to its end, in the order it is built (and destroyed in
 // reverse: the output and checkpoints before the integrator they read, the mesh last).
 struct Simulation::Impl {
@@ -797,6 +797,7 @@ Simulation::Simulation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Simulation::~Simulation() = default;
 bool Simulation::ended() const { return impl_->ended; }
 const RunResult& Simulation::progress() const { return impl_->result; }
+const Scene& Simulation::scene() const { return impl_->scene; }
 int Simulation::steps_taken() const { return impl_->recovery->steps_taken(); }
 int Simulation::last_step() const { return impl_->steps; }
 TimeIntegrator& Simulation::integrator() { return impl_->integrator; }

@@ -62,6 +62,10 @@ struct RunResult {
 // same message on every rank; PETSc failures return an error code.
 PetscErrorCode run_scene(const Scene& scene, MPI_Comm comm, const RunOptions& options, RunResult* result);
 
+// Collective: an owned-node field (3 per node, e.g. TimeIntegrator::positions()) gathered on
+// rank 0 of mesh.comm in the input mesh's numbering (empty on the other ranks).
+PetscErrorCode gather_by_input_id(const DistributedMesh& mesh, Vec field, std::vector<double>* out);
+
 // A run taken one scene step at a time: what run_scene does, with the state reachable between
 // steps (the Python module drives it; python/README.md). Every call is collective over comm and
 // reports errors as run_scene does.
@@ -87,6 +91,7 @@ class Simulation {
   // gathered on rank 0 and the timing table. Once; no step after it.
   PetscErrorCode finish(RunResult* result);
 
+  const Scene& scene() const;  // as run: refined by -dipc_refine
   int steps_taken() const;
   int last_step() const;  // the run's number of steps (-dipc_steps or the scene's)
   TimeIntegrator& integrator();

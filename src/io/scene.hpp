@@ -160,6 +160,9 @@ struct SceneError : std::runtime_error {
 // by is_polyfem_scene().
 Scene parse_scene_file(const std::string& path);
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name, const std::string& base_directory);
+// A prescribed motion alone, as a scene gives it ({"type": "velocity", "velocity": [...]}, ...);
+// errors as parse_scene_text's, under `source_name`.
+Motion parse_motion_text(const std::string& json_text, const std::string& source_name);
 // The scene embedded in the program, used when no scene file is given: a soft box dropped
 // onto a wider box that rests on a ground plane (contact with friction).
 Scene default_scene();

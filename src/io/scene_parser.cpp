@@ -548,6 +548,14 @@ std::string Selection::describe() const {
   return "node set \"" + name + "\"";
 }
 
+Motion parse_motion_text(const std::string& json_text, const std::string& source_name) {
+  const nlohmann::json document = parse_json_document(json_text, source_name);
+  const SceneJsonNode root(document, "", source_name);
+  Motion motion;
+  parse_motion(root, {}, motion);
+  return motion;
+}
+
 Scene parse_scene_text(const std::string& json_text, const std::string& source_name,
                        const std::string& base_directory) {
   const nlohmann::json document = parse_json_document(json_text, source_name);

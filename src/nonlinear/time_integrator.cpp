@@ -263,11 +263,34 @@ PetscErrorCode TimeIntegrator::apply_dirichlet(Vec x, double t) {
   PetscScalar* xa;
   PetscCall(VecGetArray(x, &xa));
   for (int n = 0; n < mesh_->num_owned_nodes; ++n) {
-    if (dirichlet_set_[n] < 0) continue;
-    const auto p = problem_.dirichlet[dirichlet_set_[n]].motion.position(mesh_->coordinates[n], t);
+    const int k = dirichlet_set_[n];
+    if (k < 0) continue;
+    const PrescribedMotion& motion = problem_.dirichlet[k].motion;
+    const bool restarted = !motion_start_time_.empty() && !std::isnan(motion_start_time_[k]);
+    const auto p = restarted ? motion.position(motion_start_[n], t - motion_start_time_[k])
+                             : motion.position(mesh_->coordinates[n], t);
     for (int c = 0; c < 3; ++c) xa[3 * n + c] = p[c];
   }
   PetscCall(VecRestoreArray(x, &xa));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::set_prescribed_motion(int k, const PrescribedMotion& motion) {
+  PetscFunctionBeginUser;
+  PetscCheck(k >= 0 && k < static_cast<int>(problem_.dirichlet.size()), mesh_->comm, PETSC_ERR_USER_INPUT,
+             "prescribed motion: no prescribed node set %d (the run has %d)", k,
+             static_cast<int>(problem_.dirichlet.size()));
+  if (motion_start_time_.empty()) {
+    motion_start_time_.assign(problem_.dirichlet.size(), std::nan(""));
+    motion_start_.resize(mesh_->num_owned_nodes);
+  }
+  const PetscScalar* xa;
+  PetscCall(VecGetArrayRead(x_, &xa));
+  for (int n = 0; n < mesh_->num_owned_nodes; ++n)
+    if (dirichlet_set_[n] == k) motion_start_[n] = {xa[3 * n], xa[3 * n + 1], xa[3 * n + 2]};
+  PetscCall(VecRestoreArrayRead(x_, &xa));
+  motion_start_time_[k] = time_;
+  problem_.dirichlet[k].motion = motion;
   PetscFunctionReturn(0);
 }
 

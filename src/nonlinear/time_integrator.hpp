@@ -112,6 +112,13 @@ class TimeIntegrator {
 
   double time() const { return time_; }
   double scene_dt() const { return problem_.dt; }
+  // The prescribed node sets (ProblemSetup::dirichlet: the scene's Dirichlet conditions, then
+  // its kinematic bodies), and a new motion for set k between steps: from now on its nodes
+  // follow `motion` from where they stand, x(t) = motion.position(x_now, t − time()), so that a
+  // fixed motion holds them there (not at rest) and nothing jumps. A checkpoint does not store
+  // such a change: a restarted run follows the scene's motions until told again.
+  const std::vector<DirichletSet>& dirichlet_sets() const { return problem_.dirichlet; }
+  PetscErrorCode set_prescribed_motion(int k, const PrescribedMotion& motion);
   // NewtonSolver::set_retrying.
   PetscErrorCode set_retrying(bool retrying) { return newton_.set_retrying(retrying); }
   const std::vector<std::string>& user_snes_options() const { return newton_.user_snes_options(); }
@@ -187,6 +194,10 @@ class TimeIntegrator {
   ContactForm* contact_ = nullptr;    // owned by potential_, null without contact
   FrictionForm* friction_ = nullptr;  // owned by potential_, null without friction
   std::vector<int> dirichlet_set_;    // per owned node: index into problem_.dirichlet, or −1
+  // Motions set between steps (set_prescribed_motion): per set the time it started (NaN: the
+  // scene's motion from the rest positions at t = 0), per owned node where it started.
+  std::vector<double> motion_start_time_;
+  std::vector<std::array<double, 3>> motion_start_;
   std::vector<std::string> form_names_;
   Vec X_ = nullptr, x_ = nullptr, x_n_ = nullptr, v_ = nullptr, x_hat_ = nullptr;
   Vec x_local_ = nullptr;
