@@ -23,9 +23,11 @@ jobs=${JOBS:-$(nproc)}
 
 # --- 1. packages ------------------------------------------------------------
 packages=(cmake g++ make pkg-config openmpi-bin libopenmpi-dev petsc-dev libhypre-dev libmetis-dev
-          libhdf5-openmpi-dev nlohmann-json3-dev libgtest-dev python3-numpy python3-h5py python3-matplotlib)
-# The test suite also opens the output with ParaView itself (tests/tools/paraview_open_test.py).
-[[ $mode == test ]] && packages+=(python3-paraview)
+          libhdf5-openmpi-dev nlohmann-json3-dev libgtest-dev python3-numpy python3-h5py python3-matplotlib
+          python3-dev pybind11-dev python3-mpi4py)
+# The test suite also opens the output with ParaView itself (tests/tools/paraview_open_test.py)
+# and runs the Python module's tests with pytest.
+[[ $mode == test ]] && packages+=(python3-paraview python3-pytest)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -59,8 +61,20 @@ if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   [[ ${#cuda[@]} -gt 0 ]] && launcher+=(-DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
 fi
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cuda[@]}" "${launcher[@]}"
+# The Python module is built for Debian's interpreter, whose packages (numpy, h5py, mpi4py) it
+# uses, also where another python3 comes first in PATH.
+python=()
+[[ -x /usr/bin/python3 ]] && python=(-DPython3_EXECUTABLE=/usr/bin/python3)
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cuda[@]}" "${launcher[@]}" "${python[@]}"
 cmake --build "$build" -j "$jobs"
+
+# `import dipc` from anywhere: a .pth file in this user's site-packages names the build's
+# python folder (no root needed; delete the file to undo).
+if [[ -d $build/python/dipc ]]; then
+  site=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
+  mkdir -p "$site" && echo "$build/python" > "$site/dipc.pth"
+  echo "quickstart: python3 -c 'import dipc' finds $build/python/dipc (through $site/dipc.pth)"
+fi
 
 # Open MPI refuses to run as root and to start more ranks than cores unless told to.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1

@@ -120,7 +120,10 @@ class PySimulation {
       parsed = read_scene(scene);
       return PetscErrorCode(0);
     });
-    database_ = std::make_unique<OptionsDatabase>(comm_, options);
+    call([&] {
+      database_ = std::make_unique<OptionsDatabase>(comm_, options);
+      return PetscErrorCode(0);
+    });
     OptionsScope scope(*database_);
     call([&] {
       RunOptions run_options;
