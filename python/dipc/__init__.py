@@ -17,9 +17,10 @@ from . import _dipc
 from ._dipc import Error, InputError, StepFailure
 from .output import Output, read_output
 
-_dipc.initialize()
-# Every Simulation is closed and PETSc finalised before the interpreter (and mpi4py, if imported)
-# finalises MPI: atexit's handlers run before those of the C level.
+# PETSc (and MPI, unless mpi4py or the caller started it) starts with the first Simulation, so
+# that reading output needs neither. At exit every Simulation is closed and PETSc finalised
+# before the interpreter (and mpi4py, if imported) finalises MPI: atexit's handlers run before
+# those of the C level.
 atexit.register(_dipc.shutdown)
 
 
@@ -32,6 +33,7 @@ class Simulation(_dipc.Simulation):
              PETSC_OPTIONS from the environment first, as for the command. Each Simulation has
              its own options: two in one script do not see each other's.
     comm:    an mpi4py communicator (None: every rank).
+    report:  False drops the run header and the timing table (-dipc_quiet drops the step lines).
 
     The constructor does what `dipc` does before its first step (partition, setup, run header,
     -dipc_restart, the first output frame). Then:
@@ -47,7 +49,8 @@ class Simulation(_dipc.Simulation):
                     on the CPU (they follow the state: .copy() keeps a step's values), copies
                     from a GPU;
       contact_forces(), friction_forces()   the barrier's and friction's force on each node [N]
-                    (zero in a scene without them);
+                    (zero in a scene without them); collective, like every call but the views;
+      node_sets()   {name: rows} of the mesh's named node sets (each body's name: its nodes);
       gather(name)  one of those on rank 0, every input node in input order (None elsewhere).
     Prescribed motions between steps: prescribed_sets() lists the Dirichlet conditions and
     kinematic bodies; set_motion(set, {"type": "velocity", "velocity": [0, 0, -0.1]}) makes set

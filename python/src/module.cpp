@@ -112,7 +112,8 @@ std::set<PySimulation*>& live() {
 
 class PySimulation {
  public:
-  PySimulation(const py::object& scene, const std::vector<std::string>& options, const py::object& comm) {
+  PySimulation(const py::object& scene, const std::vector<std::string>& options, const py::object& comm,
+               bool report) {
     initialize_petsc();
     comm_ = communicator(comm);
     Scene parsed;
@@ -128,6 +129,7 @@ class PySimulation {
     call([&] {
       RunOptions run_options;
       PetscCall(checked_run_options(comm_, parsed, &run_options));
+      run_options.report = report;  // the run header and timing table
       for (const std::string& note : parsed.notes)
         PetscCall(PetscPrintf(comm_, "dipc: PolyFEM scene: %s\n", note.c_str()));
       return Simulation::create(parsed, comm_, run_options, &simulation_);
@@ -214,6 +216,21 @@ class PySimulation {
     return ids;
   }
 
+  // The mesh's named node sets (a body's name: all its nodes; "beam.xmin" and the like; a
+  // mesh file's physical groups) as rows of this rank's owned fields.
+  py::dict node_sets() {
+    const DistributedMesh& mesh = open().mesh();
+    py::dict sets;
+    for (const auto& [name, members] : mesh.node_sets) {
+      std::vector<std::int64_t> rows;
+      for (std::int32_t l : members)
+        if (l < mesh.num_owned_nodes) rows.push_back(l);
+      std::sort(rows.begin(), rows.end());
+      sets[py::str(name)] = py::array_t<std::int64_t>(static_cast<py::ssize_t>(rows.size()), rows.data());
+    }
+    return sets;
+  }
+
   // A node field of every rank on rank 0, (input nodes, 3) in the input numbering; None on the
   // other ranks. Collective.
   py::object gather(const std::string& name) {
@@ -245,7 +262,7 @@ class PySimulation {
     py::list sets;
     for (std::size_t k = 0; k < scene.dirichlet.size(); ++k) {
       const DirichletCondition& bc = scene.dirichlet[k];
-      sets.append(py::dict(py::arg("index") = k, py::arg("key") = bc.key_path,
+      sets.append(py::dict(py::arg("index") = k, py::arg("key") = bc.key_path, py::arg("name") = bc.selection.name,
                            py::arg("selection") = bc.selection.describe()));
     }
     return sets;
@@ -362,7 +379,7 @@ class PySimulation {
     std::string names;
     for (int k = 0; k < count; ++k) {
       const DirichletCondition& bc = scene.dirichlet[k];
-      names += (k ? ", " : "") + bc.key_path;
+      names += (k ? ", " : "") + bc.key_path + (bc.selection.name.empty() ? "" : " (\"" + bc.selection.name + "\")");
       if (bc.key_path != name && bc.selection.name != name) continue;
       if (found >= 0) raise(PyExc_KeyError, "set_motion: \"" + name + "\" names several prescribed sets; give the index");
       found = k;
@@ -406,8 +423,9 @@ PYBIND11_MODULE(_dipc, m) {
   m.def("initialize", &initialize_petsc, "Start PETSc (and MPI unless started); `import dipc` does it.");
   m.def("shutdown", &shutdown, "Close every Simulation and finalise PETSc; registered with atexit by `import dipc`.");
   py::class_<PySimulation>(m, "Simulation")
-      .def(py::init<const py::object&, const std::vector<std::string>&, const py::object&>(), py::arg("scene") = py::none(),
-           py::arg("options") = std::vector<std::string>(), py::arg("comm") = py::none())
+      .def(py::init<const py::object&, const std::vector<std::string>&, const py::object&, bool>(),
+           py::arg("scene") = py::none(), py::arg("options") = std::vector<std::string>(), py::arg("comm") = py::none(),
+           py::kw_only(), py::arg("report") = true)
       .def("step", &PySimulation::step)
       .def("run", &PySimulation::run)
       .def("finish", &PySimulation::finish)
@@ -418,6 +436,7 @@ PYBIND11_MODULE(_dipc, m) {
       .def("contact_forces", &PySimulation::contact_forces)
       .def("friction_forces", &PySimulation::friction_forces)
       .def("node_ids", &PySimulation::node_ids)
+      .def("node_sets", &PySimulation::node_sets)
       .def("gather", &PySimulation::gather, py::arg("field"))
       .def("prescribed_sets", &PySimulation::prescribed_sets)
       .def("set_motion", &PySimulation::set_motion, py::arg("set"), py::arg("motion"))

@@ -112,10 +112,12 @@ def clamped_nodes(sim):
 
 
 def test_prescribed_motion_changes_between_steps():
-    sim = dipc.Simulation(BEAM, options=["-dipc_steps", "6", "-dipc_no_output", "-dipc_quiet"])
-    assert [s["key"] for s in sim.prescribed_sets()] == ["boundary_conditions.dirichlet[0]"]
+    sim = dipc.Simulation(BEAM, options=["-dipc_steps", "6", "-dipc_no_output", "-dipc_quiet"], report=False)
+    assert [(s["key"], s["name"]) for s in sim.prescribed_sets()] == [("boundary_conditions.dirichlet[0]", "beam.xmin")]
     sim.step(), sim.step()
     end = clamped_nodes(sim)
+    assert np.array_equal(sim.node_sets()["beam.xmin"], end)
+    assert comm.allreduce(len(sim.node_sets()["beam"])) == 25 * 4 * 4  # every node of the beam once
     start, t0 = sim.positions()[end].copy(), sim.time
     velocity = np.array([0.0, 0.0, 0.05])
     sim.set_motion("beam.xmin", {"type": "velocity", "velocity": velocity.tolist()})
