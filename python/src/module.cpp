@@ -416,11 +416,11 @@ PYBIND11_MODULE(_dipc, m) {
   using namespace dipc::python;
   m.doc() = "dipc's solver (the dipc package re-exports it; see docs/python.md)";
   error_type = new_exception(m, "Error", PyExc_RuntimeError, "A dipc solver error (PETSc's message).");
-  input_error_type = new_exception(m, "InputError", py::make_tuple(py::handle(error_type), py::handle(PyExc_ValueError)).release().ptr(),
+  const py::tuple input_error_bases = py::make_tuple(py::handle(error_type), py::handle(PyExc_ValueError));
+  input_error_type = new_exception(m, "InputError", input_error_bases.ptr(),
                                    "Bad input: a scene, option or value dipc refuses (its message names it).");
   step_failure_type = new_exception(m, "StepFailure", error_type,
                                     "A step that step recovery could not take; .fatal: an invariant was violated.");
-  m.def("initialize", &initialize_petsc, "Start PETSc (and MPI unless started); `import dipc` does it.");
   m.def("shutdown", &shutdown, "Close every Simulation and finalise PETSc; registered with atexit by `import dipc`.");
   py::class_<PySimulation>(m, "Simulation")
       .def(py::init<const py::object&, const std::vector<std::string>&, const py::object&, bool>(),

@@ -11,7 +11,7 @@ namespace dipc::python {
 
 // PetscInitialize without command-line arguments (PETSC_OPTIONS is read, as by `dipc`), MPI
 // too unless mpi4py or the caller started it; PETSc's signal handlers stay off so that Ctrl-C
-// stays Python's. Idempotent.
+// stays Python's. Idempotent; the first Simulation calls it.
 void initialize_petsc();
 // PetscFinalize (and MPI_Finalize when PETSc started MPI); once, after every Simulation is gone.
 void finalize_petsc();
