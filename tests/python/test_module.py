@@ -205,3 +205,15 @@ def test_a_step_that_cannot_be_taken_raises_step_failure():
     assert failure.value.fatal is False
     assert sim.ended and sim.step() is None
     assert sim.finish()["failure"].startswith("step 1")
+
+
+def test_a_polyfem_scene_runs_like_its_dipc_translation():
+    # tests/app/data/polyfem: a PolyFEM scene and the same scene in dipc's format.
+    data = os.path.join(SOURCE, "tests", "app", "data", "polyfem")
+    options = ["-dipc_steps", "2", "-dipc_no_output", "-dipc_quiet"]
+    polyfem = dipc.Simulation(os.path.join(data, "pulled_bar.json"), options=options, report=False)
+    ours = dipc.Simulation(os.path.join(data, "pulled_bar_dipc.json"), options=options, report=False)
+    polyfem.run(), ours.run()
+    a, b = polyfem.gather("positions"), ours.gather("positions")
+    if rank == 0:
+        assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
