@@ -96,6 +96,27 @@ py::dict report_dict(const StepReport& r) {
   return d;
 }
 
+py::dict result_dict(const RunResult& r) {
+  py::dict d;
+  d["steps_taken"] = r.steps_taken;
+  d["newton_iterations"] = r.newton_iterations;
+  d["linear_iterations"] = r.linear_iterations;
+  d["dt_cuts"] = r.dt_cuts;
+  d["max_contact_pairs"] = r.max_contact_pairs;
+  d["num_elements"] = r.num_elements;
+  d["num_dofs"] = r.num_dofs;
+  d["xdmf_path"] = r.xdmf_path;
+  d["checkpoint_path"] = r.checkpoint_path;
+  d["failure"] = r.failure;
+  const PhaseTimes& t = r.times;
+  d["seconds"] = py::dict(py::arg("partition") = t.partition, py::arg("setup") = t.setup,
+                          py::arg("assembly") = t.assembly, py::arg("line_search") = t.line_search,
+                          py::arg("contact") = t.contact, py::arg("contact_patterns") = t.preallocation,
+                          py::arg("linear_solve") = t.linear_solve, py::arg("output") = t.output,
+                          py::arg("other") = t.other, py::arg("total") = t.total);
+  return d;
+}
+
 py::array_t<double> nodes_by_3(std::vector<double>&& values) {
   auto* owned = new std::vector<double>(std::move(values));
   py::capsule free(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
@@ -177,30 +198,14 @@ class PySimulation {
   py::dict finish() {
     Simulation& s = open();
     if (finished_) raise(error_type, "finish: the run has already finished");
+    RunResult result;
     {
       OptionsScope scope(*database_);
-      call([&] { return s.finish(&result_); });
+      call([&] { return s.finish(&result); });
     }
     finished_ = true;
-    py::dict d;
-    d["steps_taken"] = result_.steps_taken;
-    d["newton_iterations"] = result_.newton_iterations;
-    d["linear_iterations"] = result_.linear_iterations;
-    d["dt_cuts"] = result_.dt_cuts;
-    d["max_contact_pairs"] = result_.max_contact_pairs;
-    d["num_elements"] = result_.num_elements;
-    d["num_dofs"] = result_.num_dofs;
-    d["xdmf_path"] = result_.xdmf_path;
-    d["checkpoint_path"] = result_.checkpoint_path;
-    d["failure"] = result_.failure;
-    const PhaseTimes& t = result_.times;
-    d["seconds"] = py::dict(py::arg("partition") = t.partition, py::arg("setup") = t.setup,
-                            py::arg("assembly") = t.assembly, py::arg("line_search") = t.line_search,
-                            py::arg("contact") = t.contact, py::arg("contact_patterns") = t.preallocation,
-                            py::arg("linear_solve") = t.linear_solve, py::arg("output") = t.output,
-                            py::arg("other") = t.other, py::arg("total") = t.total);
     raise_on_failure();
-    return d;
+    return result_dict(result);
   }
 
   // Owned-node fields, (owned nodes, 3), rows in the order of node_ids().
@@ -308,28 +313,36 @@ class PySimulation {
   py::array_t<double> owned_field(Vec v) {
     PetscBool host = PETSC_FALSE;
     call([&] { return PetscObjectTypeCompareAny((PetscObject)v, &host, VECSEQ, VECMPI, VECSTANDARD, ""); });
+    if (!host) return nodes_by_3(local_values(v));
     PetscInt n = 0;
     const PetscScalar* a = nullptr;
     call([&] {
       PetscCall(VecGetLocalSize(v, &n));
       return VecGetArrayRead(v, &a);
     });
-    py::array_t<double> out;
-    if (host) {
-      // The array keeps its vector alive (a reference, given back when NumPy frees the array).
-      PetscObjectReference((PetscObject)v);
-      py::capsule keep(v, [](void* p) {
-        Vec vec = static_cast<Vec>(p);
-        if (!petsc_finalized()) VecDestroy(&vec);
-      });
-      out = py::array_t<double>({py::ssize_t(n / 3), py::ssize_t(3)}, a, keep);
-      py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-    } else {
-      out = py::array_t<double>({py::ssize_t(n / 3), py::ssize_t(3)});
-      std::copy(a, a + n, out.mutable_data());
-    }
+    // The array keeps its vector alive (a reference, given back when NumPy frees the array).
+    PetscObjectReference((PetscObject)v);
+    py::capsule keep(v, [](void* p) {
+      Vec vec = static_cast<Vec>(p);
+      if (!petsc_finalized()) VecDestroy(&vec);
+    });
+    py::array_t<double> out({py::ssize_t(n / 3), py::ssize_t(3)}, a, keep);
+    py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
     call([&] { return VecRestoreArrayRead(v, &a); });
     return out;
+  }
+
+  // A copy of v's local values on the host (one copy from a device vector).
+  std::vector<double> local_values(Vec v) {
+    PetscInt n = 0;
+    const PetscScalar* a = nullptr;
+    call([&] {
+      PetscCall(VecGetLocalSize(v, &n));
+      return VecGetArrayRead(v, &a);
+    });
+    std::vector<double> values(a, a + n);
+    call([&] { return VecRestoreArrayRead(v, &a); });
+    return values;
   }
 
   // Collective: the barrier's or friction's force on each owned node (zero without that term).
@@ -351,18 +364,9 @@ class PySimulation {
   py::array_t<double> forces(bool friction) {
     Vec v = nullptr;
     call([&] { return force_vector(friction, &v); });
-    PetscInt n = 0;
-    const PetscScalar* a = nullptr;
-    call([&] {
-      PetscCall(VecGetLocalSize(v, &n));
-      return VecGetArrayRead(v, &a);
-    });
-    std::vector<double> copy(a, a + n);
-    call([&] {
-      PetscCall(VecRestoreArrayRead(v, &a));
-      return VecDestroy(&v);
-    });
-    return nodes_by_3(std::move(copy));
+    std::vector<double> values = local_values(v);
+    call([&] { return VecDestroy(&v); });
+    return nodes_by_3(std::move(values));
   }
 
   static int set_index(const Scene& scene, const py::object& key) {
@@ -391,7 +395,6 @@ class PySimulation {
   MPI_Comm comm_ = MPI_COMM_NULL;
   std::unique_ptr<OptionsDatabase> database_;
   std::unique_ptr<Simulation> simulation_;
-  RunResult result_;
   bool finished_ = false, failure_raised_ = false;
 };
 
