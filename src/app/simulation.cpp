@@ -623,16 +623,14 @@ PetscErrorCode print_step(MPI_Comm comm, const StepReport& r, const ProblemSetup
   PetscFunctionReturn(0);
 }
 
-// The boundary before step s (collective): a stop signal and a checkpoint when one is due.
-// True when the run ends here (its last step taken, or a stop signal).
-PetscErrorCode step_boundary(int s, int steps, RunOutput* output, Checkpoints& checkpoints, RunResult* result,
+// The boundary before step s (collective): a stop signal and a checkpoint when one is due;
+// *ends when the run ends here (its last step taken, or a stop signal). output_steps: the
+// output's extent at this boundary, what a checkpoint of this step records.
+PetscErrorCode step_boundary(int s, int steps, std::size_t output_steps, Checkpoints& checkpoints, RunResult* result,
                              double* t_output, bool* ends) {
   PetscFunctionBeginUser;
   const StopDecision stop = checkpoints.decide_stop();
   const bool at_end = s >= steps;
-  // The output's extent at this boundary: what a checkpoint of this step records, also when
-  // the next step is abandoned after writing sub-steps (-dipc_output_substeps).
-  const std::size_t output_steps = output ? output->steps_written() : 0;
   if (checkpoints.due(s, stop, at_end)) PetscCall(checkpoints.write(output_steps, result, t_output));
   if (stop.signal) result->stop_signal = stop.signal;
   *ends = stop.signal || at_end;
@@ -901,8 +899,10 @@ PetscErrorCode Simulation::step(StepReport* report) {
   RunResult* result = &m.result;
   StepRecovery& recovery = *m.recovery;
   const int s = recovery.steps_taken();
+  // Also what the checkpoint records when this step is abandoned after writing sub-steps
+  // (-dipc_output_substeps).
   const std::size_t output_steps = m.output ? m.output->steps_written() : 0;
-  PetscCall(step_boundary(s, m.steps, m.output.get(), *m.checkpoints, result, &m.measured.output, &m.ended));
+  PetscCall(step_boundary(s, m.steps, output_steps, *m.checkpoints, result, &m.measured.output, &m.ended));
   if (m.ended) PetscFunctionReturn(0);
   library_exit::enter("step " + std::to_string(s + 1));
   StepReport& r = *report;
@@ -956,8 +956,8 @@ PetscErrorCode Simulation::finish(RunResult* out) {
   if (!m.ended) {
     const int s = m.recovery->steps_taken();
     bool ends = false;
-    PetscCall(step_boundary(s, std::min(s, m.steps), m.output.get(), *m.checkpoints, result, &m.measured.output,
-                            &ends));
+    PetscCall(step_boundary(s, std::min(s, m.steps), m.output ? m.output->steps_written() : 0, *m.checkpoints, result,
+                            &m.measured.output, &ends));
     m.ended = true;
   }
   m.finished = true;
