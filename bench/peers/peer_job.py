@@ -15,7 +15,10 @@ and Newton tolerance.
   the diagonal (R = 1e-5, dipc's balanced preset, unless given), which libuipc's velocity_tol
   tests in the same way.
 - Contact: the scene's one contact plane becomes libuipc's ground (a half-space); obstacle meshes,
-  more planes, kinematic bodies and prescribed nodes are refused (not yet translated).
+  more planes and prescribed nodes are refused (not yet translated).
+- Kinematic bodies: "fixed" (every node fixed in libuipc too) and "velocity" (X + v t; libuipc
+  holds it by its soft position constraint, a penalty, where dipc prescribes it exactly); their
+  material's model does not matter. Other motions are refused.
 - Friction: μ and ε_v as given; libuipc lags friction per Newton solve as dipc's one lagged
   update per step does.
 """
@@ -62,13 +65,15 @@ def make_job(scene_path, tets_dir, steps=None, velocity_tol_rel=1e-5):
         g = geometry.get(b["name"])
         if g is None:
             raise JobError(f"{tets_dir}/tets.json: body {b['name']!r} is not in {scene_path}")
-        if g.get("kinematic") or g.get("motion"):
-            raise JobError(f"{scene_path}: geometry {b['name']!r}: kinematic bodies are not translated for the peer yet")
+        kinematic = g.get("kinematic")
+        if kinematic and kinematic.get("type") not in ("fixed", "velocity"):
+            raise JobError(f"{scene_path}: geometry {b['name']!r}: kinematic type {kinematic.get('type')!r} is not "
+                           "translated for the peer (fixed and velocity are)")
         name = g.get("material") or (next(iter(materials)) if len(materials) == 1 else None)
         if name not in materials:
             raise JobError(f"{scene_path}: geometry {b['name']!r}: material {name!r} not found")
         m = materials[name]
-        if m.get("model", "neo_hookean") != "stable_neo_hookean":
+        if m.get("model", "neo_hookean") != "stable_neo_hookean" and not kinematic:
             raise JobError(f"{scene_path}: material {name!r}: model {m.get('model', 'neo_hookean')!r}; libuipc's "
                            "solids are stable neo-Hookean only: compare on a copy with \"model\": \"stable_neo_hookean\"")
         E, nu = float(m["E"]), float(m["nu"])
@@ -79,6 +84,8 @@ def make_job(scene_path, tets_dir, steps=None, velocity_tol_rel=1e-5):
         bodies.append({"name": b["name"], "msh": os.path.relpath(os.path.join(tets_dir, b["msh"])),
                        "lambda": lam + 5.0 / 6.0 * mu, "mu": 4.0 / 3.0 * mu, "rho": float(m.get("rho", 1000.0)),
                        "velocity": g.get("initial_velocity", [0.0, 0.0, 0.0]), "num_nodes": b["num_nodes"]})
+        if kinematic:
+            bodies[-1]["kinematic"] = kinematic
     diagonal = math.dist(lo, hi)
     dhat = float(contact.get("dhat", 1e-3))
     if contact.get("dhat_relative", True):

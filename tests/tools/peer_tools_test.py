@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """bench/peers' chain on a dipc run (issue 34): hex_to_tets.py cuts a 1-rank run of a small stable
 neo-Hookean stack into tetrahedra, peer_job.py writes the peer's job (dipc's (λ', μ'), d̂ and
-Newton tolerance from the bounding-box diagonal, the ground plane) and refuses what it does not
-translate, and peer_output.py turns a stand-in peer run (dipc's own positions, in the
+Newton tolerance from the bounding-box diagonal, the ground plane, kinematic bodies) and refuses
+what it does not translate, and peer_output.py turns a stand-in peer run (dipc's own positions, in the
 tetrahedra's node order) into an output that the judge passes and that differs from dipc's by
 nothing; a malformed frame is refused.
 
@@ -71,7 +71,7 @@ def main():
         out = run(os.path.join(PEERS, "peer_job.py"), path, tets, "--out", os.path.join(a.work, "refused.json"), expect=1)
         assert words in out, out
     for change, words in [(lambda s: s["contact"].update(obstacles=[{"name": "o", "mesh": "x.obj"}]), "obstacle"),
-                          (lambda s: s["geometry"][0].update(kinematic={"type": "fixed"}), "kinematic")]:
+                          (lambda s: s["geometry"][0].update(kinematic={"type": "rotation"}), "kinematic type")]:
         s = json.loads(json.dumps(scene))
         change(s)
         path = os.path.join(a.work, "changed.json")
@@ -79,6 +79,17 @@ def main():
             json.dump(s, f)
         out = run(os.path.join(PEERS, "peer_job.py"), path, tets, "--out", os.path.join(a.work, "refused.json"), expect=1)
         assert words in out, out
+
+    # A kinematic body moving at a velocity goes to the job with its motion (neo-Hookean or not).
+    s = json.loads(json.dumps(scene))
+    s["geometry"][0]["kinematic"] = {"type": "velocity", "velocity": [0, 0, -0.2]}
+    path = os.path.join(a.work, "kinematic.json")
+    with open(path, "w") as f:
+        json.dump(s, f)
+    run(os.path.join(PEERS, "peer_job.py"), path, tets, "--out", os.path.join(a.work, "kinematic_job.json"))
+    with open(os.path.join(a.work, "kinematic_job.json")) as f:
+        moving = json.load(f)["bodies"]
+    assert moving[0]["kinematic"] == {"type": "velocity", "velocity": [0, 0, -0.2]} and "kinematic" not in moving[1]
 
     # A stand-in peer run: dipc's positions in the tetrahedra's node order.
     with open(os.path.join(tets, "tets.json")) as f:

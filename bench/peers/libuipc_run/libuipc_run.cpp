@@ -2,7 +2,9 @@
 // issue 34 compares dipc with), from the job bench/peers/peer_job.py writes: the bodies as
 // tetrahedra on dipc's nodes (bench/peers/hex_to_tets.py), stable neo-Hookean solids, implicit
 // Euler (libuipc's bdf1), gravity, one ground plane, the barrier's d̂, friction and Newton's
-// velocity tolerance as dipc has them. Writes each frame's positions, body by body in the
+// velocity tolerance as dipc has them. A kinematic body that is fixed has every node fixed; one
+// that moves at a velocity follows X + v t through libuipc's soft position constraint (a
+// penalty: libuipc has no exact prescribed motion for FEM nodes). Writes each frame's positions, body by body in the
 // order of <body>.nodes.txt, as raw float64 (frame_<k>.bin, k = 0 the start) and one line per
 // frame of wall-clock seconds (frames.csv); Newton iterations are read from libuipc's log.
 //
@@ -10,6 +12,7 @@
 //
 // Not built with dipc: bench/peers/libuipc_run/CMakeLists.txt builds it against an existing
 // libuipc build (bench/peers/README.md).
+#include <uipc/constitution/soft_position_constraint.h>
 #include <uipc/constitution/stable_neo_hookean.h>
 #include <uipc/uipc.h>
 
@@ -72,9 +75,11 @@ int run(const std::filesystem::path& job_path, const std::filesystem::path& out_
   auto element = scene.contact_tabular().default_element();
 
   StableNeoHookean snh;
+  SoftPositionConstraint soft_position;
   auto object = scene.objects().create("bodies");
   std::vector<S<GeometrySlot>> slots;
   for (const Json& body : job.at("bodies")) {
+    const Json kinematic = body.value("kinematic", Json());
     SimplicialComplexIO io;
     SimplicialComplex mesh = io.read((job_dir / body.at("msh").get<std::string>()).string());
     label_surface(mesh);
@@ -86,6 +91,28 @@ int run(const std::filesystem::path& job_path, const std::filesystem::path& out_
     const Vector3 v = vector3(body.at("velocity"));
     auto velocity = mesh.vertices().create<Vector3>(builtin::velocity, Vector3::Zero());
     for (Vector3& vi : view(*velocity)) vi = v;
+    const std::string motion = kinematic.is_object() ? kinematic.at("type").get<std::string>() : "";
+    if (motion == "fixed") {
+      for (IndexT& fixed : view(*mesh.vertices().find<IndexT>(builtin::is_fixed))) fixed = 1;
+    } else if (motion == "velocity") {
+      soft_position.apply_to(mesh, job.value("soft_position_strength", 100.0));
+      // Its own object, so that its animation sees its geometry alone.
+      auto moving = scene.objects().create(body.at("name").get<std::string>());
+      slots.push_back(moving->geometries().create(mesh).geometry);
+      const Vector3 velocity = vector3(kinematic.at("velocity"));
+      scene.animator().insert(*moving, [velocity](Animation::UpdateInfo& info) {
+        auto geo = info.geo_slots()[0]->geometry().as<SimplicialComplex>();
+        auto rest = info.rest_geo_slots()[0]->geometry().as<SimplicialComplex>()->positions().view();
+        auto constrained = view(*geo->vertices().find<IndexT>(builtin::is_constrained));
+        auto aim = view(*geo->vertices().find<Vector3>(builtin::aim_position));
+        const Float t = info.dt() * static_cast<Float>(info.frame());
+        for (std::size_t i = 0; i < aim.size(); ++i) constrained[i] = 1, aim[i] = rest[i] + t * velocity;
+      });
+      continue;
+    } else if (!motion.empty()) {
+      throw std::runtime_error("body " + body.at("name").get<std::string>() + ": kinematic type " + motion +
+                               " is not translated");
+    }
     slots.push_back(object->geometries().create(mesh).geometry);
   }
   if (job.contains("ground"))
