@@ -8,8 +8,10 @@
 // order of <body>.nodes.txt, as raw float64 (frame_<k>.bin, k = 0 the start) and one line per
 // frame of wall-clock seconds (frames.csv); Newton iterations are read from libuipc's log.
 //
-//     libuipc_run JOB.json OUT_DIR
+//     libuipc_run JOB.json OUT_DIR [--backend NAME]
 //
+// The backend is libuipc's "cuda" unless given: "none", libuipc's backend that simulates nothing,
+// checks the job's scene setup on a machine without a GPU.
 // Not built with dipc: bench/peers/libuipc_run/CMakeLists.txt builds it against an existing
 // libuipc build (bench/peers/README.md).
 #include <uipc/constitution/soft_position_constraint.h>
@@ -50,14 +52,14 @@ void write_positions(const std::vector<S<GeometrySlot>>& slots, const std::files
   std::filesystem::rename(part, path);
 }
 
-int run(const std::filesystem::path& job_path, const std::filesystem::path& out_dir) {
+int run(const std::filesystem::path& job_path, const std::filesystem::path& out_dir, const std::string& backend) {
   std::ifstream in(job_path);
   if (!in) throw std::runtime_error("cannot read " + job_path.string());
   const Json job = Json::parse(in);
   const std::filesystem::path job_dir = job_path.parent_path();
   std::filesystem::create_directories(out_dir);
 
-  Engine engine{"cuda", (out_dir / "workspace").string()};
+  Engine engine{backend, (out_dir / "workspace").string()};
   World world{engine};
   Json config = Scene::default_config();
   config["dt"] = job.at("dt").get<Float>();
@@ -89,7 +91,9 @@ int run(const std::filesystem::path& job_path, const std::filesystem::path& out_
                  body.at("rho").get<Float>());
     element.apply_to(mesh);
     const Vector3 v = vector3(body.at("velocity"));
-    auto velocity = mesh.vertices().create<Vector3>(builtin::velocity, Vector3::Zero());
+    // The constitution made the attribute (zero); a mesh without it gets one.
+    auto velocity = mesh.vertices().find<Vector3>(builtin::velocity);
+    if (!velocity) velocity = mesh.vertices().create<Vector3>(builtin::velocity, Vector3::Zero());
     for (Vector3& vi : view(*velocity)) vi = v;
     const std::string motion = kinematic.is_object() ? kinematic.at("type").get<std::string>() : "";
     if (motion == "fixed") {
@@ -140,12 +144,13 @@ int run(const std::filesystem::path& job_path, const std::filesystem::path& out_
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: libuipc_run JOB.json OUT_DIR\n");
+  const bool backend_given = argc == 5 && std::string(argv[3]) == "--backend";
+  if (argc != 3 && !backend_given) {
+    std::fprintf(stderr, "usage: libuipc_run JOB.json OUT_DIR [--backend NAME]\n");
     return 2;
   }
   try {
-    return run(argv[1], argv[2]);
+    return run(argv[1], argv[2], backend_given ? argv[4] : "cuda");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "libuipc_run: %s: %s\n", argv[1], e.what());
     return 1;
