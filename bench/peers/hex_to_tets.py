@@ -27,6 +27,8 @@ import json
 import os
 import sys
 
+import numpy as np
+
 # The reference hexahedron's corners in dipc's (and Gmsh's and VTK's) order, and its faces, each
 # as a cycle of corners: the diagonals are (f[0], f[2]) and (f[1], f[3]).
 CORNERS = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
@@ -128,20 +130,26 @@ def _find_cuts():
 CUTS = _find_cuts()
 
 
+def _smallest_first(hexes, f):
+    """Face f of each hexahedron as its cycle started at its smallest node id (a, b, c, d: the
+    cut is (a, c)), and where in FACES[f]'s cycle that id stood."""
+    q = hexes[:, list(FACES[f])]
+    at = np.argmin(q, axis=1)
+    rows = np.arange(len(q))
+    return tuple(q[rows, (at + s) % 4] for s in range(4)), at
+
+
 def face_pattern(hexes):
     """Each hexahedron's diagonal pattern (the index into CUTS) under the smallest-id rule."""
-    import numpy as np
     pattern = np.zeros(len(hexes), dtype=np.int64)
-    for k, f in enumerate(FACES):
-        corners = hexes[:, list(f)]
-        at = np.argmin(corners, axis=1)  # the smallest id's place in the cycle
+    for k in range(len(FACES)):
+        _, at = _smallest_first(hexes, k)
         pattern |= (at % 2 == 1).astype(np.int64) << k
     return pattern
 
 
 def split_hexes(hexes):
     """(E, 8) hexahedra -> (T, 4) tetrahedra on the same node ids and (T,) their hexahedron."""
-    import numpy as np
     hexes = np.asarray(hexes, dtype=np.int64)
     pattern = face_pattern(hexes)
     tets, owner = [], []
@@ -164,7 +172,6 @@ def check_split(coordinates, hexes, tets, owner):
     """Raises ValueError naming the element where a tetrahedron's volume is not positive, or
     where the tetrahedra's faces do not conform: each face shared by two tetrahedra or on the
     boundary, and the boundary faces the hexahedra's boundary quads cut by the smallest-id rule."""
-    import numpy as np
     x = np.asarray(coordinates, dtype=float)
     p = x[tets]
     six_volume = np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
@@ -180,11 +187,8 @@ def check_split(coordinates, hexes, tets, owner):
     _, quad_inverse, quad_count = np.unique(quads, axis=0, return_inverse=True, return_counts=True)
     on_boundary = (quad_count == 1)[quad_inverse.reshape(-1)].reshape(len(FACES), len(hexes))
     expected = []
-    for k, f in enumerate(FACES):
-        q = hexes[on_boundary[k]][:, list(f)]
-        at = np.argmin(q, axis=1)  # the smallest id's place in the cycle
-        rows = np.arange(len(q))
-        a, b, c, d = (q[rows, (at + s) % 4] for s in range(4))
+    for k in range(len(FACES)):
+        (a, b, c, d), _ = _smallest_first(hexes[on_boundary[k]], k)
         expected += [np.stack([a, b, c], 1), np.stack([a, c, d], 1)]  # cut along (a, c)
     expected = np.unique(np.sort(np.concatenate(expected), axis=1), axis=0)
     once = faces[count == 1]
@@ -207,8 +211,21 @@ def write_msh(path, coordinates, tets):
     os.replace(tmp, path)
 
 
+def read_msh(path):
+    """(nodes (N, 3), tetrahedra (T, 4) 0-based) of a file write_msh wrote."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    start = lines.index("$Nodes")
+    n = int(lines[start + 1])
+    nodes = np.array([[float(v) for v in line.split()[1:4]] for line in lines[start + 2:start + 2 + n]]).reshape(-1, 3)
+    start = lines.index("$Elements")
+    m = int(lines[start + 1])
+    tets = np.array([[int(v) for v in line.split()[5:9]] for line in lines[start + 2:start + 2 + m]],
+                    dtype=np.int64).reshape(-1, 4) - 1
+    return nodes, tets
+
+
 def export(output_path, out_dir, frame=0):
-    import numpy as np
     # dipc's reader (python/dipc/output.py), loaded on its own: no compiled module needed.
     import importlib.util
     source = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python", "dipc", "output.py")

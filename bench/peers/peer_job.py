@@ -28,18 +28,11 @@ import math
 import os
 import sys
 
+from hex_to_tets import read_msh  # the reader of the files hex_to_tets.py writes
+
 
 class JobError(Exception):
     pass
-
-
-def read_msh_nodes(path):
-    """The node coordinates of a Gmsh 2.2 ASCII file as hex_to_tets.py writes it."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    start = lines.index("$Nodes")
-    n = int(lines[start + 1])
-    return [tuple(float(v) for v in line.split()[1:4]) for line in lines[start + 2:start + 2 + n]]
 
 
 def make_job(scene_path, tets_dir, steps=None, velocity_tol_rel=1e-5):
@@ -78,9 +71,9 @@ def make_job(scene_path, tets_dir, steps=None, velocity_tol_rel=1e-5):
                            "solids are stable neo-Hookean only: compare on a copy with \"model\": \"stable_neo_hookean\"")
         E, nu = float(m["E"]), float(m["nu"])
         lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
-        for x in read_msh_nodes(os.path.join(tets_dir, b["msh"])):
-            lo = [min(a, c) for a, c in zip(lo, x)]
-            hi = [max(a, c) for a, c in zip(hi, x)]
+        nodes, _ = read_msh(os.path.join(tets_dir, b["msh"]))
+        lo = [min(a, c) for a, c in zip(lo, nodes.min(axis=0).tolist())]
+        hi = [max(a, c) for a, c in zip(hi, nodes.max(axis=0).tolist())]
         bodies.append({"name": b["name"], "msh": os.path.relpath(os.path.join(tets_dir, b["msh"])),
                        "lambda": lam + 5.0 / 6.0 * mu, "mu": 4.0 / 3.0 * mu, "rho": float(m.get("rho", 1000.0)),
                        "velocity": g.get("initial_velocity", [0.0, 0.0, 0.0]), "num_nodes": b["num_nodes"]})

@@ -20,21 +20,14 @@ import sys
 import h5py
 import numpy as np
 
-
-def read_tets(path):
-    """The tetrahedra of a Gmsh 2.2 ASCII file as hex_to_tets.py writes it, 0-based."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    start = lines.index("$Elements")
-    m = int(lines[start + 1])
-    return np.array([[int(v) for v in line.split()[5:9]] for line in lines[start + 2:start + 2 + m]], dtype=np.int64) - 1
+from hex_to_tets import read_msh  # the reader of the files hex_to_tets.py writes
 
 
 def convert(dipc_path, tets_dir, run_dir, out_path):
     with open(os.path.join(tets_dir, "tets.json")) as f:
         bodies = json.load(f)["bodies"]
     ids = [np.loadtxt(os.path.join(tets_dir, b["nodes"]), dtype=np.int64, ndmin=1) for b in bodies]
-    tets = [read_tets(os.path.join(tets_dir, b["msh"])) + sum(len(i) for i in ids[:k]) for k, b in enumerate(bodies)]
+    tets = [read_msh(os.path.join(tets_dir, b["msh"]))[1] + sum(len(i) for i in ids[:k]) for k, b in enumerate(bodies)]
     ids, tets = np.concatenate(ids), np.concatenate(tets)
     with h5py.File(dipc_path, "r") as src:
         X = src["mesh/coordinates"][...]
